@@ -1,0 +1,23 @@
+# Sanitizers are applied to every target through one INTERFACE target, fieldcast::sanitizers,
+# that each module links PUBLIC (so test executables inherit the link flags).
+add_library(fieldcast_sanitizers INTERFACE)
+add_library(fieldcast::sanitizers ALIAS fieldcast_sanitizers)
+
+if(FIELDCAST_SANITIZE)
+  string(REPLACE "," ";" _requested "${FIELDCAST_SANITIZE}")
+  foreach(_s IN LISTS _requested)
+    if(NOT _s MATCHES "^(address|undefined|thread|leak)$")
+      message(FATAL_ERROR "FIELDCAST_SANITIZE: unknown sanitizer '${_s}' (expected address, undefined, leak or thread)")
+    endif()
+  endforeach()
+  if("thread" IN_LIST _requested AND "address" IN_LIST _requested)
+    message(FATAL_ERROR "FIELDCAST_SANITIZE: thread cannot be combined with address")
+  endif()
+  set(_flags -fsanitize=${FIELDCAST_SANITIZE} -fno-omit-frame-pointer -g)
+  if("undefined" IN_LIST _requested)
+    list(APPEND _flags -fno-sanitize-recover=undefined)
+  endif()
+  target_compile_options(fieldcast_sanitizers INTERFACE ${_flags})
+  target_link_options(fieldcast_sanitizers INTERFACE -fsanitize=${FIELDCAST_SANITIZE})
+  message(STATUS "Fieldcast: sanitizers ${FIELDCAST_SANITIZE}")
+endif()

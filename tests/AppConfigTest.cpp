@@ -1,0 +1,90 @@
+// The fieldcast executable's configuration handling, run as a user would run it.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+struct RunResult {
+  int exitCode = -1;
+  std::string output;  // stdout and stderr together
+};
+
+RunResult run(const std::string& args) {
+  const std::string command = std::string(FIELDCAST_EXE) + " " + args + " 2>&1";
+  RunResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), buffer.size(), pipe)) result.output += buffer.data();
+  const int status = pclose(pipe);
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+std::string writeConfig(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("fieldcast_test_" + name + ".toml");
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+TEST(AppConfig, ShippedConfigIsValid) {
+  const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("720x486 interlaced 59.940 Hz uyvy422"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, HelpAndVersion) {
+  EXPECT_EQ(run("--help").exitCode, 0);
+  const auto v = run("--version");
+  EXPECT_EQ(v.exitCode, 0);
+  EXPECT_NE(v.output.find("fieldcast "), std::string::npos);
+}
+
+TEST(AppConfig, BadRateNamesFileLineKeyAndExpectation) {
+  const auto path = writeConfig("badrate", "[output]\nscan = \"interlaced\"\nrate = 61\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find(path + ":3: output.rate: expected 50, 59.94 or 60, got 61"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, UnknownKeyIsAnError) {
+  const auto path = writeConfig("unknown", "[output]\nrat = 50\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("output.rat: unknown key"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, WrongTypeIsAnError) {
+  const auto path = writeConfig("wrongtype", "[output]\nwidth = \"wide\"\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("output.width: expected an even integer"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, SyntaxErrorNamesTheLine) {
+  const auto path = writeConfig("syntax", "[output]\nrate = = 5\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find(path + ":2:"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, MissingFileIsAnError) {
+  const auto r = run("--check-config --config /nonexistent/fieldcast.toml");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("/nonexistent/fieldcast.toml"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, SetOverridesAKey) {
+  const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR
+                     "/config/fieldcast.toml --set output.rate=50 --set output.scan=progressive");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("progressive 50.000 Hz"), std::string::npos) << r.output;
+}
+
+}  // namespace

@@ -1,0 +1,52 @@
+#pragma once
+// Pinhole camera intrinsics in pixel units, image convention of DESIGN.md §6: origin at the
+// top-left corner of the image, u right, v down, pixel (i, j) has its centre at (i + ½, j + ½).
+
+#include <cmath>
+
+namespace fieldcast {
+
+/// Pinhole intrinsics of an image `widthPx` × `heightPx`.
+/// fx, fy are focal lengths in pixels (fy = fx for square pixels; NTSC's 10:11 pixels differ);
+/// (cx, cy) is the principal point in the same continuous pixel coordinates.
+struct Intrinsics {
+  int widthPx = 0;
+  int heightPx = 0;
+  double fxPx = 1.0;
+  double fyPx = 1.0;
+  double cxPx = 0.0;
+  double cyPx = 0.0;
+
+  /// A centred camera with the given horizontal field of view (radians) and pixel aspect
+  /// (pixel width / pixel height; 1 for square pixels).
+  static Intrinsics fromHorizontalFov(int widthPx, int heightPx, double hfovRad, double pixelAspect = 1.0) noexcept {
+    Intrinsics k;
+    k.widthPx = widthPx;
+    k.heightPx = heightPx;
+    k.fxPx = 0.5 * widthPx / std::tan(0.5 * hfovRad);
+    k.fyPx = k.fxPx * pixelAspect;
+    k.cxPx = 0.5 * widthPx;
+    k.cyPx = 0.5 * heightPx;
+    return k;
+  }
+
+  /// The same camera with `marginXPx`/`marginYPx` more pixels on each side: same focal length,
+  /// principal point shifted so the original image sits inside at offset (marginX, marginY).
+  Intrinsics withMargin(int marginXPx, int marginYPx) const noexcept {
+    Intrinsics k = *this;
+    k.widthPx += 2 * marginXPx;
+    k.heightPx += 2 * marginYPx;
+    k.cxPx += marginXPx;
+    k.cyPx += marginYPx;
+    return k;
+  }
+
+  /// Horizontal field of view in radians (for a centred principal point).
+  double horizontalFovRad() const noexcept { return 2.0 * std::atan(0.5 * widthPx / fxPx); }
+  /// Vertical field of view in radians (for a centred principal point).
+  double verticalFovRad() const noexcept { return 2.0 * std::atan(0.5 * heightPx / fyPx); }
+
+  friend bool operator==(const Intrinsics&, const Intrinsics&) = default;
+};
+
+}  // namespace fieldcast
