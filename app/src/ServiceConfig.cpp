@@ -16,7 +16,8 @@ std::string where(const std::string& file, const toml::node& node) {
   return s.str();
 }
 
-[[noreturn]] void fail(const std::string& file, const toml::node& node, const std::string& key, const std::string& what) {
+[[noreturn]] void fail(const std::string& file, const toml::node& node, const std::string& key,
+                       const std::string& what) {
   throw ConfigError(where(file, node) + ": " + key + ": " + what);
 }
 
@@ -53,15 +54,21 @@ void readOutput(const std::string& file, const toml::table& table, OutputConfig&
   if (const toml::node* n = table.get("rate")) out.fieldRate = parseRate(file, *n);
   if (const toml::node* n = table.get("scan")) {
     const auto s = n->value<std::string>();
-    if (s == "interlaced") out.scan = ScanMode::Interlaced;
-    else if (s == "progressive") out.scan = ScanMode::Progressive;
-    else fail(file, *n, "output.scan", "expected \"interlaced\" or \"progressive\", got " + describe(*n));
+    if (s == "interlaced")
+      out.scan = ScanMode::Interlaced;
+    else if (s == "progressive")
+      out.scan = ScanMode::Progressive;
+    else
+      fail(file, *n, "output.scan", "expected \"interlaced\" or \"progressive\", got " + describe(*n));
   }
   if (const toml::node* n = table.get("field_order")) {
     const auto s = n->value<std::string>();
-    if (s == "top_first") out.fieldOrder = FieldOrder::TopFirst;
-    else if (s == "bottom_first") out.fieldOrder = FieldOrder::BottomFirst;
-    else fail(file, *n, "output.field_order", "expected \"top_first\" or \"bottom_first\", got " + describe(*n));
+    if (s == "top_first")
+      out.fieldOrder = FieldOrder::TopFirst;
+    else if (s == "bottom_first")
+      out.fieldOrder = FieldOrder::BottomFirst;
+    else
+      fail(file, *n, "output.field_order", "expected \"top_first\" or \"bottom_first\", got " + describe(*n));
   }
   auto readSize = [&](const char* key, int& dst, int maxPx) {
     if (const toml::node* n = table.get(key)) {
@@ -77,10 +84,14 @@ void readOutput(const std::string& file, const toml::table& table, OutputConfig&
   readSize("height", out.heightPx, 8192);
   if (const toml::node* n = table.get("format")) {
     const auto s = n->value<std::string>();
-    if (s == "uyvy422") out.format = PixelFormat::Uyvy422;
-    else if (s == "rgb8") out.format = PixelFormat::Rgb8;
-    else if (s == "grey8") out.format = PixelFormat::Grey8;
-    else fail(file, *n, "output.format", "expected \"uyvy422\", \"rgb8\" or \"grey8\", got " + describe(*n));
+    if (s == "uyvy422")
+      out.format = PixelFormat::Uyvy422;
+    else if (s == "rgb8")
+      out.format = PixelFormat::Rgb8;
+    else if (s == "grey8")
+      out.format = PixelFormat::Grey8;
+    else
+      fail(file, *n, "output.format", "expected \"uyvy422\", \"rgb8\" or \"grey8\", got " + describe(*n));
   }
 }
 

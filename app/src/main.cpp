@@ -1,8 +1,8 @@
 // fieldcast — the real-time image generator service.
 #include "ServiceConfig.h"
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <string>

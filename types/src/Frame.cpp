@@ -7,9 +7,11 @@ namespace fieldcast {
 
 std::vector<glm::dvec2> controlGridFramePx(int displayWidthPx, int displayHeightPx, MarginPx margin, int perSide,
                                            double insetFraction) {
-  if (perSide < 2) throw std::invalid_argument("control grid: need at least 2 points per side, got " + std::to_string(perSide));
+  if (perSide < 2)
+    throw std::invalid_argument("control grid: need at least 2 points per side, got " + std::to_string(perSide));
   if (!(insetFraction >= 0.0 && insetFraction < 0.5)) {
-    throw std::invalid_argument("control grid: inset fraction must be in [0, 0.5), got " + std::to_string(insetFraction));
+    throw std::invalid_argument("control grid: inset fraction must be in [0, 0.5), got " +
+                                std::to_string(insetFraction));
   }
   std::vector<glm::dvec2> points;
   points.reserve(static_cast<std::size_t>(perSide * perSide));

@@ -51,9 +51,9 @@ TEST(Conventions, ZeroAttitudeLooksNorthWithEastRightAndUpUp) {
 
 TEST(Conventions, GoldenProjectionsLevelNorth) {
   const Pose pose{};
-  expectPixel(projectPoint(pose, kCamera, {0, 100, 0}), 320, 240);     // straight ahead: centre
-  expectPixel(projectPoint(pose, kCamera, {100, 100, 0}), 640, 240);   // 45° east: right edge
-  expectPixel(projectPoint(pose, kCamera, {0, 100, 50}), 320, 80);     // above: higher (smaller v)
+  expectPixel(projectPoint(pose, kCamera, {0, 100, 0}), 320, 240);    // straight ahead: centre
+  expectPixel(projectPoint(pose, kCamera, {100, 100, 0}), 640, 240);  // 45° east: right edge
+  expectPixel(projectPoint(pose, kCamera, {0, 100, 50}), 320, 80);    // above: higher (smaller v)
   expectPixel(projectPoint(pose, kCamera, {-50, 200, -100}), 240, 400);
   EXPECT_FALSE(projectPoint(pose, kCamera, {0, -100, 0}).has_value());  // behind
 }

@@ -11,8 +11,8 @@ namespace {
 TEST(RationalRate, NtscFieldPeriodIsExactOverLongRuns) {
   const RationalRate ntsc{60000, 1001};
   EXPECT_EQ(ntsc.tickOffset(0).count(), 0);
-  EXPECT_EQ(ntsc.tickOffset(1).count(), 16'683'333);  // 16 683 333.3 ns
-  EXPECT_EQ(ntsc.tickOffset(2).count(), 33'366'667);  // rounds per tick, not accumulated
+  EXPECT_EQ(ntsc.tickOffset(1).count(), 16'683'333);            // 16 683 333.3 ns
+  EXPECT_EQ(ntsc.tickOffset(2).count(), 33'366'667);            // rounds per tick, not accumulated
   EXPECT_EQ(ntsc.tickOffset(60000).count(), 1001'000'000'000);  // exactly 1001 s later
   EXPECT_EQ(ntsc.tickOffset(60000 * 24 * 3600LL).count(), 1001LL * 24 * 3600 * 1'000'000'000);  // a day: no drift
   EXPECT_NEAR(ntsc.hz(), 59.94005994, 1e-8);

@@ -60,12 +60,12 @@ constexpr FieldParity parityOfField(std::uint64_t k, ScanMode scan, FieldOrder o
 struct Field {
   Image image;
   FieldParity parity = FieldParity::Progressive;
-  int rasterHeightPx = 0;             ///< rows of the full output raster the field belongs to
-  std::uint64_t fieldNumber = 0;      ///< k, counted from the start of the stream
-  TimePoint displayTime{};            ///< t_k: when the field is shown
+  int rasterHeightPx = 0;               ///< rows of the full output raster the field belongs to
+  std::uint64_t fieldNumber = 0;        ///< k, counted from the start of the stream
+  TimePoint displayTime{};              ///< t_k: when the field is shown
   std::uint64_t sourceFrameNumber = 0;  ///< the frame it was warped from
-  TimePoint sourcePoseTime{};         ///< that frame's pose time (frame age = displayTime − this)
-  std::uint32_t marginViolations = 0; ///< output pixels whose source fell outside the frame
+  TimePoint sourcePoseTime{};           ///< that frame's pose time (frame age = displayTime − this)
+  std::uint32_t marginViolations = 0;   ///< output pixels whose source fell outside the frame
 };
 
 }  // namespace fieldcast

@@ -25,7 +25,7 @@ enum class ControlPointKind : std::uint8_t {
 
 /// A control point: a fixed pixel of the frame and what the renderer saw through it.
 struct ControlPoint {
-  glm::dvec2 framePx{0.0, 0.0};  ///< continuous frame pixel coordinates (margin included)
+  glm::dvec2 framePx{0.0, 0.0};     ///< continuous frame pixel coordinates (margin included)
   glm::dvec3 world{0.0, 0.0, 0.0};  ///< hit point (metres) or sky direction (unit), see kind
   ControlPointKind kind = ControlPointKind::Missing;
 };

@@ -70,9 +70,7 @@ class Image {
 
   /// Row `y` (0 = top). RT-safe; `y` must be in range.
   std::uint8_t* row(int y) noexcept { return mBytes.data() + static_cast<std::size_t>(y) * strideBytes(); }
-  const std::uint8_t* row(int y) const noexcept {
-    return mBytes.data() + static_cast<std::size_t>(y) * strideBytes();
-  }
+  const std::uint8_t* row(int y) const noexcept { return mBytes.data() + static_cast<std::size_t>(y) * strideBytes(); }
   std::span<std::uint8_t> bytes() noexcept { return mBytes; }
   std::span<const std::uint8_t> bytes() const noexcept { return mBytes; }
 
