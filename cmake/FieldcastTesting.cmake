@@ -1,6 +1,6 @@
 # fieldcast_add_test(NAME name SOURCES ... LIBRARIES ... LABELS ...)
 # One GoogleTest executable, its cases discovered into CTest with the given labels
-# (unit, golden, integration, interop, soak, hw) and the module's name.
+# (unit, golden, integration, interop, soak, hw, plus the module's name).
 include(GoogleTest)
 
 function(fieldcast_add_test)
@@ -10,6 +10,15 @@ function(fieldcast_add_test)
                         fieldcast::warnings fieldcast::sanitizers)
   target_compile_definitions(${ARG_NAME} PRIVATE FIELDCAST_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   gtest_discover_tests(${ARG_NAME}
-    PROPERTIES LABELS "${ARG_LABELS}" SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]"
+    TEST_LIST ${ARG_NAME}_TESTS
+    PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]"
     DISCOVERY_TIMEOUT 60)
+  # CMake 3.25 flattens list-valued PROPERTIES of gtest_discover_tests, so several labels cannot
+  # be passed there. Set them in a script CTest includes after the discovered tests.
+  set(_script "${CMAKE_CURRENT_BINARY_DIR}/${ARG_NAME}_labels.cmake")
+  file(WRITE "${_script}"
+    "foreach(_t IN LISTS ${ARG_NAME}_TESTS)\n"
+    "  set_tests_properties(\"\${_t}\" PROPERTIES LABELS \"${ARG_LABELS}\")\n"
+    "endforeach()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${_script}")
 endfunction()
