@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   CLI::App cli{
       "fieldcast: a real-time image generator. Renders voxel terrain by ray casting, warps the newest\n"
       "frame to every video field's display time and emits fields at a fixed rate (59.94, 60 or 50 Hz).",
@@ -37,6 +39,20 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const fieldcast::app::ConfigError& e) {
     std::fprintf(stderr, "fieldcast: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fieldcast: fatal: %s\n", e.what());
+    return 1;
+  } catch (...) {
+    std::fprintf(stderr, "fieldcast: fatal: unknown exception\n");
     return 1;
   }
 }

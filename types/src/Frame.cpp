@@ -14,7 +14,7 @@ std::vector<glm::dvec2> controlGridFramePx(int displayWidthPx, int displayHeight
                                 std::to_string(insetFraction));
   }
   std::vector<glm::dvec2> points;
-  points.reserve(static_cast<std::size_t>(perSide * perSide));
+  points.reserve(static_cast<std::size_t>(perSide) * static_cast<std::size_t>(perSide));
   for (int row = 0; row < perSide; ++row) {
     const double fy = insetFraction + (1.0 - 2.0 * insetFraction) * row / (perSide - 1);
     for (int col = 0; col < perSide; ++col) {

@@ -19,7 +19,7 @@ struct MonotonicClock {
   using rep = duration::rep;
   using period = duration::period;
   using time_point = std::chrono::time_point<MonotonicClock, duration>;
-  static constexpr bool is_steady = true;
+  static constexpr bool is_steady = true;  // NOLINT(readability-identifier-naming): std::chrono requires this name
   /// Reads CLOCK_MONOTONIC. RT-safe.
   static time_point now() noexcept;
 };
