@@ -27,10 +27,7 @@ int run(int argc, char** argv) {
 
   try {
     const auto config = fieldcast::app::loadServiceConfig(configPath, overrides);
-    const auto& out = config.output;
-    std::printf("%s: output %dx%d %s %.3f Hz %s\n", config.sourcePath.c_str(), out.widthPx, out.heightPx,
-                out.scan == fieldcast::ScanMode::Interlaced ? "interlaced" : "progressive", out.fieldRate.hz(),
-                fieldcast::toString(out.format));
+    std::printf("%s\n", fieldcast::app::describe(config).c_str());
     if (checkOnly) {
       std::printf("configuration OK\n");
       return 0;

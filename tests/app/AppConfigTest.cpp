@@ -64,7 +64,8 @@ TEST(AppConfig, WrongTypeIsAnError) {
   const auto path = writeConfig("wrongtype", "[output]\nwidth = \"wide\"\n");
   const auto r = run("--check-config --config " + path);
   EXPECT_EQ(r.exitCode, 1);
-  EXPECT_NE(r.output.find("output.width: expected an even integer"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(":2: output.width: expected an integer from 16 to 8192, got 'wide'"), std::string::npos)
+      << r.output;
 }
 
 TEST(AppConfig, SyntaxErrorNamesTheLine) {
@@ -85,6 +86,26 @@ TEST(AppConfig, SetOverridesAKey) {
                      "/config/fieldcast.toml --set output.rate=50 --set output.scan=progressive");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("progressive 50.000 Hz"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, NestedTablesAreCheckedToo) {
+  const auto path = writeConfig("nested", "[sinks.y4m]\nenabled = true\npaht = \"x.y4m\"\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find(path + ":3: sinks.y4m.paht: unknown key"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, SetValuesAreLocatedOnTheCommandLine) {
+  const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml --set render.fov_deg=500");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("--set: render.fov_deg: expected a number from 5 to 150, got 500"), std::string::npos)
+      << r.output;
+}
+
+TEST(AppConfig, MalformedSetIsAnError) {
+  const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml --set novalue");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("expected table.key=value"), std::string::npos) << r.output;
 }
 
 }  // namespace
