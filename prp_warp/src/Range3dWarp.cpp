@@ -22,7 +22,7 @@ namespace {
 
 constexpr float kNoSample = std::numeric_limits<float>::infinity();
 constexpr float kSkyDepth = std::numeric_limits<float>::max();  // loses to every surface, beats "no sample"
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+constexpr float kNan = std::numeric_limits<float>::quiet_NaN();
 constexpr double kMinDepth = 1e-6;
 
 bool rowInField(int rasterRowIndex, FieldParity parity) noexcept {
@@ -91,8 +91,8 @@ void Range3dWarp::splat(const Frame& frame, const Pose& fieldPose, const OutputG
           // rotation-only homography (which holds the roll and the turn between the two poses)
           const glm::dvec2 offset = rotation(glm::dvec2{ux + 0.5, vy + 0.5}) - rotation(glm::dvec2{u, v});
           const bool offsetOk = std::isfinite(offset.x) && std::isfinite(offset.y);
-          mMapX[idx] = i + 0.5 + (offsetOk ? offset.x : (ux + 0.5 - u) * g.scale.x);
-          mMapY[idx] = j + 0.5 + (offsetOk ? offset.y : (vy + 0.5 - v) * g.scale.y);
+          mMapX[idx] = static_cast<float>(i + 0.5 + (offsetOk ? offset.x : (ux + 0.5 - u) * g.scale.x));
+          mMapY[idx] = static_cast<float>(j + 0.5 + (offsetOk ? offset.y : (vy + 0.5 - v) * g.scale.y));
         }
       }
     }
@@ -106,8 +106,8 @@ void Range3dWarp::fillHoles(FieldParity parity, const OutputGeometry& g) noexcep
   for (int y = parity == FieldParity::Bottom ? 1 : 0; y < rh; y += rowStep) {
     const std::size_t base = static_cast<std::size_t>(y) * static_cast<std::size_t>(rw);
     float* depth = mDepth.data() + base;
-    double* mx = mMapX.data() + base;
-    double* my = mMapY.data() + base;
+    float* mx = mMapX.data() + base;
+    float* my = mMapY.data() + base;
     // Fill each run of holes from the farther of its two neighbours (disocclusions reveal the
     // background), continuing that neighbour's map across the gap.
     int x = 0;
@@ -131,7 +131,7 @@ void Range3dWarp::fillHoles(FieldParity parity, const OutputGeometry& g) noexcep
       }
       if (from < 0) break;  // the whole row is empty
       for (int k = start; k < x; ++k) {
-        mx[k] = mx[from] + (k - from) * g.scale.x;
+        mx[k] = mx[from] + static_cast<float>((k - from) * g.scale.x);
         my[k] = my[from];
       }
       // Mark filled pixels with the source depth so later runs see them as background
@@ -142,7 +142,7 @@ void Range3dWarp::fillHoles(FieldParity parity, const OutputGeometry& g) noexcep
       const std::size_t src = static_cast<std::size_t>(lastFilledRow) * static_cast<std::size_t>(rw);
       for (int k = 0; k < rw; ++k) {
         mx[k] = mMapX[src + k];
-        my[k] = mMapY[src + k] + (y - lastFilledRow) * g.scale.y;
+        my[k] = mMapY[src + k] + static_cast<float>((y - lastFilledRow) * g.scale.y);
         depth[k] = mDepth[src + k];
       }
       any = true;

@@ -28,15 +28,19 @@ class RowScratch {
   void reserve(int maxWidthPx);
   int capacityPx() const noexcept { return mCapacityPx; }
 
-  double* x() noexcept { return mX.data(); }
-  double* y() noexcept { return mY.data(); }
-  std::int32_t* ix() noexcept { return mIx.data(); }
-  std::int32_t* iy() noexcept { return mIy.data(); }
+  /// Frame coordinates of a row (float: exact to 1e-4 px over any frame, and twice the lanes).
+  float* x() noexcept { return mX.data(); }
+  float* y() noexcept { return mY.data(); }
+  /// Byte offsets of each sample's top-left neighbour, and its weight pairs (1 − f, f) in x and y.
+  std::int32_t* offset() noexcept { return mOffset.data(); }
+  std::uint32_t* weightsX() noexcept { return mWeightsX.data(); }
+  std::uint32_t* weightsY() noexcept { return mWeightsY.data(); }
 
  private:
   int mCapacityPx = 0;
-  std::vector<double> mX, mY;
-  std::vector<std::int32_t> mIx, mIy;
+  std::vector<float> mX, mY;
+  std::vector<std::int32_t> mOffset;
+  std::vector<std::uint32_t> mWeightsX, mWeightsY;
 };
 
 /// True when `dst` is the right shape for a field of `parity` of a raster `rasterHeightPx` high
@@ -49,7 +53,7 @@ std::uint32_t resampleQuadraticReference(const Image& src, const QuadraticMap& m
                                          int rasterHeightPx, Image& dst) noexcept;
 
 /// The fast kernel: the quadratic stepped by forward differences along each row in four
-/// independent lanes, then fixed-point (10-bit) bilinear sampling. Matches the reference within
+/// independent lanes, then fixed-point (8-bit) bilinear sampling. Matches the reference within
 /// one grey level. Returns the margin violations. RT-safe (scratch must be wide enough).
 std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, FieldParity parity, int rasterHeightPx,
                                     Image& dst, RowScratch& scratch) noexcept;
@@ -61,7 +65,7 @@ std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldP
 /// Samples `src` at the given frame pixel coordinates for one row of `n` pixels into `dstRow`
 /// (fixed-point bilinear, edge clamp). Returns the margin violations. The shared last stage of
 /// every fast kernel. RT-safe.
-std::uint32_t sampleRow(const Image& src, const double* framePxX, const double* framePxY, int n, std::uint8_t* dstRow,
+std::uint32_t sampleRow(const Image& src, const float* framePxX, const float* framePxY, int n, std::uint8_t* dstRow,
                         RowScratch& scratch) noexcept;
 
 /// Reference bilinear sample of channel `c` of `src` at frame pixel `(x, y)` (clamped to the

@@ -96,8 +96,8 @@ class Range3dWarp final : public Warp {
   void fillHoles(FieldParity parity, const OutputGeometry& g) noexcept;
 
   RowScratch mScratch;
-  std::vector<float> mDepth;         // per raster pixel: depth of the sample kept
-  std::vector<double> mMapX, mMapY;  // per raster pixel: frame pixel it samples
+  std::vector<float> mDepth;        // per raster pixel: depth of the sample kept
+  std::vector<float> mMapX, mMapY;  // per raster pixel: frame pixel it samples
   QuadraticWarp mFallback;
   bool mUsedFallback = false;
   std::optional<FieldParity> mLastParity;
