@@ -1,0 +1,18 @@
+# io_bridge part "sinks": the field outputs (Y4M, RFC 4175 RTP, image files, live window,
+# shared-memory ring, GPIO field pulse) behind one FieldSink interface, fed by the SinkHub.
+target_sources(fieldcast_io PRIVATE
+  ${CMAKE_CURRENT_LIST_DIR}/StreamFormat.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/SinkHub.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/PixelConvert.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/FileOutput.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/Y4mSink.cpp)
+target_link_libraries(fieldcast_io PRIVATE spdlog::spdlog)
+
+if(FIELDCAST_BUILD_TESTS)
+  set(_sink_tests "${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks")
+  fieldcast_add_test(NAME fieldcast_io_sinks_tests
+    SOURCES ${_sink_tests}/SinkHubTest.cpp ${_sink_tests}/Y4mSinkTest.cpp ${_sink_tests}/PixelConvertTest.cpp
+    LIBRARIES fieldcast::io
+    LABELS "unit;io")
+  target_include_directories(fieldcast_io_sinks_tests PRIVATE ${CMAKE_CURRENT_LIST_DIR})
+endif()
