@@ -19,3 +19,11 @@ if(FIELDCAST_BUILD_TESTS)
     LABELS "unit;io")
   target_include_directories(fieldcast_io_sinks_tests PRIVATE ${CMAKE_CURRENT_LIST_DIR})
 endif()
+
+if(FIELDCAST_BUILD_TESTS)
+  # Third-party judges: ffprobe/ffmpeg read our Y4M, GStreamer receives our RTP.
+  fieldcast_add_test(NAME fieldcast_io_sinks_interop_tests
+    SOURCES ${_sink_tests}/SinksInteropTest.cpp
+    LIBRARIES fieldcast::io
+    LABELS "interop;io")
+endif()
