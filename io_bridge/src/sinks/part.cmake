@@ -9,16 +9,17 @@ target_sources(fieldcast_io PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/Rfc4175Packetizer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/RtpVideoSink.cpp
   ${CMAKE_CURRENT_LIST_DIR}/ShmRing.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/GpioPulseSink.cpp)
-target_link_libraries(fieldcast_io PRIVATE spdlog::spdlog PkgConfig::libgpiod)
+  ${CMAKE_CURRENT_LIST_DIR}/GpioPulseSink.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/ImageFileSink.cpp)
+target_link_libraries(fieldcast_io PRIVATE spdlog::spdlog PkgConfig::libgpiod OpenImageIO::OpenImageIO)
 
 if(FIELDCAST_BUILD_TESTS)
   set(_sink_tests "${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks")
   fieldcast_add_test(NAME fieldcast_io_sinks_tests
     SOURCES ${_sink_tests}/SinkHubTest.cpp ${_sink_tests}/Y4mSinkTest.cpp ${_sink_tests}/PixelConvertTest.cpp
             ${_sink_tests}/Rfc4175PacketizerTest.cpp ${_sink_tests}/RtpVideoSinkTest.cpp ${_sink_tests}/ShmRingTest.cpp
-            ${_sink_tests}/GpioPulseSinkTest.cpp
-    LIBRARIES fieldcast::io
+            ${_sink_tests}/GpioPulseSinkTest.cpp ${_sink_tests}/ImageFileSinkTest.cpp
+    LIBRARIES fieldcast::io OpenImageIO::OpenImageIO
     LABELS "unit;io")
   target_include_directories(fieldcast_io_sinks_tests PRIVATE ${CMAKE_CURRENT_LIST_DIR})
 endif()
