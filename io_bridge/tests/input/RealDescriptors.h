@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+// clang-format off
 namespace fieldcast::io::testdata {
 
 // FR-TEC Raptor Mach 2 flight stick (11c0:5606), original descriptor (232 bytes) as listed in the
@@ -208,3 +209,4 @@ inline constexpr std::uint8_t kDualShock4[] = {
 };
 
 }  // namespace fieldcast::io::testdata
+// clang-format on
