@@ -5,14 +5,16 @@ set(_input "${CMAKE_CURRENT_LIST_DIR}")
 target_sources(fieldcast_io PRIVATE
   ${_input}/InputEvent.cpp
   ${_input}/HidReportDescriptor.cpp
-  ${_input}/HidReportDecoder.cpp)
+  ${_input}/HidReportDecoder.cpp
+  ${_input}/EvdevDecoder.cpp
+  ${_input}/EvdevSource.cpp)
 target_link_libraries(fieldcast_io PRIVATE PkgConfig::libevdev PkgConfig::libusb tomlplusplus::tomlplusplus
                       spdlog::spdlog)
 
 if(FIELDCAST_BUILD_TESTS)
   set(_input_tests "${CMAKE_CURRENT_LIST_DIR}/../../tests/input")
   fieldcast_add_test(NAME fieldcast_io_input_tests
-    SOURCES ${_input_tests}/HidDescriptorTest.cpp
+    SOURCES ${_input_tests}/HidDescriptorTest.cpp ${_input_tests}/EvdevDecoderTest.cpp
     LIBRARIES fieldcast::io
     LABELS "unit;io;input")
 endif()
