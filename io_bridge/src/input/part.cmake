@@ -7,7 +7,11 @@ target_sources(fieldcast_io PRIVATE
   ${_input}/HidReportDescriptor.cpp
   ${_input}/HidReportDecoder.cpp
   ${_input}/EvdevDecoder.cpp
-  ${_input}/EvdevSource.cpp)
+  ${_input}/EvdevSource.cpp
+  ${_input}/StickProfile.cpp
+  ${_input}/StickMapper.cpp
+  ${_input}/InputRecording.cpp
+  ${_input}/StickInput.cpp)
 target_link_libraries(fieldcast_io PRIVATE PkgConfig::libevdev PkgConfig::libusb tomlplusplus::tomlplusplus
                       spdlog::spdlog)
 
@@ -15,7 +19,8 @@ if(FIELDCAST_BUILD_TESTS)
   set(_input_tests "${CMAKE_CURRENT_LIST_DIR}/../../tests/input")
   fieldcast_add_test(NAME fieldcast_io_input_tests
     SOURCES ${_input_tests}/HidDescriptorTest.cpp ${_input_tests}/EvdevDecoderTest.cpp
-    LIBRARIES fieldcast::io
+            ${_input_tests}/StickMappingTest.cpp ${_input_tests}/StickInputTest.cpp
+    LIBRARIES fieldcast::io fieldcast::motion
     LABELS "unit;io;input")
 endif()
 
