@@ -7,7 +7,14 @@ target_sources(fieldcast_io PRIVATE
   ${_input}/HidReportDescriptor.cpp
   ${_input}/HidReportDecoder.cpp
   ${_input}/EvdevDecoder.cpp
-  ${_input}/EvdevSource.cpp)
+  ${_input}/EvdevSource.cpp
+  ${_input}/StickProfile.cpp
+  ${_input}/StickMapper.cpp
+  ${_input}/InputRecording.cpp
+  ${_input}/StickInput.cpp
+  ${_input}/HidrawSource.cpp
+  ${_input}/UsbHidSource.cpp
+  ${_input}/LibusbTransport.cpp)
 target_link_libraries(fieldcast_io PRIVATE PkgConfig::libevdev PkgConfig::libusb tomlplusplus::tomlplusplus
                       spdlog::spdlog)
 
@@ -15,8 +22,13 @@ if(FIELDCAST_BUILD_TESTS)
   set(_input_tests "${CMAKE_CURRENT_LIST_DIR}/../../tests/input")
   fieldcast_add_test(NAME fieldcast_io_input_tests
     SOURCES ${_input_tests}/HidDescriptorTest.cpp ${_input_tests}/EvdevDecoderTest.cpp
-    LIBRARIES fieldcast::io
+            ${_input_tests}/StickMappingTest.cpp ${_input_tests}/StickInputTest.cpp ${_input_tests}/DeviceSourceTest.cpp
+    LIBRARIES fieldcast::io fieldcast::motion
     LABELS "unit;io;input")
+  fieldcast_add_test(NAME fieldcast_io_input_hw_tests
+    SOURCES ${_input_tests}/HardwareTest.cpp
+    LIBRARIES fieldcast::io
+    LABELS "hw;io;input")
 endif()
 
 # libFuzzer target for the HID parser: built with the project compiler when that is clang, or with
