@@ -21,6 +21,8 @@ interop_packages=(
   gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
   tshark
   clang-14 libclang-rt-14-dev
+  # io_bridge sinks: the live-window test runs against a virtual X server
+  xvfb xauth
 )
 
 wanted=("${build_packages[@]}")

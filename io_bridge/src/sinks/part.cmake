@@ -10,8 +10,10 @@ target_sources(fieldcast_io PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/RtpVideoSink.cpp
   ${CMAKE_CURRENT_LIST_DIR}/ShmRing.cpp
   ${CMAKE_CURRENT_LIST_DIR}/GpioPulseSink.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/ImageFileSink.cpp)
-target_link_libraries(fieldcast_io PRIVATE spdlog::spdlog PkgConfig::libgpiod OpenImageIO::OpenImageIO)
+  ${CMAKE_CURRENT_LIST_DIR}/ImageFileSink.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/WindowSink.cpp)
+target_link_libraries(fieldcast_io PRIVATE spdlog::spdlog PkgConfig::libgpiod OpenImageIO::OpenImageIO
+                      opencv_core opencv_imgproc opencv_highgui)
 
 if(FIELDCAST_BUILD_TESTS)
   set(_sink_tests "${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks")
@@ -30,6 +32,21 @@ if(FIELDCAST_BUILD_TESTS)
     SOURCES ${_sink_tests}/SinksInteropTest.cpp
     LIBRARIES fieldcast::io
     LABELS "interop;io")
+  # The live window: the no-display behaviour everywhere, the window itself under a display.
+  fieldcast_add_test(NAME fieldcast_io_window_tests
+    SOURCES ${_sink_tests}/WindowSinkTest.cpp
+    LIBRARIES fieldcast::io
+    LABELS "unit;io")
+  find_program(FIELDCAST_XVFB_RUN xvfb-run DOC "xvfb-run, to test the live window on a virtual display")
+  if(FIELDCAST_XVFB_RUN)
+    # One process per case: the GUI belongs to one thread per process (see WindowSink.h).
+    foreach(_case ShowsInterlacedFieldsWithOverlay RunsOnAHubWorker)
+      add_test(NAME io_sinks_window_xvfb_${_case}
+        COMMAND ${FIELDCAST_XVFB_RUN} -a $<TARGET_FILE:fieldcast_io_window_tests> --gtest_filter=WindowSinkDisplay.${_case})
+      set_tests_properties(io_sinks_window_xvfb_${_case} PROPERTIES LABELS "integration;io" TIMEOUT 60
+        FAIL_REGULAR_EXPRESSION "\\[  SKIPPED \\]")
+    endforeach()
+  endif()
   # Real GPIO hardware; skipped with the reason where there is none.
   fieldcast_add_test(NAME fieldcast_io_sinks_hw_tests
     SOURCES ${_sink_tests}/GpioPulseHwTest.cpp
