@@ -21,9 +21,6 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
-#include <sstream>
 
 namespace {
 
@@ -122,32 +119,8 @@ int replay(const std::string& file, const std::string& profilePath, bool realtim
   return 0;
 }
 
-std::vector<std::uint8_t> readDescriptorFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot read");
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  // Hex text ("05 01 09 04 …" or "0x05, 0x01, …")? Then parse the text.
-  bool text = !bytes.empty();
-  for (const std::uint8_t b : bytes) {
-    if (!(std::isxdigit(b) || std::isspace(b) || b == ',' || b == 'x' || b == 'X')) text = false;
-  }
-  if (!text) return bytes;
-  std::vector<std::uint8_t> out;
-  std::string s(bytes.begin(), bytes.end());
-  for (char& c : s) {
-    if (c == ',') c = ' ';
-  }
-  std::istringstream words(s);
-  std::string w;
-  while (words >> w) {
-    if (w.rfind("0x", 0) == 0 || w.rfind("0X", 0) == 0) w = w.substr(2);
-    out.push_back(static_cast<std::uint8_t>(std::stoul(w, nullptr, 16)));
-  }
-  return out;
-}
-
 int descriptor(const std::string& path) {
-  const std::vector<std::uint8_t> bytes = readDescriptorFile(path);
+  const std::vector<std::uint8_t> bytes = readHidDescriptorFile(path);
   const HidReportDescriptor d = parseHidReportDescriptor(bytes);
   static const char* kTypes[] = {"Input", "Output", "Feature"};
   std::printf("%zu bytes, %zu fields, %zu collections, report IDs: %s\n", bytes.size(), d.fields.size(),

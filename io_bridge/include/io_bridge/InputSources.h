@@ -4,6 +4,9 @@
 //   evdev:<path or name>                     the same, explicit
 //   hidraw:/dev/hidraw3                      hidraw, our HID parser
 //   usb:044f:0409[:detach]                   raw USB HID through libusb (detach usbhid if asked)
+//   usb:class:255[:detach][:descriptor=F]    the first device with an interface of that class (panels
+//                                            not bound to usbhid); F gives the report descriptor
+//                                            when the interface has no HID descriptor
 //   replay:<file>[:realtime]                 a recording played back
 
 #include <io_bridge/InputSource.h>
