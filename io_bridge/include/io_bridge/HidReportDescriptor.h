@@ -112,6 +112,10 @@ constexpr std::uint32_t kMaxCollectionDepth = 64;
 /// Parses a report descriptor. Throws HidDescriptorError on malformed input. Not RT-safe.
 HidReportDescriptor parseHidReportDescriptor(std::span<const std::uint8_t> bytes);
 
+/// Reads a report descriptor from a file: raw bytes (e.g. /sys/class/hidraw/hidraw0/device/report_descriptor)
+/// or hex text ("05 01 09 04 …" or "0x05, 0x01, …"). Throws std::runtime_error naming the file. Not RT-safe.
+std::vector<std::uint8_t> readHidDescriptorFile(const std::string& path);
+
 /// Readable unit ("deg", "cm", "s", "none", or the raw code) of a field. Not RT-safe.
 std::string describeHidUnit(std::uint32_t unit, std::int32_t exponent);
 

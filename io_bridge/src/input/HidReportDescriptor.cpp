@@ -9,7 +9,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <sstream>
 #include <string_view>
 
 namespace fieldcast::io {
@@ -364,6 +368,35 @@ std::size_t HidReportDescriptor::maxInputReportBytes() const noexcept {
 
 HidReportDescriptor parseHidReportDescriptor(std::span<const std::uint8_t> bytes) { return Parser(bytes).run(); }
 
+std::vector<std::uint8_t> readHidDescriptorFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot read the report descriptor");
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  bool text = !bytes.empty();
+  for (const std::uint8_t b : bytes) {
+    if (!(std::isxdigit(b) || std::isspace(b) || b == ',' || b == 'x' || b == 'X')) text = false;
+  }
+  if (!text) return bytes;
+  std::string s(bytes.begin(), bytes.end());
+  std::replace(s.begin(), s.end(), ',', ' ');
+  std::istringstream words(s);
+  std::vector<std::uint8_t> out;
+  std::string w;
+  while (words >> w) {
+    if (w.size() > 2 && w[0] == '0' && (w[1] == 'x' || w[1] == 'X')) w = w.substr(2);
+    std::size_t used = 0;
+    unsigned long v = 0;
+    try {
+      v = std::stoul(w, &used, 16);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != w.size() || v > 0xFF) throw std::runtime_error(path + ": \"" + w + "\" is not a hex byte");
+    out.push_back(static_cast<std::uint8_t>(v));
+  }
+  return out;
+}
+
 std::string describeHidUnit(std::uint32_t unit, std::int32_t exponent) {
   if (unit == 0) return "none";
   // Nibble 0: system; nibbles 1..6: exponents of length, mass, time, temperature, current, luminosity.
@@ -390,10 +423,16 @@ std::string describeHidUnit(std::uint32_t unit, std::int32_t exponent) {
     if (e == 0) continue;
     if (!out.empty()) out += "·";
     out += kNames[static_cast<std::size_t>(i)][system];
-    if (e != 1) out += "^" + std::to_string(e);
+    if (e != 1) {
+      out += '^';
+      out += std::to_string(e);
+    }
   }
   if (out.empty()) out = std::string(kSystems[system]);
-  if (exponent != 0) out += " ×1e" + std::to_string(exponent);
+  if (exponent != 0) {
+    out += " ×1e";
+    out += std::to_string(exponent);
+  }
   return out;
 }
 

@@ -14,7 +14,8 @@ target_sources(fieldcast_io PRIVATE
   ${_input}/StickInput.cpp
   ${_input}/HidrawSource.cpp
   ${_input}/UsbHidSource.cpp
-  ${_input}/LibusbTransport.cpp)
+  ${_input}/LibusbTransport.cpp
+  ${_input}/InputSources.cpp)
 target_link_libraries(fieldcast_io PRIVATE PkgConfig::libevdev PkgConfig::libusb tomlplusplus::tomlplusplus
                       spdlog::spdlog)
 

@@ -3,6 +3,7 @@
 // Tests needing a real device are in HardwareTest.cpp (label hw).
 #include <io_bridge/EvdevSource.h>
 #include <io_bridge/HidrawSource.h>
+#include <io_bridge/InputSources.h>
 #include <io_bridge/StickInput.h>
 #include <io_bridge/UsbHidSource.h>
 
@@ -111,6 +112,33 @@ TEST(UsbSelector, ParsesVendorProduct) {
   EXPECT_EQ(*s.productId, 0x0409);
   EXPECT_THROW(parseUsbSelector("044f"), std::runtime_error);
   EXPECT_THROW(parseUsbSelector("zz:0409"), std::runtime_error);
+}
+
+TEST(InputSources, NamesAreCheckedAtOnceAndDevicesWhenOpened) {
+  VirtualClock clock;
+  auto errorOf = [&](const std::string& spec) {
+    try {
+      auto factory = makeSourceFactory(spec, clock);
+      (void)factory();
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(errorOf("usb:zz:01").find("expected vendor:product in hexadecimal"), std::string::npos);
+  EXPECT_NE(errorOf("usb:class:300").find("expected usb:class:N"), std::string::npos);
+  EXPECT_NE(errorOf("replay:/nonexistent.rec").find("/nonexistent.rec: cannot read"), std::string::npos);
+  EXPECT_NE(errorOf("hidraw:/dev/null").find("not a hidraw device"), std::string::npos);
+  EXPECT_NE(errorOf("evdev:/dev/null").find("not an evdev device"), std::string::npos);
+  EXPECT_NE(errorOf("usb:class:255:descriptor=/nonexistent.hex").find("cannot read the report descriptor"),
+            std::string::npos);
+  EXPECT_TRUE(isReplaySpec("replay:x.rec"));
+  EXPECT_FALSE(isReplaySpec("/dev/input/event3"));
+  const std::string data = std::string(FIELDCAST_SOURCE_DIR) + "/tests/stick/data/";
+  EXPECT_EQ(readHidDescriptorFile(data + "tca_yoke_boeing.hex").size(), sizeof(testdata::kTcaYokeBoeing));
+  EXPECT_TRUE(std::equal(std::begin(testdata::kTcaYokeBoeing), std::end(testdata::kTcaYokeBoeing),
+                         readHidDescriptorFile(data + "tca_yoke_boeing.hex").begin()));
+  EXPECT_NO_THROW((void)makeSourceFactory("replay:" + data + "saitek_roll.rec:realtime", clock)());
 }
 
 TEST(RealBackends, LibusbRefusesAnAbsentDeviceWithTheReason) {

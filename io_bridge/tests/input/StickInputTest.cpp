@@ -55,6 +55,41 @@ TEST(StickInput, PublishesEachFrame) {
   EXPECT_EQ(input.latest().health, InputHealth::Holding);  // the source ended
 }
 
+// A device that never stops: X and Y always equal, so a torn read would show roll != pitch.
+class EndlessStick final : public InputSource {
+ public:
+  const DeviceDescription& description() const noexcept override { return mDevice; }
+  ReadResult read(std::vector<InputEvent>& out, Nanoseconds) override {
+    ++mV;
+    const std::int32_t v = static_cast<std::int32_t>(mV % 1024);
+    out.push_back({mV, kX, v, InputEventType::Value});
+    out.push_back({mV, kY, v, InputEventType::Value});
+    out.push_back({mV, 0, 0, InputEventType::Sync});
+    return ReadResult::Events;
+  }
+
+ private:
+  DeviceDescription mDevice = plainStick();
+  std::int64_t mV = 0;
+};
+
+TEST(StickInput, TheFieldThreadReadsWhileTheInputThreadWrites) {
+  SystemClock clock;
+  StickInput input([] { return std::make_unique<EndlessStick>(); }, StickProfile::generic(), StickInputOptions{},
+                   clock);
+  input.start();
+  int torn = 0;
+  std::uint64_t reads = 0;
+  while (input.stats().frames < 20000 && reads < 50'000'000) {
+    const ControlState s = input.controlsAt(clock.now());
+    if (s.roll != s.pitch) ++torn;
+    ++reads;
+  }
+  input.stop();
+  EXPECT_EQ(torn, 0);
+  EXPECT_GE(input.stats().frames, 20000u);
+}
+
 TEST(StickInput, LossHoldsAndDecaysThenReconnectsWithBackoff) {
   VirtualClock clock(TimePoint{10s});
   int opens = 0;
