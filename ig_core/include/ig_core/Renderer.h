@@ -49,12 +49,13 @@ class Renderer {
   /// A frame being rendered.
   using Ticket = std::unique_ptr<InFlight, InFlightDeleter>;
 
-  /// Starts rendering a frame and returns at once. Allocates the frame's buffers.
-  Ticket submit(const ViewRequest& request);
+  /// Starts rendering a frame and returns at once. The frame's buffers come from `recycle` (pass
+  /// back a frame no longer needed and nothing is allocated) or are allocated.
+  Ticket submit(const ViewRequest& request, Frame&& recycle = Frame{});
   /// Waits for a submitted frame and returns it, with its statistics in `stats` if given.
   Frame finish(Ticket frame, RenderStats* stats = nullptr);
   /// submit + finish.
-  Frame render(const ViewRequest& request, RenderStats* stats = nullptr);
+  Frame render(const ViewRequest& request, RenderStats* stats = nullptr, Frame&& recycle = Frame{});
 
  private:
   const TerrainView& mView;

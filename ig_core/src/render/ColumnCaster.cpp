@@ -13,6 +13,7 @@
 #include "ColumnCaster.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -26,19 +27,33 @@ constexpr int kNoIndex = std::numeric_limits<int>::min() / 2;
 // One ray's line through the grid, in level-0 units, fixed for the whole march.
 struct RayLine {
   bool xMajor = true;
-  int sx = 1;         // direction of the major axis: +1 or −1
-  double cMaj = 0;    // camera on the major axis
-  double cMin = 0;    // camera on the minor axis
-  double slope = 0;   // minor units per unit of m
-  double zPer = 0;    // height quanta per unit of m
-  double aMaj = 1;    // units of m per metre of depth
-  double mUnit = 1;   // level L is used while m ≤ mUnit·2^L
+  int sx = 1;        // direction of the major axis: +1 or −1
+  double cMaj = 0;   // camera on the major axis
+  double cMin = 0;   // camera on the minor axis
+  double slope = 0;  // minor units per unit of m
+  double zPer = 0;   // height quanta per unit of m
+  double aMaj = 1;   // units of m per metre of depth
+  double mUnit = 1;  // level L is used while m ≤ mUnit·2^L
+  double invMUnit = 1;
   double mEnter = 0;  // first m inside the terrain's box (hull of voxel centres, below the ceiling)
   double mExit = 0;   // last m inside that box
 };
 
-int floorToInt(double x) noexcept { return static_cast<int>(std::floor(x)); }
-int ceilToInt(double x) noexcept { return static_cast<int>(std::ceil(x)); }
+// floor/ceil without a libm call (the values are grid indices, well inside int range).
+inline int floorToInt(double x) noexcept {
+  const int i = static_cast<int>(x);
+  return i - (x < i);
+}
+inline int ceilToInt(double x) noexcept {
+  const int i = static_cast<int>(x);
+  return i + (x > i);
+}
+inline std::int64_t floorToInt64(double x) noexcept {
+  const auto i = static_cast<std::int64_t>(x);
+  return i - (x < static_cast<double>(i));
+}
+// 2^level as a double, exactly, without ldexp.
+inline double pow2(int level) noexcept { return std::bit_cast<double>(static_cast<std::uint64_t>(1023 + level) << 52); }
 
 // Sets up the line of ray direction `d` (forward component 1); false when the ray misses the
 // terrain's box entirely.
@@ -58,6 +73,7 @@ bool setupLine(const CasterFrame& f, const glm::dvec3& d, RayLine& r) noexcept {
   r.slope = dMin * inv;
   r.zPer = d.z * f.quantaPerM * inv;
   r.mUnit = f.geo->lodDepth0M() * r.aMaj;
+  r.invMUnit = 1.0 / r.mUnit;
 
   const double majSize = (r.xMajor ? f.levelWidth[0] : f.levelHeight[0]) - 1;
   const double minSize = (r.xMajor ? f.levelHeight[0] : f.levelWidth[0]) - 1;
@@ -87,19 +103,21 @@ bool setupLine(const CasterFrame& f, const glm::dvec3& d, RayLine& r) noexcept {
   return r.mEnter <= r.mExit;
 }
 
-int levelAt(const CasterFrame& f, const RayLine& r, double m) noexcept {
-  const double ratio = m / r.mUnit;
+// ceil(log2(m / mUnit)) clamped to the pyramid, read off the double's exponent and mantissa bits.
+inline int levelAt(const CasterFrame& f, const RayLine& r, double m) noexcept {
+  const double ratio = m * r.invMUnit;
   if (!(ratio > 1.0)) return 0;
-  int exponent = 0;
-  const double mantissa = std::frexp(ratio, &exponent);
-  return std::min(mantissa == 0.5 ? exponent - 1 : exponent, f.levels - 1);
+  const auto bits = std::bit_cast<std::uint64_t>(ratio);
+  const int exponent = static_cast<int>(bits >> 52) - 1023;  // ratio = 1.mantissa · 2^exponent
+  const int level = exponent + ((bits & ((std::uint64_t{1} << 52) - 1)) != 0 ? 1 : 0);
+  return std::min(level, f.levels - 1);
 }
 
 // Level-0 major coordinate of level-L grid line i, and its m.
-double lineCoord(int i, int level) noexcept { return std::ldexp(i + 0.5, level) - 0.5; }
-double mAt(const RayLine& r, int i, int level) noexcept { return r.sx * (lineCoord(i, level) - r.cMaj); }
+inline double lineCoord(int i, int level) noexcept { return (i + 0.5) * pow2(level) - 0.5; }
+inline double mAt(const RayLine& r, int i, int level) noexcept { return r.sx * (lineCoord(i, level) - r.cMaj); }
 // Continuous level-L index of level-0 coordinate x.
-double levelIndex(double x, int level) noexcept { return std::ldexp(x + 0.5, -level) - 0.5; }
+inline double levelIndex(double x, int level) noexcept { return (x + 0.5) * pow2(-level) - 0.5; }
 
 // Grid line of `level` at or before m (in the march direction).
 int lineAtOrBefore(const RayLine& r, double m, int level) noexcept {
@@ -149,8 +167,8 @@ Cursor cursorAt(const RayLine& r, int level, int i) noexcept {
   Cursor c;
   c.level = level;
   c.i = i;
-  c.y = static_cast<std::int64_t>(std::floor(levelIndex(r.cMin + r.slope * m, level) * kMinorOne));
-  c.z = static_cast<std::int64_t>(std::floor((0.0 + r.zPer * m) * kZOne));
+  c.y = floorToInt64(levelIndex(r.cMin + r.slope * m, level) * kMinorOne);
+  c.z = floorToInt64(r.zPer * m * kZOne);
   return c;
 }
 
@@ -161,6 +179,7 @@ std::int64_t surfaceAt(const CasterFrame& f, CasterThread& t, const RayLine& r, 
   const std::int64_t h0 = r.xMajor ? heightAt(f, t, c.level, c.i, j) : heightAt(f, t, c.level, j, c.i);
   const std::int64_t h1 = r.xMajor ? heightAt(f, t, c.level, c.i, j + 1) : heightAt(f, t, c.level, j + 1, c.i);
   ++t.steps;
+  ++t.generic;
   return (h0 << 16) + (h1 - h0) * frac;
 }
 
@@ -238,7 +257,7 @@ LevelStops stopsFor(const CasterFrame& f, const RayLine& r, int level) noexcept 
   const double lim = 1e9;
   s.iExit = r.sx > 0 ? floorToInt(std::min(exitIndex, lim)) + 1 : ceilToInt(std::max(exitIndex, -lim)) - 1;
   if (level + 1 < f.levels) {
-    const double switchIndex = levelIndex(r.cMaj + r.sx * std::ldexp(r.mUnit, level), level);
+    const double switchIndex = levelIndex(r.cMaj + r.sx * r.mUnit * pow2(level), level);
     if (r.sx > 0) {
       int i = ceilToInt(std::min(switchIndex, lim));
       if (i & 1) ++i;
@@ -252,40 +271,42 @@ LevelStops stopsFor(const CasterFrame& f, const RayLine& r, int level) noexcept 
   return s;
 }
 
-// Marches ray `r` from distance mStart (the hit of the ray below, or the first-hit estimate).
-// When the start lies below the surface, retraces backwards to the last point above it.
+constexpr std::int64_t kNoSample = std::numeric_limits<std::int64_t>::max();
+
+// The start sample lay below the surface (the ray below saw a slightly different slice of the
+// terrain): walk back grid line by grid line to the last point above it.
+MarchHit retrace(const CasterFrame& f, CasterThread& t, const RayLine& r, Cursor c, std::int64_t diff,
+                 std::int64_t camZ) noexcept {
+  ++t.retraces;
+  for (int back = 0; back < (1 << 20); ++back) {
+    const double mBack = mAt(r, c.i - r.sx, c.level);
+    if (mBack < r.mEnter) return MarchHit{true, c, std::max(r.mEnter, 0.0)};
+    Cursor b = cursorAt(r, c.level, c.i - r.sx);
+    b.z += camZ;
+    const std::int64_t bDiff = b.z - surfaceAt(f, t, r, b);
+    if (bDiff > 0) return makeHit(r, c, diff, mBack, bDiff);
+    c = b;
+    diff = bDiff;
+  }
+  return MarchHit{true, c, mAt(r, c.i, c.level)};
+}
+
+// Marches ray `r` from distance mStart (where the ray below hit, or the first-hit estimate) to its
+// first crossing of the surface; a start below the surface is retraced backwards. A miss returns
+// hit = false with m = the distance where the ray left the terrain.
 MarchHit march(const CasterFrame& f, CasterThread& t, const RayLine& r, double mStart) noexcept {
-  const double mLow = r.mEnter;
-  mStart = std::max(mStart, mLow);
+  mStart = std::clamp(mStart, r.mEnter, r.mExit);
   int level = levelAt(f, r, mStart);
   int i = lineAtOrBefore(r, mStart, level);
-  if (mAt(r, i, level) < mLow) i += r.sx;
-  LevelStops stops = stopsFor(f, r, level);
-  if ((i - stops.iExit) * r.sx >= 0) return {};
-
-  // First sample; below the surface means the ray below saw a different slice: retrace.
-  Cursor c = cursorAt(r, level, i);
-  std::int64_t diff = (c.z + static_cast<std::int64_t>(f.camZq * kZOne)) - surfaceAt(f, t, r, c);
-  if (diff <= 0) {
-    for (int back = 0; back < 1 << 20; ++back) {
-      const double mBack = mAt(r, c.i - r.sx, level);
-      if (mBack < mLow) return MarchHit{true, c, mAt(r, c.i, level)};
-      const Cursor b = cursorAt(r, level, c.i - r.sx);
-      const std::int64_t bDiff = (b.z + static_cast<std::int64_t>(f.camZq * kZOne)) - surfaceAt(f, t, r, b);
-      if (bDiff > 0) return makeHit(r, c, diff, mBack, bDiff);
-      c = b;
-      diff = bDiff;
-    }
-    return MarchHit{true, c, mAt(r, c.i, level)};
-  }
-  std::int64_t prevDiff = diff;
-  double prevM = mAt(r, i, level);
-  i += r.sx;
-
-  const std::int64_t camZ = static_cast<std::int64_t>(f.camZq * kZOne);
+  if (mAt(r, i, level) < r.mEnter) i += r.sx;
+  const MarchHit miss{false, Cursor{}, r.mExit};
+  const std::int64_t camZ = floorToInt64(f.camZq * kZOne);
+  std::int64_t prevDiff = kNoSample;  // no sample yet: a first sample below the surface retraces
+  double prevM = 0.0;
+  LevelStops stops;
   for (;;) {
     if (stops.level != level) stops = stopsFor(f, r, level);
-    if ((i - stops.iExit) * r.sx >= 0) return {};
+    if ((i - stops.iExit) * r.sx >= 0) return miss;
     if (i == stops.iSwitch) {
       // Even step reached: continue on the coarser level, whose grid line is half a step ahead.
       ++level;
@@ -301,7 +322,7 @@ MarchHit march(const CasterFrame& f, CasterThread& t, const RayLine& r, double m
       iStop = std::max(iStop, stops.iExit);
       if (stops.iSwitch != kNoIndex) iStop = std::max(iStop, stops.iSwitch);
     }
-    c = cursorAt(r, level, i);
+    Cursor c = cursorAt(r, level, i);
     c.z += camZ;
     const int j = static_cast<int>(c.y >> 32);
     const int majorTile = i >> f.tileShift;
@@ -310,9 +331,11 @@ MarchHit march(const CasterFrame& f, CasterThread& t, const RayLine& r, double m
                               : r.xMajor ? tileAt(f, t, level, majorTile, minorTile)
                                          : tileAt(f, t, level, minorTile, majorTile);
     if (tile != nullptr && (j & f.tileMask) != f.tileMask) {
-      const std::int64_t dy = static_cast<std::int64_t>(std::floor(r.slope * kMinorOne));
-      const std::int64_t dz = static_cast<std::int64_t>(std::floor(std::ldexp(r.zPer, level) * kZOne));
+      const std::int64_t dy = floorToInt64(r.slope * kMinorOne);
+      const std::int64_t dz = floorToInt64(r.zPer * pow2(level) * kZOne);
       const int runStart = i;
+      ++t.runs;
+      const bool hadSample = prevDiff != kNoSample;
       std::int64_t hitDiff = 0;
       const RunEnd end =
           r.xMajor ? fastRun<true>(c, r.sx, iStop, dy, dz, tile->heightQ, f.tileShift, minorTile << f.tileShift,
@@ -320,15 +343,21 @@ MarchHit march(const CasterFrame& f, CasterThread& t, const RayLine& r, double m
                    : fastRun<false>(c, r.sx, iStop, dy, dz, tile->heightQ, f.tileShift, minorTile << f.tileShift,
                                     majorTile << f.tileShift, prevDiff, hitDiff, t.steps);
       if (c.i != runStart) prevM = mAt(r, c.i - r.sx, level);
-      if (end == RunEnd::Hit) return makeHit(r, c, hitDiff, prevM, prevDiff);
+      if (end == RunEnd::Hit) {
+        if (c.i == runStart && !hadSample) return retrace(f, t, r, c, hitDiff, camZ);
+        return makeHit(r, c, hitDiff, prevM, prevDiff);
+      }
       i = c.i;
       if (end == RunEnd::Stop) continue;
       c = cursorAt(r, level, i);  // the row pair left the tile: one generic step below
       c.z += camZ;
     }
     // Generic step: the row pair straddles tiles, or the tile is missing (coarser fallback).
-    diff = c.z - surfaceAt(f, t, r, c);
-    if (diff <= 0) return makeHit(r, c, diff, prevM, prevDiff);
+    const std::int64_t diff = c.z - surfaceAt(f, t, r, c);
+    if (diff <= 0) {
+      if (prevDiff == kNoSample) return retrace(f, t, r, c, diff, camZ);
+      return makeHit(r, c, diff, prevM, prevDiff);
+    }
     prevDiff = diff;
     prevM = mAt(r, i, level);
     i += r.sx;
@@ -344,7 +373,7 @@ double firstHitStart(const CasterFrame& f, const RayLine& r) noexcept {
     if (m > r.mExit) return m;
     const int lod = levelAt(f, r, m);
     k = std::max(k, lod);
-    const double cellSize = std::ldexp(1.0, k);
+    const double cellSize = pow2(k);
     const double xMaj = r.cMaj + r.sx * m;
     const double xMin = r.cMin + r.slope * m;
     const int ci = floorToInt((xMaj + 0.5) / cellSize);
@@ -388,7 +417,7 @@ Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const Mar
   // The same point on the next level: continuous index there, bilinear over four voxels.
   const int up = c.level + 1;
   const double xMaj = lineCoord(c.i, c.level);
-  const double xMin = std::ldexp(static_cast<double>(c.y) / kMinorOne + 0.5, c.level) - 0.5;
+  const double xMin = (static_cast<double>(c.y) / kMinorOne + 0.5) * pow2(c.level) - 0.5;
   const double ux = levelIndex(r.xMajor ? xMaj : xMin, up);
   const double uy = levelIndex(r.xMajor ? xMin : xMaj, up);
   const int x0 = floorToInt(ux);
@@ -466,14 +495,14 @@ void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept
         ++t.rays;
         RayLine r;
         if (!sky && setupLine(f, d, r)) {
-          double mStart;
-          if (havePrev) {
-            // Vertical coherence: start where the ray below hit (on this ray's own line).
-            mStart = r.sx * ((r.xMajor ? prevHit.x : prevHit.y) - r.cMaj);
-          } else {
-            mStart = firstHitStart(f, r);
-          }
+          // Vertical coherence: start where the ray below hit (projected on this ray's own line).
+          const double mStart =
+              havePrev ? r.sx * ((r.xMajor ? prevHit.x : prevHit.y) - r.cMaj) : (++t.firstHits, firstHitStart(f, r));
           const MarchHit h = march(f, t, r, mStart);
+          const double maj = r.cMaj + r.sx * h.m;
+          const double min = r.cMin + r.slope * h.m;
+          prevHit = r.xMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj};
+          havePrev = true;
           if (h.hit) {
             const double depth = h.m / r.aMaj;
             const auto rangeM = static_cast<float>(depth * length);
@@ -482,18 +511,15 @@ void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept
             sum.g += c.g;
             sum.b += c.b;
             if (sub == s / 2) rangePx = rangeM;
-            havePrev = true;
-            const double maj = r.cMaj + r.sx * h.m;
-            const double min = r.cMin + r.slope * h.m;
-            prevHit = r.xMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj};
             continue;
           }
+          // Missed. An ascending ray passes over everything, and so does every ray above it. A
+          // descending one left the terrain's side; the ray above starts where this one left (a
+          // pitched column fans out in azimuth, so it may come back over the terrain: retrace).
+          if (d.z >= 0.0) sky = true;
+        } else {
+          havePrev = false;  // nowhere near the terrain: the next ray starts afresh
         }
-        // Missed. An ascending ray that misses passes over everything, and so does every ray above
-        // it. A descending one left the terrain's side (a pitched column fans out in azimuth, so
-        // the ray above may come back over the terrain): the next ray starts afresh.
-        if (d.z >= 0.0) sky = true;
-        havePrev = false;
         const Rgb c = f.shading.sky(static_cast<float>(d.z / length));
         sum.r += c.r;
         sum.g += c.g;

@@ -54,8 +54,12 @@ struct alignas(64) CasterThread {
     const TerrainTile* tile = nullptr;
   };
   std::array<CachedTile, 24> tiles{};
-  std::uint64_t steps = 0;  ///< height samples taken (march steps)
-  std::uint64_t rays = 0;   ///< rays cast
+  std::uint64_t steps = 0;      ///< height samples taken (march steps)
+  std::uint64_t rays = 0;       ///< rays cast
+  std::uint64_t runs = 0;       ///< fast-loop runs started (profiling)
+  std::uint64_t generic = 0;    ///< generic (slow-path) samples (profiling)
+  std::uint64_t retraces = 0;   ///< rays whose start lay below the surface (profiling)
+  std::uint64_t firstHits = 0;  ///< max-pyramid descents (profiling)
   void resetTiles() noexcept { tiles.fill(CachedTile{}); }
 };
 

@@ -14,9 +14,12 @@
 namespace fieldcast::core {
 
 /// A frame with its layout, pose (roll 0), buffers and control pixels set; pixels not rendered yet.
-inline Frame frameShell(const ViewRequest& request, const RenderSettings& settings, bool withRange) {
+/// The buffers of `reuse` are recycled (no allocation once frames stop growing).
+inline Frame frameShell(const ViewRequest& request, const RenderSettings& settings, bool withRange,
+                        Frame&& reuse = Frame{}) {
   const FrameLayout layout = layoutFrame(request.display, settings.marginFraction, request.pose.rollRad);
-  Frame frame;
+  Frame frame = std::move(reuse);
+  frame.controlPoints.clear();
   frame.intrinsics = layout.frame;
   frame.margin = layout.margin;
   frame.pose = request.pose;
@@ -25,6 +28,7 @@ inline Frame frameShell(const ViewRequest& request, const RenderSettings& settin
   frame.frameNumber = request.frameNumber;
   frame.image.resize(layout.frame.widthPx, layout.frame.heightPx,
                      settings.colourMode == ColourMode::Grey ? PixelFormat::Grey8 : PixelFormat::Rgb8);
+  frame.rangeM.clear();
   if (withRange) {
     frame.rangeM.assign(
         static_cast<std::size_t>(layout.frame.widthPx) * static_cast<std::size_t>(layout.frame.heightPx),

@@ -12,9 +12,9 @@ namespace fieldcast::core {
 
 class Renderer::InFlight {
  public:
-  InFlight(Renderer& r, const ViewRequest& request, const RenderSettings& s)
+  InFlight(Renderer& r, const ViewRequest& request, const RenderSettings& s, Frame&& recycle)
       : renderer(r),
-        frame(frameShell(request, s, s.rangeImage)),
+        frame(frameShell(request, s, s.rangeImage, std::move(recycle))),
         geometry(frame.pose, frame.intrinsics, r.mView.geometry(), s.quality),
         caster(r.mView, geometry, s, r.mCeilingQ, &frame.image, s.rangeImage ? frame.rangeM.data() : nullptr) {
     frame.renderStart = MonotonicClock::now();
@@ -61,10 +61,12 @@ void Renderer::InFlightDeleter::operator()(InFlight* frame) const noexcept {
   delete frame;
 }
 
-Frame Renderer::render(const ViewRequest& request, RenderStats* stats) { return finish(submit(request), stats); }
+Frame Renderer::render(const ViewRequest& request, RenderStats* stats, Frame&& recycle) {
+  return finish(submit(request, std::move(recycle)), stats);
+}
 
-Renderer::Ticket Renderer::submit(const ViewRequest& request) {
-  Ticket f(new InFlight(*this, request, mSettings));
+Renderer::Ticket Renderer::submit(const ViewRequest& request, Frame&& recycle) {
+  Ticket f(new InFlight(*this, request, mSettings, std::move(recycle)));
   // Control rays: the same march as the pixels, cast from the camera.
   mCaller->resetTiles();
   for (ControlPoint& cp : f->frame.controlPoints) {
