@@ -1,6 +1,7 @@
 #include "Service.h"
 
 #include "FieldLoop.h"
+#include "KeyboardFlight.h"
 #include "RenderLoop.h"
 #include "SinkFactory.h"
 #include "ThreadScheduling.h"
@@ -95,6 +96,7 @@ struct Service::Parts {
   std::unique_ptr<motion::FlightModel> flightModel;
   const motion::MotionSource* motion = nullptr;
   std::unique_ptr<io::StickInput> stick;
+  KeyboardFlight keyboard;  // the live window's keys, when there is no stick
   PendingInput pendingInput{0};
   TimePoint lastInputTime{};
   Intrinsics display;
@@ -103,6 +105,7 @@ struct Service::Parts {
   std::unique_ptr<warp::FunctionPoseSource> poses;
   std::unique_ptr<warp::FieldClock> fieldClock;
   std::unique_ptr<io::SinkHub> sinks;
+  io::WindowSink* window = nullptr;
   std::unique_ptr<FieldLoop> fieldLoop;
   std::thread renderThread;
   std::thread fieldThread;
@@ -157,16 +160,22 @@ struct Service::Parts {
 
   // Per field, before the pose is asked for: the stick flight model integrates up to the field.
   void stepFlight(const warp::FieldTick& tick) noexcept {
-    io::ControlState controls;
+    const TimePoint now = clock.now();
+    motion::FlightControls controls;
+    TimePoint inputTime{};
     if (stick) {
-      controls = stick->controlsAt(clock.now());
-      if (controls.time != lastInputTime && controls.health == io::InputHealth::Live) {
-        lastInputTime = controls.time;
-        pendingInput.store(controls.time.time_since_epoch().count(), std::memory_order_release);
-      }
+      const io::ControlState state = stick->controlsAt(now);
+      controls = motion::FlightControls{state.roll, state.pitch, state.yaw, state.throttle};
+      if (state.health == io::InputHealth::Live) inputTime = state.time;
+    } else {
+      controls = keyboard.controlsAt(now);
+      inputTime = keyboard.lastInputTime();
     }
-    flightModel->step(tick.displayTime,
-                      motion::FlightControls{controls.roll, controls.pitch, controls.yaw, controls.throttle});
+    if (inputTime != lastInputTime && inputTime != TimePoint{}) {
+      lastInputTime = inputTime;
+      pendingInput.store(inputTime.time_since_epoch().count(), std::memory_order_release);
+    }
+    flightModel->step(tick.displayTime, controls);
   }
 };
 
@@ -212,7 +221,15 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
   warperConfig.maxFrameHeightPx = config.render.heightPx * 2;
   p.warper = std::make_unique<warp::FieldWarper>(warperConfig);
   p.poses = std::make_unique<warp::FunctionPoseSource>(*p.motion);
-  p.sinks = makeSinks(config, format);
+  Sinks sinks = makeSinks(config, format, [&p](int, io::WindowKey key) {
+    if (key == io::WindowKey::Quit) {
+      p.stopFields.store(true);  // the main loop sees running() turn false and stops cleanly
+    } else {
+      p.keyboard.onKey(key, p.clock.now());
+    }
+  });
+  p.sinks = std::move(sinks.hub);
+  p.window = sinks.window;
 }
 
 Service::~Service() {
@@ -246,6 +263,7 @@ void Service::start() {
   warp::validateFieldClockConfig(clockConfig, "warp.lead_ms");
   const TimePoint t0 = p.clock.now() + clockConfig.lead + 2ms;
   p.fieldClock = std::make_unique<warp::FieldClock>(p.clock, clockConfig, t0);
+  p.metrics.startAt(p.clock.now());
   p.fieldLoop = std::make_unique<FieldLoop>(*p.fieldClock, p.clock, *p.warper, p.frames, *p.poses, *p.sinks, p.metrics,
                                             p.stick ? &p.pendingInput : nullptr);
   if (p.flightModel) p.fieldLoop->setBeforeField([&p](const warp::FieldTick& tick) { p.stepFlight(tick); });
@@ -271,6 +289,15 @@ std::string Service::fatalError() const {
 std::string Service::intervalLine() {
   Parts& p = *mParts;
   std::string line = p.metrics.intervalLine(p.clock.now());
+  if (p.window != nullptr) {
+    const ServiceCounters& c = p.metrics.counters;
+    io::WindowFigures figures;
+    figures.renderHz = p.metrics.lastRenderHz();
+    figures.fields = c.fieldsEmitted.load();
+    figures.missedFields = c.fieldsMissed.load();
+    figures.marginViolations = c.marginViolations.load();
+    p.window->setFigures(figures);
+  }
   const core::TileCacheStats t = p.terrain->stats();
   line += " | tiles " + std::to_string(t.residentTiles) + " resident, " + std::to_string(t.viewMisses) + " misses";
   return line;

@@ -65,8 +65,11 @@ io::StreamFormat streamFormatOf(const ServiceConfig& config) {
   return format;
 }
 
-std::unique_ptr<io::SinkHub> makeSinks(const ServiceConfig& config, const io::StreamFormat& format) {
-  auto hub = std::make_unique<io::SinkHub>(format, io::SinkHubOptions{8});
+Sinks makeSinks(const ServiceConfig& config, const io::StreamFormat& format,
+                std::function<void(int code, io::WindowKey key)> onKey) {
+  Sinks result;
+  result.hub = std::make_unique<io::SinkHub>(format, io::SinkHubOptions{8});
+  io::SinkHub* hub = result.hub.get();
   const SinksConfig& sinks = config.sinks;
   if (sinks.y4m.enabled) {
     createParent(sinks.y4m.path, "sinks.y4m.path");
@@ -100,13 +103,23 @@ std::unique_ptr<io::SinkHub> makeSinks(const ServiceConfig& config, const io::St
     options.width = fromSeconds(sinks.gpioPulse.widthUs * 1e-6);
     hub->add(std::make_unique<io::GpioPulseSink>(std::move(line), options));
   }
+  if (sinks.window.enabled) {
+    if (const std::string problem = io::WindowSink::displayProblem(); !problem.empty()) {
+      throw std::runtime_error("sinks.window: no live window: " + problem);
+    }
+    io::WindowSinkOptions options;
+    options.onKey = std::move(onKey);
+    auto window = std::make_unique<io::WindowSink>(std::move(options));
+    result.window = window.get();
+    hub->add(std::move(window));
+  }
   if (!sinks.contactSheet.empty()) {
     createParent(sinks.contactSheet, "sinks.contact_sheet");
     // One candidate a second; the sheet picks its thumbnails evenly from them at the end.
     const int perSecond = static_cast<int>(config.output.fieldRate.hz() + 0.5);
     hub->add(std::make_unique<ContactSheetSink>(sinks.contactSheet, sinks.contactSheetFields, perSecond));
   }
-  return hub;
+  return result;
 }
 
 }  // namespace fieldcast::app
