@@ -53,3 +53,20 @@ if(FIELDCAST_BUILD_TESTS)
     LIBRARIES fieldcast::io
     LABELS "hw;io")
 endif()
+
+# libFuzzer target for the shm ring header a reader validates (clang only: the gcc build skips
+# it). `ctest -L fuzz` runs it for 20 s.
+if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  add_executable(fieldcast_fuzz_shm_ring_header ${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/ShmRingHeaderFuzz.cpp)
+  target_compile_options(fieldcast_fuzz_shm_ring_header PRIVATE -fsanitize=fuzzer)
+  target_link_libraries(fieldcast_fuzz_shm_ring_header PRIVATE fieldcast::io -fsanitize=fuzzer)
+  if(FIELDCAST_BUILD_TESTS)
+    # New inputs go to a corpus in the build tree; the seed (a valid ring) stays read-only.
+    set(_corpus "${CMAKE_BINARY_DIR}/fuzz_corpus/shm_ring_header")
+    file(MAKE_DIRECTORY "${_corpus}")
+    add_test(NAME io_sinks_fuzz_shm_ring_header
+      COMMAND fieldcast_fuzz_shm_ring_header -max_total_time=20 -rss_limit_mb=1024 "${_corpus}"
+              "${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/seeds")
+    set_tests_properties(io_sinks_fuzz_shm_ring_header PROPERTIES LABELS "fuzz;io")
+  endif()
+endif()
