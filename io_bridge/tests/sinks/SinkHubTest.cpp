@@ -25,14 +25,16 @@ struct GateState {
   int entered = 0;  // consume() calls begun
   std::vector<std::uint64_t> seen;
   std::vector<std::uint8_t> firstBytes;
+  int corrupted = 0;  // fields whose bytes changed under the sink while it held them
   bool closed = false;
 };
 
 class GateSink final : public FieldSink {
  public:
-  explicit GateSink(std::shared_ptr<GateState> s) : mS(std::move(s)) {}
-  std::string name() const override { return "gate"; }
-  void open(const StreamFormat&) override {}
+  explicit GateSink(std::shared_ptr<GateState> s, std::string name = "gate")
+      : mS(std::move(s)), mName(std::move(name)) {}
+  std::string name() const override { return mName; }
+  void open(const StreamFormat& format) override { mFormat = format; }
   SinkStatus consume(const Field& field) override {
     std::unique_lock lock(mS->m);
     ++mS->entered;
@@ -40,6 +42,7 @@ class GateSink final : public FieldSink {
     mS->cv.wait(lock, [&] { return mS->open; });
     mS->seen.push_back(field.fieldNumber);
     mS->firstBytes.push_back(field.image.bytes()[0]);
+    if (!(field.image == makeField(mFormat, field.fieldNumber).image)) ++mS->corrupted;
     return SinkStatus::Ok;
   }
   void close() override {
@@ -49,6 +52,8 @@ class GateSink final : public FieldSink {
 
  private:
   std::shared_ptr<GateState> mS;
+  std::string mName;
+  StreamFormat mFormat;
 };
 
 class FailingOpenSink final : public FieldSink {
@@ -94,6 +99,36 @@ TEST(SinkHub, SlowSinkNeverBlocksPublishAndDropsAreCounted) {
     }
     EXPECT_EQ(state->firstBytes[i], makeField(format, state->seen[i]).image.bytes()[0]);
   }
+}
+
+// One copy per publish is shared by all sinks: a stuck sink holding its fields must neither
+// starve a fast sink of slots nor see its held fields overwritten.
+TEST(SinkHub, AStuckSinkNeitherStarvesNorCorrupts) {
+  const StreamFormat format = testFormat(64, 16);
+  auto stuck = std::make_shared<GateState>();
+  auto fast = std::make_shared<GateState>();
+  fast->open = true;
+  SinkHub hub(format, SinkHubOptions{3});
+  hub.add(std::make_unique<GateSink>(stuck, "stuck"));
+  hub.add(std::make_unique<GateSink>(fast, "fast"));
+  hub.start();
+  for (std::uint64_t k = 0; k < 50; ++k) {
+    hub.publish(makeField(format, k));
+    // let the fast sink finish each field, so none of its fields is dropped
+    while (hub.figures()[1].consumed < k + 1) std::this_thread::yield();
+  }
+  {
+    std::lock_guard lock(stuck->m);
+    stuck->open = true;
+  }
+  stuck->cv.notify_all();
+  hub.stop();
+  const auto figures = hub.figures();
+  EXPECT_EQ(figures[1].consumed, 50u);
+  EXPECT_EQ(figures[1].droppedFull, 0u);
+  EXPECT_EQ(figures[0].consumed, 3u);  // fields 0, 1, 2 held the whole time
+  EXPECT_EQ(stuck->corrupted, 0);
+  EXPECT_EQ(fast->corrupted, 0);
 }
 
 TEST(SinkHub, WrongFieldsAreRejectedNotQueued) {
