@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -236,6 +237,87 @@ TEST(RtpInterop, GstreamerReassemblesProgressiveHdFrames) {
   }
   ASSERT_EQ(received.size(), sent.size());
   EXPECT_TRUE(received == sent) << "GStreamer reassembled different frames than we sent";
+}
+
+// ffmpeg opens the SDP file the sink writes and decodes the stream: the SDP is usable as is.
+// Returns the raw UYVY pictures ffmpeg produced (it may join late and miss the first ones).
+std::string ffmpegReceivesViaSdp(const StreamFormat& f, int fields, int pictures) {
+  const int port = freeUdpPort() + 2;
+  const fs::path sdp = scratch("stream_" + std::to_string(f.heightPx) + ".sdp");
+  const fs::path out = scratch("ffmpeg_" + std::to_string(f.heightPx) + ".uyvy");
+  fs::remove(out);
+  RtpVideoSinkOptions o;
+  o.port = port;
+  o.sdpPath = sdp;
+  RtpVideoSink sink(o);
+  sink.open(f);  // writes the SDP
+  const std::string command = "timeout 30 ffmpeg -v error -protocol_whitelist file,udp,rtp -buffer_size 16777216 -i '" +
+                              sdp.string() + "' -fps_mode passthrough -frames:v " + std::to_string(pictures) +
+                              " -f rawvideo -pix_fmt uyvy422 '" + out.string() + "' 2>&1";
+  std::string output;
+  std::thread receiver([&] { output = run(command); });
+  EXPECT_TRUE(waitForUdpListener(port, std::chrono::seconds(10))) << "ffmpeg did not bind port " << port;
+  for (int k = 0; k < fields; ++k) sink.consume(makeField(f, static_cast<std::uint64_t>(k)));
+  sink.close();
+  receiver.join();
+  EXPECT_EQ(output, "") << "ffmpeg said:\n" << output;
+  return readAll(out);
+}
+
+TEST(RtpInterop, FfmpegPlaysOurSdpProgressive) {
+  if (!haveTool("ffmpeg") || !haveTool("timeout")) GTEST_SKIP() << "ffmpeg not installed";
+  const StreamFormat f = testFormat(720, 486, ScanMode::Progressive);
+  const std::string got = ffmpegReceivesViaSdp(f, 40, 10);
+  const std::size_t frameBytes = 720u * 2u * 486u;
+  ASSERT_EQ(got.size(), 10 * frameBytes);
+  // Each picture ffmpeg made is one of the frames we sent, in order. ffmpeg joins the stream
+  // while probing it, so its first picture may lack the lines sent before it joined: skip it.
+  int last = -1;
+  for (int i = 1; i < 10; ++i) {
+    const std::string picture = got.substr(static_cast<std::size_t>(i) * frameBytes, frameBytes);
+    int match = -1;
+    for (int k = last + 1; k < 40 && match < 0; ++k) {
+      const Field field = makeField(f, static_cast<std::uint64_t>(k));
+      if (picture.compare(0, frameBytes, reinterpret_cast<const char*>(field.image.bytes().data()), frameBytes) == 0) {
+        match = k;
+      }
+    }
+    ASSERT_GE(match, 0) << "picture " << i << " is none of the frames sent after frame " << last;
+    last = match;
+  }
+}
+
+// Interlaced: ffmpeg's RFC 4175 reader takes the SDP's "interlace", puts F=1 lines on the odd
+// rows (line = 2·line + F) and emits a frame at the marker of each F=1 field. It assumes the top
+// field comes first, so the stream here is top-first (a bottom-first stream comes out paired
+// across frames: ffmpeg ignores field order).
+TEST(RtpInterop, FfmpegWeavesOurInterlacedFields) {
+  if (!haveTool("ffmpeg") || !haveTool("timeout")) GTEST_SKIP() << "ffmpeg not installed";
+  StreamFormat f = testFormat(720, 486);
+  f.fieldOrder = FieldOrder::TopFirst;
+  const std::string got = ffmpegReceivesViaSdp(f, 80, 10);
+  const std::size_t frameBytes = 720u * 2u * 486u;
+  ASSERT_EQ(got.size(), 10 * frameBytes);
+  auto woven = [&](int frame) {
+    std::string out(frameBytes, '\0');
+    for (int i = 0; i < 2; ++i) {
+      const Field field = makeField(f, static_cast<std::uint64_t>(2 * frame + i));
+      for (int r = 0; r < field.image.heightPx(); ++r) {
+        std::memcpy(out.data() + static_cast<std::size_t>(rasterRow(field.parity, r)) * 1440, field.image.row(r), 1440);
+      }
+    }
+    return out;
+  };
+  int last = -1;
+  for (int i = 1; i < 10; ++i) {
+    const std::string picture = got.substr(static_cast<std::size_t>(i) * frameBytes, frameBytes);
+    int match = -1;
+    for (int frame = last + 1; frame < 40 && match < 0; ++frame) {
+      if (picture == woven(frame)) match = frame;
+    }
+    ASSERT_GE(match, 0) << "picture " << i << " is no woven frame sent after frame " << last;
+    last = match;
+  }
 }
 
 }  // namespace
