@@ -7,9 +7,25 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <condition_variable>
+#include <cstdlib>
 #include <mutex>
+#include <new>
 #include <thread>
+
+// Counts heap allocations made by the thread that sets gCountAllocations (the "field thread").
+namespace {
+thread_local bool gCountAllocations = false;
+std::atomic<int> gAllocations{0};
+}  // namespace
+void* operator new(std::size_t bytes) {
+  if (gCountAllocations) gAllocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(bytes ? bytes : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace fieldcast::io {
 namespace {
@@ -129,6 +145,32 @@ TEST(SinkHub, AStuckSinkNeitherStarvesNorCorrupts) {
   EXPECT_EQ(figures[0].consumed, 3u);  // fields 0, 1, 2 held the whole time
   EXPECT_EQ(stuck->corrupted, 0);
   EXPECT_EQ(fast->corrupted, 0);
+}
+
+TEST(SinkHub, PublishNeverAllocates) {
+  const StreamFormat format = testFormat(720, 486);
+  auto slow = std::make_shared<GateState>();  // stuck: its queue fills, so drops happen too
+  auto fast = std::make_shared<GateState>();
+  fast->open = true;
+  SinkHub hub(format);
+  hub.add(std::make_unique<GateSink>(slow, "slow"));
+  hub.add(std::make_unique<GateSink>(fast, "fast"));
+  hub.start();
+  std::vector<Field> fields;
+  for (std::uint64_t k = 0; k < 8; ++k) fields.push_back(makeField(format, k));
+  Field wrong = makeField(testFormat(64, 16), 0);
+  gAllocations = 0;
+  gCountAllocations = true;
+  for (int i = 0; i < 200; ++i) hub.publish(fields[static_cast<std::size_t>(i) % fields.size()]);
+  hub.publish(wrong);
+  gCountAllocations = false;
+  EXPECT_EQ(gAllocations.load(), 0);
+  {
+    std::lock_guard lock(slow->m);
+    slow->open = true;
+  }
+  slow->cv.notify_all();
+  hub.stop();
 }
 
 TEST(SinkHub, WrongFieldsAreRejectedNotQueued) {
