@@ -57,9 +57,14 @@ endif()
 # libFuzzer target for the shm ring header a reader validates (clang only: the gcc build skips
 # it). `ctest -L fuzz` runs it for 20 s.
 if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
-  add_executable(fieldcast_fuzz_shm_ring_header ${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/ShmRingHeaderFuzz.cpp)
-  target_compile_options(fieldcast_fuzz_shm_ring_header PRIVATE -fsanitize=fuzzer)
-  target_link_libraries(fieldcast_fuzz_shm_ring_header PRIVATE fieldcast::io -fsanitize=fuzzer)
+  # The code under test is compiled into the fuzzer itself, so libFuzzer sees its coverage.
+  add_executable(fieldcast_fuzz_shm_ring_header
+    ${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/ShmRingHeaderFuzz.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/ShmRing.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/StreamFormat.cpp)
+  target_include_directories(fieldcast_fuzz_shm_ring_header PRIVATE ${PROJECT_SOURCE_DIR}/io_bridge/include)
+  target_compile_options(fieldcast_fuzz_shm_ring_header PRIVATE -fsanitize=fuzzer,address,undefined)
+  target_link_libraries(fieldcast_fuzz_shm_ring_header PRIVATE fieldcast::types -fsanitize=fuzzer,address,undefined)
   if(FIELDCAST_BUILD_TESTS)
     # New inputs go to a corpus in the build tree; the seed (a valid ring) stays read-only.
     set(_corpus "${CMAKE_BINARY_DIR}/fuzz_corpus/shm_ring_header")
