@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdio>
 #include <cstring>
 #include <thread>
 
@@ -174,6 +176,34 @@ TEST(ShmRing, HeaderValidationNamesTheProblem) {
   bad.maxFieldBytes = 1u << 30;
   EXPECT_NE(check(bad, size), "");
   EXPECT_NE(validateShmRingHeader(nullptr, 0), "");
+}
+
+// The real use: a consumer in another process.
+TEST(ShmRing, AnotherProcessReadsTheRing) {
+  const StreamFormat format = testFormat(64, 16);
+  const std::string name = ringName("xproc");  // before fork(): the name holds our pid
+  ShmRingWriter writer(name, format, 4);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    // Child: wait for field 9, check it is whole, report through the exit status
+    int status = 1;
+    try {
+      ShmRingReader reader(name);
+      Field out;
+      for (int i = 0; i < 20000 && reader.publishedCount() < 10; ++i) usleep(100);
+      if (reader.read(9, out) == ShmReadStatus::Ok && out.fieldNumber == 9 && samePattern(out, format)) status = 0;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "reading process: %s\n", e.what());
+      status = 2;
+    }
+    _exit(status);
+  }
+  for (std::uint64_t k = 0; k < 10; ++k) writer.publish(makeField(format, k));
+  int status = -1;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "the reading process did not get field 9 intact";
 }
 
 TEST(ShmRing, MissingRingIsAClearError) {
