@@ -25,6 +25,7 @@ struct SinkFigures {
   std::uint64_t rejected = 0;      ///< fields that did not match the stream format
   std::uint64_t maxConsumeNs = 0;  ///< longest consume() call
   std::uint64_t totalConsumeNs = 0;
+  bool realtime = false;  ///< its worker runs SCHED_FIFO (asked for and granted)
   bool ended = false;     ///< the sink has stopped for good
   std::string endReason;  ///< why, when ended
 };
@@ -32,6 +33,14 @@ struct SinkFigures {
 /// Queue depth and other knobs of a SinkHub.
 struct SinkHubOptions {
   int queueDepth = 3;  ///< fields each sink may have waiting (1–64); more absorbs longer stalls
+};
+
+/// How one sink's worker runs.
+struct SinkWorkerOptions {
+  /// SCHED_FIFO priority (1–99) for the worker, e.g. for the GPIO pulse whose edges must be on
+  /// time; 0 keeps the normal scheduler. A refusal (no CAP_SYS_NICE / rtprio limit) is logged
+  /// once and the sink runs anyway.
+  int realtimePriority = 0;
 };
 
 /// Owns the sinks and one worker thread per sink.
@@ -44,7 +53,7 @@ class SinkHub {
   SinkHub& operator=(const SinkHub&) = delete;
 
   /// Adds a sink before start(). Not RT-safe.
-  void add(std::unique_ptr<FieldSink> sink);
+  void add(std::unique_ptr<FieldSink> sink, SinkWorkerOptions worker = {});
   /// Preallocates the field pool (queueDepth × sinks + 1 full-size fields), starts one worker
   /// per sink and waits until every sink has opened. If any open() throws, all
   /// workers are stopped and std::runtime_error names each sink that failed and why.

@@ -14,6 +14,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <csignal>
+#include <cstring>
 #include <mutex>
 #include <semaphore>
 #include <sstream>
@@ -49,6 +50,8 @@ struct SinkHub::Lane {
   std::unique_ptr<FieldSink> sink;
   std::string name;
   Pool* pool = nullptr;
+  SinkWorkerOptions workerOptions;
+  std::atomic<bool> realtime{false};
   std::vector<std::uint32_t> ring;                 // pool slot indices, queueDepth of them
   alignas(64) std::atomic<std::uint64_t> head{0};  // next slot the field thread fills
   alignas(64) std::atomic<std::uint64_t> tail{0};  // next slot the worker consumes
@@ -91,6 +94,19 @@ void SinkHub::Lane::endWith(const std::string& reason) {
 
 void SinkHub::Lane::run(const StreamFormat& format) {
   blockSigpipeInThisThread();
+  if (workerOptions.realtimePriority > 0) {
+    sched_param param{};
+    param.sched_priority = workerOptions.realtimePriority;
+    const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    if (rc == 0) {
+      realtime.store(true, std::memory_order_relaxed);
+    } else {
+      spdlog::warn(
+          "sink '{}': real-time priority {} refused ({}); it runs at normal priority (grant CAP_SYS_NICE "
+          "or an rtprio limit for tighter timing)",
+          name, workerOptions.realtimePriority, std::strerror(rc));
+    }
+  }
   try {
     sink->open(format);
   } catch (const std::exception& e) {
@@ -162,13 +178,18 @@ SinkHub::SinkHub(StreamFormat format, SinkHubOptions options) : mFormat(format),
 
 SinkHub::~SinkHub() { stop(); }
 
-void SinkHub::add(std::unique_ptr<FieldSink> sink) {
+void SinkHub::add(std::unique_ptr<FieldSink> sink, SinkWorkerOptions worker) {
   if (mRunning) throw std::logic_error("SinkHub::add: sinks must be added before start()");
   if (!sink) throw std::invalid_argument("SinkHub::add: null sink");
   auto lane = std::make_unique<Lane>();
   lane->name = sink->name();
   lane->sink = std::move(sink);
   lane->ring.assign(static_cast<std::size_t>(mOptions.queueDepth), 0);
+  if (worker.realtimePriority < 0 || worker.realtimePriority > 99) {
+    throw std::invalid_argument("SinkHub::add: real-time priority must be 0..99, got " +
+                                std::to_string(worker.realtimePriority));
+  }
+  lane->workerOptions = worker;
   mLanes.push_back(std::move(lane));
 }
 
@@ -270,6 +291,7 @@ std::vector<SinkFigures> SinkHub::figures() const {
     f.rejected = lane->rejected.load(std::memory_order_relaxed);
     f.maxConsumeNs = lane->maxConsumeNs.load(std::memory_order_relaxed);
     f.totalConsumeNs = lane->totalConsumeNs.load(std::memory_order_relaxed);
+    f.realtime = lane->realtime.load(std::memory_order_relaxed);
     f.ended = lane->ended.load(std::memory_order_acquire);
     if (f.ended) {
       std::lock_guard lock(lane->reasonMutex);

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <pthread.h>
+#include <sched.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -171,6 +173,35 @@ TEST(SinkHub, PublishNeverAllocates) {
   }
   slow->cv.notify_all();
   hub.stop();
+}
+
+// Records the scheduling policy its worker runs under.
+class PolicySink final : public FieldSink {
+ public:
+  explicit PolicySink(int* policy) : mPolicy(policy) {}
+  std::string name() const override { return "policy"; }
+  void open(const StreamFormat&) override {
+    sched_param p{};
+    pthread_getschedparam(pthread_self(), mPolicy, &p);
+  }
+  SinkStatus consume(const Field&) override { return SinkStatus::Ok; }
+  void close() override {}
+
+ private:
+  int* mPolicy;
+};
+
+TEST(SinkHub, RealtimeWorkerWhenGrantedAndSaysSo) {
+  int policy = -1;
+  SinkHub hub(testFormat(64, 16));
+  hub.add(std::make_unique<PolicySink>(&policy), SinkWorkerOptions{10});
+  hub.start();  // runs whether or not the system grants SCHED_FIFO
+  const bool realtime = hub.figures()[0].realtime;
+  hub.stop();
+  EXPECT_EQ(policy == SCHED_FIFO, realtime);
+  EXPECT_THROW(hub.add(std::make_unique<PolicySink>(&policy), SinkWorkerOptions{120}), std::logic_error);
+  SinkHub other(testFormat(64, 16));
+  EXPECT_THROW(other.add(std::make_unique<PolicySink>(&policy), SinkWorkerOptions{120}), std::invalid_argument);
 }
 
 TEST(SinkHub, WrongFieldsAreRejectedNotQueued) {
