@@ -14,6 +14,7 @@ build_packages=(
   libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libzstd-dev libxxhash-dev
+  nlohmann-json3-dev  # the JSON run summary
 )
 interop_packages=(
   ffmpeg

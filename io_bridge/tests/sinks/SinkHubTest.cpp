@@ -255,7 +255,10 @@ TEST(SinkHub, BrokenPipeEndsThatSinkOnly) {
   EXPECT_TRUE(figures[0].ended);
   EXPECT_NE(figures[0].endReason.find("broken pipe"), std::string::npos) << figures[0].endReason;
   EXPECT_FALSE(figures[1].ended);
-  EXPECT_EQ(figures[1].consumed, 40u);  // the other sink saw everything: the service went on
+  // The other sink went on: every field reached it or was counted as dropped (on a loaded machine
+  // its queue of three can overflow; that is accounted for, not lost).
+  EXPECT_EQ(figures[1].consumed + figures[1].droppedFull, 40u);
+  EXPECT_GT(figures[1].consumed, 20u);
 }
 
 }  // namespace
