@@ -50,11 +50,23 @@ std::string readAll(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
+fs::path scratchDir() { return fs::temp_directory_path() / ("fieldcast_interop_" + std::to_string(::getpid())); }
+
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("fieldcast_interop_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
+  fs::create_directories(scratchDir());
+  return scratchDir() / name;
 }
+
+// The files the judges read (tens of MB) are removed when the test program ends.
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(scratchDir(), ignored);
+  }
+};
+[[maybe_unused]] const ::testing::Environment* const kScratchCleanup =
+    ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
 // "key=value" lines of ffprobe's default writer.
 std::map<std::string, std::string> probe(const fs::path& file) {
