@@ -1,5 +1,7 @@
 #include <io_bridge/HidrawSource.h>
 
+#include "input/SystemError.h"
+
 #include <fcntl.h>
 #include <linux/hidraw.h>
 #include <poll.h>
@@ -45,17 +47,17 @@ std::vector<HidrawDeviceInfo> listHidrawDevices() {
 
 HidrawSource::HidrawSource(const std::string& path) : mPath(path) {
   mFd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (mFd < 0) throw std::runtime_error("hidraw " + path + ": " + std::strerror(errno));
+  if (mFd < 0) throw std::runtime_error("hidraw " + path + ": " + errnoMessage(errno));
   try {
     int size = 0;
     if (::ioctl(mFd, HIDIOCGRDESCSIZE, &size) < 0) {
-      throw std::runtime_error("hidraw " + path + ": not a hidraw device (HIDIOCGRDESCSIZE: " + std::strerror(errno) +
+      throw std::runtime_error("hidraw " + path + ": not a hidraw device (HIDIOCGRDESCSIZE: " + errnoMessage(errno) +
                                ")");
     }
     hidraw_report_descriptor desc{};
     desc.size = static_cast<std::uint32_t>(std::clamp(size, 0, HID_MAX_DESCRIPTOR_SIZE));
     if (::ioctl(mFd, HIDIOCGRDESC, &desc) < 0) {
-      throw std::runtime_error("hidraw " + path + ": HIDIOCGRDESC: " + std::strerror(errno));
+      throw std::runtime_error("hidraw " + path + ": HIDIOCGRDESC: " + errnoMessage(errno));
     }
     mDescriptorBytes.assign(desc.value, desc.value + desc.size);
     HidReportDescriptor parsed;
