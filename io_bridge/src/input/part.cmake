@@ -33,15 +33,21 @@ if(FIELDCAST_BUILD_TESTS)
 endif()
 
 # libFuzzer target for the HID parser: built with the project compiler when that is clang, or with
-# clang++-14 beside a gcc build when FIELDCAST_FUZZ=ON. The `fuzz` test runs it briefly and is
-# skipped (with the reason) when it was not built.
-option(FIELDCAST_FUZZ "Build the libFuzzer targets (needs clang++; with gcc, clang++-14 builds them)" OFF)
+# clang++-14 beside a gcc build when FIELDCAST_FUZZ=ON (the default when clang++ is installed). The
+# `fuzz` test runs it briefly and is skipped (with the reason) when it was not built.
+find_program(FIELDCAST_CLANGXX NAMES clang++-14 clang++ DOC "clang++ for the libFuzzer targets")
+if(FIELDCAST_CLANGXX OR CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  set(_fuzz_default ON)
+else()
+  set(_fuzz_default OFF)
+endif()
+option(FIELDCAST_FUZZ "Build the libFuzzer targets (needs clang++; with gcc, clang++-14 builds them)" ${_fuzz_default})
 if(FIELDCAST_BUILD_TESTS)
   set(_fuzz_sources ${_input}/InputEvent.cpp ${_input}/HidReportDescriptor.cpp ${_input}/HidReportDecoder.cpp
                     ${_input_tests}/HidDescriptorFuzz.cpp)
   set(_fuzz_bin "${CMAKE_CURRENT_BINARY_DIR}/fuzz/hid_descriptor_fuzzer")
   set(_fuzz_reason "")
-  if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  if(CMAKE_CXX_COMPILER_ID MATCHES "Clang" AND FIELDCAST_FUZZ)
     add_executable(fieldcast_fuzz_hid_descriptor ${_fuzz_sources})
     target_include_directories(fieldcast_fuzz_hid_descriptor PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/include)
     target_compile_options(fieldcast_fuzz_hid_descriptor PRIVATE -fsanitize=fuzzer,address,undefined -g)
@@ -49,7 +55,6 @@ if(FIELDCAST_BUILD_TESTS)
     set_target_properties(fieldcast_fuzz_hid_descriptor PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/fuzz
                                                              OUTPUT_NAME hid_descriptor_fuzzer)
   else()
-    find_program(FIELDCAST_CLANGXX NAMES clang++-14 clang++ DOC "clang++ for the libFuzzer targets")
     if(NOT FIELDCAST_CLANGXX)
       set(_fuzz_reason "clang++ not found (install clang-14 libclang-rt-14-dev: scripts/install-deps.sh --interop)")
     elseif(NOT FIELDCAST_FUZZ)
@@ -66,6 +71,6 @@ if(FIELDCAST_BUILD_TESTS)
   endif()
   add_test(NAME io.input.fuzz_hid_descriptor
     COMMAND ${_input_tests}/run_fuzzer.sh ${_fuzz_bin} ${CMAKE_CURRENT_BINARY_DIR}/fuzz_hid_corpus "${_fuzz_reason}"
-            -runs=500000 -max_total_time=20 -seed=1 -max_len=2048)
+            -runs=500000 -max_total_time=15 -seed=1 -max_len=2048)
   set_tests_properties(io.input.fuzz_hid_descriptor PROPERTIES LABELS "fuzz;io;input" SKIP_RETURN_CODE 77)
 endif()
