@@ -14,6 +14,7 @@ build_packages=(
   libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libzstd-dev libxxhash-dev
+  libtiff-dev  # GeoTIFF tags for terrain import (ig_core)
 )
 interop_packages=(
   ffmpeg
