@@ -60,3 +60,11 @@ if(FIELDCAST_BUILD_TESTS)
             "${_db_fuzz_reason}" -runs=200000 -max_total_time=20 -seed=1 -max_len=65536 -rss_limit_mb=2048)
   set_tests_properties(core.terrain.fuzz_database PROPERTIES LABELS "fuzz;core" SKIP_RETURN_CODE 77)
 endif()
+
+# The full-size built-in terrain: build, verify, fly (minutes on 2 cores, so label soak).
+if(FIELDCAST_BUILD_TESTS)
+  fieldcast_add_test(NAME fieldcast_core_terrain_soak
+    SOURCES tests/TerrainSoakTest.cpp
+    LIBRARIES fieldcast::core
+    LABELS "soak;core")
+endif()
