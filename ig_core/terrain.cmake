@@ -68,3 +68,11 @@ if(FIELDCAST_BUILD_TESTS)
     LIBRARIES fieldcast::core
     LABELS "soak;core")
 endif()
+
+# Interop: GeoTIFFs written by GDAL's gdal_translate (skipped without gdal-bin).
+if(FIELDCAST_BUILD_TESTS)
+  fieldcast_add_test(NAME fieldcast_core_terrain_interop
+    SOURCES tests/GdalInteropTest.cpp
+    LIBRARIES fieldcast::core
+    LABELS "interop;core")
+endif()

@@ -21,6 +21,7 @@ interop_packages=(
   gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
   tshark
   clang-14 libclang-rt-14-dev
+  gdal-bin  # GDAL-written GeoTIFFs for the terrain import interop test (ig_core)
 )
 
 wanted=("${build_packages[@]}")

@@ -44,6 +44,8 @@ struct BuildArgs {
   std::string nodata;
   std::string rawSize;
   std::string rawType = "int16";
+  double verticalScale = 1.0;
+  double verticalOffset = 0.0;
 };
 
 double seconds(std::chrono::steady_clock::time_point since) {
@@ -75,6 +77,8 @@ int runBuild(const BuildArgs& a) {
       }
     }
     import.rawType = a.rawType;
+    import.verticalScaleM = a.verticalScale;
+    import.verticalOffsetM = a.verticalOffset;
     const ElevationGrid dem = importElevation(a.dem, import);
     std::printf("%s: %dx%d voxels, spacing %.3f m, origin (%.1f, %.1f), heights %.2f .. %.2f m, %zu nodata filled\n",
                 a.dem.c_str(), dem.widthVox, dem.heightVox, dem.spacingM, dem.originM.x, dem.originM.y, dem.minM,
@@ -236,6 +240,8 @@ int main(int argc, char** argv) {
   buildCmd->add_option("--raw-size", build.rawSize, "raw DEM without sidecar: WxH");
   buildCmd->add_option("--raw-type", build.rawType, "raw DEM without sidecar: int16, uint16 or float32")
       ->capture_default_str();
+  buildCmd->add_option("--vertical-scale", build.verticalScale, "DEM: metres per sample count")->capture_default_str();
+  buildCmd->add_option("--vertical-offset", build.verticalOffset, "DEM: metres at sample 0")->capture_default_str();
   buildCmd->add_option("--tile-shift", build.tileShift, "tiles of 2^shift voxels a side")
       ->check(CLI::Range(kMinTileShift, kMaxTileShift))
       ->capture_default_str();
