@@ -15,6 +15,7 @@ build_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libzstd-dev libxxhash-dev
   libtiff-dev  # GeoTIFF tags for terrain import (ig_core)
+  nlohmann-json3-dev  # the JSON run summary
 )
 interop_packages=(
   ffmpeg
@@ -22,6 +23,8 @@ interop_packages=(
   tshark
   clang-14 libclang-rt-14-dev
   gdal-bin  # GDAL-written GeoTIFFs for the terrain import interop test (ig_core)
+  # io_bridge sinks: the live-window test runs against a virtual X server
+  xvfb xauth
 )
 
 wanted=("${build_packages[@]}")

@@ -1,0 +1,133 @@
+// Frame time of the column caster on a fixed set of poses (including looking at the horizon), at
+// NTSC 720×486 and 1920×1080 display sizes with the default 10% margins, on 1 and 2 threads, with
+// the plain reference renderer timed on the same poses in the same run for the speed-up.
+//
+//   fieldcast_bench_render --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//
+// Counters: frame_ms (per frame), ns_per_px (frame time / frame pixels), steps_per_px (height
+// samples per pixel), ref_ns_per_px (reference renderer, one thread, sampled pixels), speedup
+// (reference ns/px over this run's ns/px × threads: the per-core speed-up).
+#include <ig_core/ReferenceRenderer.h>
+#include <ig_core/Renderer.h>
+#include <ig_core/SyntheticTerrain.h>
+#include <ig_core/ViewGeometry.h>
+
+#include <fieldcast/Conventions.h>
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace fieldcast::core {
+namespace {
+
+struct BenchPose {
+  const char* name;
+  double headingDeg, pitchDeg, altitudeM;
+};
+constexpr std::array<BenchPose, 4> kPoses{{
+    {"down", 30.0, -70.0, 400.0},
+    {"oblique", 75.0, -25.0, 250.0},
+    {"low", 200.0, -8.0, 60.0},
+    {"horizon", 315.0, -1.0, 30.0},
+}};
+constexpr std::array<std::array<int, 2>, 2> kSizes{{{720, 486}, {1920, 1080}}};
+
+const MemoryTerrain& terrain() {
+  static const std::unique_ptr<MemoryTerrain> t = makeSyntheticTerrain({SyntheticKind::Hills, 4096, 2.0, 8, 11});
+  return *t;
+}
+
+ViewRequest requestFor(int pose, int size) {
+  const TerrainView& view = terrain().view();
+  const BenchPose& p = kPoses[static_cast<std::size_t>(pose)];
+  const double x = 4096.0, y = 4096.0;  // centre of the 8 km terrain
+  ViewRequest r;
+  r.pose.positionM = {x, y, view.heightAtM(x, y) + p.altitudeM};
+  r.pose.headingRad = radians(p.headingDeg);
+  r.pose.pitchRad = radians(p.pitchDeg);
+  const auto& s = kSizes[static_cast<std::size_t>(size)];
+  r.display = Intrinsics::fromHorizontalFov(s[0], s[1], radians(60.0));
+  return r;
+}
+
+// Reference renderer ns per pixel for a pose, on a sparse grid of pixels (it is slow).
+double referenceNsPerPixel(int pose, int size) {
+  static std::map<std::pair<int, int>, double> cache;
+  const auto key = std::make_pair(pose, size);
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  const ViewRequest r = requestFor(pose, size);
+  const RenderSettings settings;
+  const FrameLayout layout = layoutFrame(r.display, settings.marginFraction, 0.0);
+  const ViewGeometry geo(r.pose, layout.frame, terrain().geometry(), settings.quality);
+  const ReferenceRenderer reference(terrain().view());
+  const int step = 24;
+  int count = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (int v = step / 2; v < layout.frame.heightPx; v += step) {
+    for (int u = step / 2; u < layout.frame.widthPx; u += step) {
+      benchmark::DoNotOptimize(reference.cast(geo, u + 0.5, v + 0.5));
+      ++count;
+    }
+  }
+  const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count();
+  return cache[key] = ns / count;
+}
+
+void BM_Render(benchmark::State& state) {
+  const int pose = static_cast<int>(state.range(0));
+  const int size = static_cast<int>(state.range(1));
+  const int threads = static_cast<int>(state.range(2));
+  state.SetLabel(std::string(kPoses[static_cast<std::size_t>(pose)].name));
+  const double refNs = referenceNsPerPixel(pose, size);
+  Renderer renderer(terrain().view(), RenderSettings{}, threads);
+  const ViewRequest request = requestFor(pose, size);
+  RenderStats stats;
+  Frame frame = renderer.render(request, &stats);  // warm up
+  std::vector<double> seconds;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    frame = renderer.render(request, &stats, std::move(frame));
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    benchmark::DoNotOptimize(frame.image.bytes().data());
+  }
+  std::sort(seconds.begin(), seconds.end());
+  const double median = seconds[seconds.size() / 2];
+  const double px = static_cast<double>(stats.pixels);
+  state.counters["frame_ms"] = 1e3 * median;
+  state.counters["ns_per_px"] = 1e9 * median / px;
+  state.counters["steps_per_px"] = static_cast<double>(stats.steps) / px;
+  state.counters["rays_per_px"] = static_cast<double>(stats.rays) / px;
+  state.counters["ref_ns_per_px"] = refNs;
+  state.counters["speedup"] = refNs / (1e9 * median * threads / px);
+}
+
+void registerAll() {
+  for (int size = 0; size < 2; ++size) {
+    for (int threads : {1, 2}) {
+      for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
+        benchmark::RegisterBenchmark("render", BM_Render)
+            ->Args({pose, size, threads})
+            ->ArgNames({"pose", "size", "threads"})
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fieldcast::core
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  fieldcast::core::registerAll();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

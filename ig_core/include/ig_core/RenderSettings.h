@@ -1,0 +1,61 @@
+#pragma once
+// What the ray caster is asked to do: quality knob, outputs, sky and haze, frame margins.
+
+#include <fieldcast/Frame.h>
+#include <fieldcast/Intrinsics.h>
+#include <fieldcast/Pose.h>
+#include <fieldcast/Time.h>
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+
+namespace fieldcast::core {
+
+/// Colour of the rendered image.
+enum class ColourMode : std::uint8_t {
+  Rgb,   ///< PixelFormat::Rgb8
+  Grey,  ///< PixelFormat::Grey8, BT.601 luma of the colour
+};
+
+/// Settings of the renderer. Plain values; changing them between frames is cheap.
+struct RenderSettings {
+  /// Pixel-to-voxel ratio: a level-L voxel is used while it projects to at least `quality` pixels,
+  /// then the march switches to level L+1. 1 = the paper's rule; 2 = one level coarser (faster,
+  /// blurrier); 0.5 = one level finer. LOD bias = log2(quality).
+  double quality = 1.0;
+  bool blendLevels = true;      ///< blend colours of adjacent levels by distance (no LOD seam)
+  int verticalSupersample = 1;  ///< sub-rays per pixel along the column, 1..4 (for shallow pitch)
+  ColourMode colourMode = ColourMode::Rgb;
+  bool rangeImage = false;                  ///< also produce per-pixel range (metres, +inf = sky)
+  glm::dvec3 skyZenithRgb{62, 104, 178};    ///< sky colour straight up, sRGB 0..255
+  glm::dvec3 skyHorizonRgb{196, 210, 226};  ///< sky colour at the horizon and haze colour, sRGB 0..255
+  double hazeRangeM = 12000.0;              ///< range (m) where haze covers 63% of the terrain; 0 = none
+  double marginFraction = 0.10;             ///< frame margin on each side, fraction of each display dimension
+  int controlPointsPerSide = 3;             ///< control points: a perSide × perSide grid over the display
+};
+
+/// The frame the IG renders for a display window: same focal length, larger by the margin, and
+/// grown so that it also covers the display window rotated by the roll (the warp applies roll).
+struct FrameLayout {
+  Intrinsics frame;  ///< intrinsics of the whole frame (margins included)
+  MarginPx margin;   ///< display window offset inside the frame
+};
+
+/// Frame layout for a display window, a margin fraction (of each display dimension, per side) and
+/// a roll angle (radians). Pure function, RT-safe.
+FrameLayout layoutFrame(const Intrinsics& display, double marginFraction, double rollRad) noexcept;
+
+}  // namespace fieldcast::core
+
+namespace fieldcast::core {
+
+/// One frame to render: the pose it is for, when that pose holds, and the display window.
+struct ViewRequest {
+  Pose pose;                      ///< camera pose; roll only sizes the frame (the IG renders unrolled)
+  TimePoint poseTime{};           ///< the instant the pose belongs to (copied into the Frame)
+  Intrinsics display;             ///< intrinsics of the display window (without margin)
+  std::uint64_t frameNumber = 0;  ///< copied into the Frame
+};
+
+}  // namespace fieldcast::core

@@ -1,0 +1,82 @@
+#pragma once
+// The fast ray caster: one image column at a time, bottom to top, each ray starting where the ray
+// below it hit (vertical ray coherence), stepping grid line by grid line in fixed point.
+// Private to ig_core; Renderer drives it through the RenderPool.
+
+#include "Shading.h"
+
+#include <ig_core/RenderSettings.h>
+#include <ig_core/TerrainView.h>
+#include <ig_core/ViewGeometry.h>
+
+#include <fieldcast/Image.h>
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <limits>
+
+namespace fieldcast::core {
+
+/// Highest quantised height anywhere in the terrain (max over the top level's max mip).
+std::uint16_t terrainCeilingQ(const TerrainView& view) noexcept;
+
+/// Everything one frame's columns need, read-only while the columns are cast.
+struct CasterFrame {
+  CasterFrame(const TerrainView& view, const ViewGeometry& geometry, const RenderSettings& settings,
+              std::uint16_t ceilingQ, Image* image, float* rangeM) noexcept;
+
+  const TerrainView* view;
+  const ViewGeometry* geo;
+  Shading shading;
+  int levels;
+  int tileShift;
+  int tileMask;
+  int supersample;
+  bool blend;
+  std::array<int, 24> levelWidth{};   ///< voxels of each level along x
+  std::array<int, 24> levelHeight{};  ///< voxels of each level along y
+  double camX, camY;                  ///< camera in level-0 voxel-centre units
+  double camZq;                       ///< camera height in height quanta
+  double unitsPerM;                   ///< level-0 units per metre (1 / spacing)
+  double quantaPerM;                  ///< height quanta per metre
+  double ceilingQ;                    ///< highest terrain height, quanta
+  Image* image;                       ///< output pixels (or null)
+  float* rangeM;                      ///< output range per pixel (or null)
+};
+
+/// Per-worker state: a tile pointer per level (most lookups are one compare) and counters.
+struct alignas(64) CasterThread {
+  struct CachedTile {
+    int tx = -1;
+    int ty = -1;
+    const TerrainTile* tile = nullptr;
+  };
+  std::array<CachedTile, 24> tiles{};
+  std::uint64_t steps = 0;      ///< height samples taken (march steps)
+  std::uint64_t rays = 0;       ///< rays cast
+  std::uint64_t runs = 0;       ///< fast-loop runs started (profiling)
+  std::uint64_t generic = 0;    ///< generic (slow-path) samples (profiling)
+  std::uint64_t retraces = 0;   ///< rays whose start lay below the surface (profiling)
+  std::uint64_t firstHits = 0;  ///< max-pyramid descents (profiling)
+  void resetTiles() noexcept { tiles.fill(CachedTile{}); }
+};
+
+/// What one ray saw.
+struct CastResult {
+  bool hit = false;
+  int level = 0;             ///< level of detail the hit was found at
+  double depthM = 0.0;       ///< depth (forward-axis distance) of the hit
+  glm::dvec3 pointM{0.0};    ///< world hit point
+  std::uint32_t colour = 0;  ///< terrain colour at the hit (level blend not applied)
+};
+
+/// Casts columns [u0, u1) of the frame into its image (and range). RT-safe, allocation-free.
+void castColumns(const CasterFrame& frame, int u0, int u1, CasterThread& thread) noexcept;
+
+/// Casts one ray through continuous frame pixel (u, v) from the camera, with the same march as
+/// the columns (first hit by the max pyramid, then grid-line stepping). RT-safe.
+CastResult castRay(const CasterFrame& frame, double u, double v, CasterThread& thread) noexcept;
+
+}  // namespace fieldcast::core

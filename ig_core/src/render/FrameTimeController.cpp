@@ -1,0 +1,28 @@
+// Multiplicative control of the quality knob with a dead band: render cost falls roughly with the
+// square of the voxel size far away, so ratios (not differences) are the natural step.
+#include <ig_core/FrameTimeController.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fieldcast::core {
+
+FrameTimeController::FrameTimeController(const FrameTimeControllerConfig& config, double initialQuality) noexcept
+    : mConfig(config), mQuality(std::clamp(initialQuality, config.minQuality, config.maxQuality)) {}
+
+double FrameTimeController::update(Nanoseconds frameTime) noexcept {
+  const double target = toSeconds(mConfig.target);
+  if (!(target > 0.0)) return mQuality;
+  const double t = toSeconds(frameTime);
+  mSmoothed = mSmoothed == 0.0 ? t : mSmoothed + std::clamp(mConfig.smoothing, 0.01, 1.0) * (t - mSmoothed);
+  if (mSmoothed > target) {
+    // Over budget: coarsen in proportion to the overrun, bounded per frame.
+    mQuality *= std::min(std::sqrt(mSmoothed / target) * 1.02, mConfig.maxStepRatio);
+  } else if (mSmoothed < mConfig.refineBelow * target) {
+    mQuality /= mConfig.refineStepRatio;  // well under: refine slowly
+  }
+  mQuality = std::clamp(mQuality, mConfig.minQuality, mConfig.maxQuality);
+  return mQuality;
+}
+
+}  // namespace fieldcast::core

@@ -1,0 +1,141 @@
+// The reference: one ray per pixel, marched in steps of 1/8 voxel of the level of detail at the
+// current depth against the bilinear surface of that level (TerrainView::heightAtM), the crossing
+// refined by bisection. No coherence, no fixed point, no caching: easy to check by reading.
+#include <ig_core/ReferenceRenderer.h>
+
+#include "ColumnCaster.h"
+#include "FrameAssembly.h"
+#include "Shading.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fieldcast::core {
+namespace {
+
+// Bilinear colour of `level` at level-0 continuous voxel coordinates (x, y).
+Rgb bilinearColour(const TerrainView& view, int level, double x, double y) {
+  const double fx = std::ldexp(x + 0.5, -level) - 0.5;
+  const double fy = std::ldexp(y + 0.5, -level) - 0.5;
+  const int i = static_cast<int>(std::floor(fx));
+  const int j = static_cast<int>(std::floor(fy));
+  const auto tx = static_cast<float>(fx - i);
+  const auto ty = static_cast<float>(fy - j);
+  const Rgb a = mix(unpackRgb(view.colourRgba(level, i, j)), unpackRgb(view.colourRgba(level, i + 1, j)), tx);
+  const Rgb b = mix(unpackRgb(view.colourRgba(level, i, j + 1)), unpackRgb(view.colourRgba(level, i + 1, j + 1)), tx);
+  return mix(a, b, ty);
+}
+
+}  // namespace
+
+ReferenceRenderer::ReferenceRenderer(const TerrainView& view)
+    : mView(view), mCeilingM(view.geometry().heightM(terrainCeilingQ(view))) {}
+
+ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u, double v) const noexcept {
+  const TerrainGeometry& g = mView.geometry();
+  const glm::dvec3 c = geo.pose().positionM;
+  const glm::dvec3 d = geo.ray(u, v);
+  // Clip the ray (t = depth) to the box over the hull of the level-0 voxel centres, below the ceiling.
+  double lo = 0.0;
+  double hi = 1e12;
+  const auto slab = [&](double origin, double dir, double minV, double maxV) {
+    if (std::abs(dir) < 1e-15) return origin >= minV && origin <= maxV;
+    const double a = (minV - origin) / dir;
+    const double b = (maxV - origin) / dir;
+    lo = std::max(lo, std::min(a, b));
+    hi = std::min(hi, std::max(a, b));
+    return true;
+  };
+  const double x1 = g.originM.x + (g.widthVox - 1) * g.spacingM;
+  const double y1 = g.originM.y + (g.heightVox - 1) * g.spacingM;
+  if (!slab(c.x, d.x, g.originM.x, x1) || !slab(c.y, d.y, g.originM.y, y1) || !slab(c.z, d.z, -1e12, mCeilingM) ||
+      lo > hi) {
+    return {};
+  }
+  const double horizontal = std::sqrt(d.x * d.x + d.y * d.y);
+  const auto above = [&](double t, int level) {
+    const glm::dvec3 p = c + t * d;
+    return p.z - mView.heightAtM(p.x, p.y, level);
+  };
+  double t = lo;
+  int level = geo.lodLevel(t);
+  double f = above(t, level);
+  if (f <= 0.0) {
+    const glm::dvec3 p = c + t * d;
+    return Hit{true, p, t, level};
+  }
+  for (int step = 0; step < 50'000'000 && t < hi; ++step) {
+    const double voxel = std::ldexp(g.spacingM, level);
+    // 1/8 voxel horizontally; steep rays also advance at most 1/8 voxel-height of drop per step.
+    const double dt = 0.125 * voxel / std::max(horizontal, 0.05 * std::abs(d.z) + 1e-12);
+    const double tNext = std::min(t + dt, hi);
+    const int levelNext = geo.lodLevel(tNext);
+    const double fNext = above(tNext, levelNext);
+    if (fNext <= 0.0) {
+      // Bisection between the last point above and the first below.
+      double a = t;
+      double b = tNext;
+      for (int k = 0; k < 60 && (b - a) > 1e-7; ++k) {
+        const double mid = 0.5 * (a + b);
+        if (above(mid, geo.lodLevel(mid)) > 0.0) {
+          a = mid;
+        } else {
+          b = mid;
+        }
+      }
+      return Hit{true, c + b * d, b, geo.lodLevel(b)};
+    }
+    t = tNext;
+    level = levelNext;
+    f = fNext;
+  }
+  return {};
+}
+
+Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings& settings) const {
+  Frame frame = frameShell(request, settings, true);
+  frame.renderStart = MonotonicClock::now();
+  const ViewGeometry geo(frame.pose, frame.intrinsics, mView.geometry(), settings.quality);
+  const Shading shading(settings);
+  const int s = std::clamp(settings.verticalSupersample, 1, 4);
+  const int w = frame.intrinsics.widthPx;
+  for (int v = 0; v < frame.intrinsics.heightPx; ++v) {
+    for (int u = 0; u < w; ++u) {
+      Rgb sum;
+      float rangePx = std::numeric_limits<float>::infinity();
+      for (int sub = s - 1; sub >= 0; --sub) {
+        const double vs = v + (sub + 0.5) / s;
+        const Hit h = cast(geo, u + 0.5, vs);
+        const glm::dvec3 d = geo.ray(u + 0.5, vs);
+        const double length = glm::length(d);
+        Rgb colour;
+        if (h.hit) {
+          const TerrainGeometry& g = mView.geometry();
+          const double x = (h.pointM.x - g.originM.x) / g.spacingM;
+          const double y = (h.pointM.y - g.originM.y) / g.spacingM;
+          colour = bilinearColour(mView, h.level, x, y);
+          const double blend = settings.blendLevels ? geo.levelBlend(h.depthM, h.level) : 0.0;
+          if (blend > 0.0) colour = mix(colour, bilinearColour(mView, h.level + 1, x, y), static_cast<float>(blend));
+          const auto range = static_cast<float>(h.depthM * length);
+          colour = shading.terrain(colour, range);
+          if (sub == s / 2) rangePx = range;
+        } else {
+          colour = shading.sky(static_cast<float>(d.z / length));
+        }
+        sum.r += colour.r;
+        sum.g += colour.g;
+        sum.b += colour.b;
+      }
+      shading.store(frame.image.row(v), u, sum, 1.0f / static_cast<float>(s));
+      frame.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + u] = rangePx;
+    }
+  }
+  for (ControlPoint& cp : frame.controlPoints) {
+    const Hit h = cast(geo, cp.framePx.x, cp.framePx.y);
+    setControlPoint(cp, frame, h.hit, h.pointM);
+  }
+  frame.renderEnd = MonotonicClock::now();
+  return frame;
+}
+
+}  // namespace fieldcast::core

@@ -1,0 +1,59 @@
+// Camera rays, frame layout with margins and roll, and the level-of-detail rule.
+#include <ig_core/RenderSettings.h>
+#include <ig_core/ViewGeometry.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fieldcast::core {
+
+FrameLayout layoutFrame(const Intrinsics& display, double marginFraction, double rollRad) noexcept {
+  // Corners of the display window in normalised camera coordinates, rotated by the roll the warp
+  // will apply, mapped back to pixels: the unrolled frame must contain all four.
+  const double c = std::cos(rollRad);
+  const double s = std::sin(rollRad);
+  double needLeft = display.cxPx, needRight = display.widthPx - display.cxPx;
+  double needTop = display.cyPx, needBottom = display.heightPx - display.cyPx;
+  for (const double u : {0.0, static_cast<double>(display.widthPx)}) {
+    for (const double v : {0.0, static_cast<double>(display.heightPx)}) {
+      const double x = (u - display.cxPx) / display.fxPx;
+      const double y = (v - display.cyPx) / display.fyPx;
+      const double du = (c * x - s * y) * display.fxPx;
+      const double dv = (s * x + c * y) * display.fyPx;
+      needLeft = std::max(needLeft, -du);
+      needRight = std::max(needRight, du);
+      needTop = std::max(needTop, -dv);
+      needBottom = std::max(needBottom, dv);
+    }
+  }
+  const double growX = std::max(needLeft - display.cxPx, needRight - (display.widthPx - display.cxPx));
+  const double growY = std::max(needTop - display.cyPx, needBottom - (display.heightPx - display.cyPx));
+  const double fraction = std::max(marginFraction, 0.0);
+  MarginPx margin;
+  margin.x = static_cast<int>(std::ceil(growX + fraction * display.widthPx - 1e-9));
+  margin.y = static_cast<int>(std::ceil(growY + fraction * display.heightPx - 1e-9));
+  return FrameLayout{display.withMargin(margin.x, margin.y), margin};
+}
+
+ViewGeometry::ViewGeometry(const Pose& pose, const Intrinsics& frame, const TerrainGeometry& terrain,
+                           double quality) noexcept
+    : mPose(pose), mK(frame), mLevels(terrain.levels) {
+  mPose.rollRad = 0.0;
+  mAxes = cameraAxes(mPose);
+  mLodDepth0M = terrain.spacingM * frame.fxPx / std::max(quality, 1e-3);
+}
+
+int ViewGeometry::lodLevel(double depthM) const noexcept {
+  if (!(depthM > mLodDepth0M)) return 0;
+  int exponent = 0;
+  const double mantissa = std::frexp(depthM / mLodDepth0M, &exponent);  // ratio = mantissa · 2^exponent
+  const int level = mantissa == 0.5 ? exponent - 1 : exponent;          // ceil(log2(ratio))
+  return std::min(level, mLevels - 1);
+}
+
+double ViewGeometry::levelBlend(double depthM, int level) const noexcept {
+  if (level >= mLevels - 1) return 0.0;
+  return std::clamp(depthM / (mLodDepth0M * std::ldexp(1.0, level - 1)) - 1.0, 0.0, 1.0);
+}
+
+}  // namespace fieldcast::core

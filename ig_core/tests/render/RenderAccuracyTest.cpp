@@ -1,0 +1,69 @@
+// The fast column caster judged by the plain reference renderer over a sweep of poses.
+#include "RenderTestUtil.h"
+
+#include <ig_core/Renderer.h>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+
+namespace fieldcast::core::test {
+namespace {
+
+struct SweepPose {
+  double headingDeg, pitchDeg, altitudeM, fovDeg;
+};
+
+// Heading all round, pitch −2°..−89°, altitude 20 m..5 km, field of view 20°..90°.
+std::vector<SweepPose> sweep() {
+  const std::array<double, 8> pitches{-2, -5, -10, -20, -35, -55, -75, -89};
+  const std::array<double, 6> altitudes{20, 60, 200, 700, 2000, 5000};
+  const std::array<double, 4> fovs{20, 45, 70, 90};
+  std::vector<SweepPose> poses;
+  for (int k = 0; k < 24; ++k) {
+    poses.push_back({std::fmod(17.0 + k * 137.5, 360.0), pitches[static_cast<std::size_t>(k % 8)],
+                     altitudes[static_cast<std::size_t>((k * 5) % 6)], fovs[static_cast<std::size_t>((k * 3) % 4)]});
+  }
+  return poses;
+}
+
+TEST(RenderAccuracy, ColumnCasterHitsTheReferenceVoxelOverAPoseSweep) {
+  const MemoryTerrain& terrain = hills();
+  const TerrainView& view = terrain.view();
+  RenderSettings settings;
+  settings.rangeImage = true;
+  Renderer renderer(view, settings, 2);
+  const ReferenceRenderer reference(view);
+  int total = 0;
+  int same = 0;
+  for (const SweepPose& s : sweep()) {
+    ViewRequest request;
+    request.pose = poseAbove(view, 420.0, 380.0, s.altitudeM, s.headingDeg, s.pitchDeg);
+    request.display = Intrinsics::fromHorizontalFov(80, 60, radians(s.fovDeg));
+    const Frame fast = renderer.render(request);
+    const Frame ref = reference.render(request, settings);
+    const HitAgreement a = compareHits(fast, ref, view.geometry(), settings.quality);
+    std::printf("heading %6.1f pitch %6.1f alt %6.0f fov %4.0f: %.4f same (%d sky mismatches, %d at the edge)\n",
+                s.headingDeg, s.pitchDeg, s.altitudeM, s.fovDeg, a.fraction(), a.skyMismatch, a.atEdge);
+    EXPECT_GE(a.fraction(), 0.995) << "pose heading " << s.headingDeg << " pitch " << s.pitchDeg;
+    total += a.pixels;
+    same += a.same;
+    // Control points: within one voxel (at the level used) of the reference hit.
+    const ViewGeometry geo(fast.pose, fast.intrinsics, view.geometry(), settings.quality);
+    for (const ControlPoint& cp : fast.controlPoints) {
+      const ReferenceRenderer::Hit h = reference.cast(geo, cp.framePx.x, cp.framePx.y);
+      ASSERT_EQ(cp.kind == ControlPointKind::Surface, h.hit)
+          << "control point at " << cp.framePx.x << "," << cp.framePx.y;
+      if (!h.hit) continue;
+      const int level = geo.lodLevel(glm::dot(cp.world - fast.pose.positionM, geo.axes().forward));
+      EXPECT_LE(voxelDistance(view.geometry(), cp.world, h.pointM, level), 1);
+    }
+  }
+  const double overall = static_cast<double>(same) / total;
+  std::printf("overall: %.5f of %d pixels hit the reference voxel or a neighbour\n", overall, total);
+  EXPECT_GE(overall, 0.995);
+}
+
+}  // namespace
+}  // namespace fieldcast::core::test

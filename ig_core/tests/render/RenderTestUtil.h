@@ -1,0 +1,104 @@
+#pragma once
+// Shared helpers of the renderer tests: a small hilly terrain, poses over it, and the comparison
+// of a frame's hits with the reference renderer's.
+#include <ig_core/ReferenceRenderer.h>
+#include <ig_core/RenderSettings.h>
+#include <ig_core/SyntheticTerrain.h>
+#include <ig_core/ViewGeometry.h>
+
+#include <fieldcast/Conventions.h>
+#include <fieldcast/Frame.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+namespace fieldcast::core::test {
+
+/// The hills every renderer test uses: 512² voxels at 2 m, 64-voxel tiles (many tile crossings).
+inline const MemoryTerrain& hills() {
+  static const std::unique_ptr<MemoryTerrain> terrain = makeSyntheticTerrain({SyntheticKind::Hills, 512, 2.0, 6, 3});
+  return *terrain;
+}
+
+/// A pose `altitudeM` above the ground at (x, y).
+inline Pose poseAbove(const TerrainView& view, double x, double y, double altitudeM, double headingDeg, double pitchDeg,
+                      double rollDeg = 0.0) {
+  Pose p;
+  p.positionM = {x, y, view.heightAtM(x, y) + altitudeM};
+  p.headingRad = radians(headingDeg);
+  p.pitchRad = radians(pitchDeg);
+  p.rollRad = radians(rollDeg);
+  return p;
+}
+
+/// Level-`level` voxel (Chebyshev) distance between two world points' voxels.
+inline int voxelDistance(const TerrainGeometry& g, const glm::dvec3& a, const glm::dvec3& b, int level) {
+  const auto index = [&](double w, double origin) {
+    return static_cast<int>(std::floor(std::ldexp((w - origin) / g.spacingM + 0.5, -level)));
+  };
+  return std::max(std::abs(index(a.x, g.originM.x) - index(b.x, g.originM.x)),
+                  std::abs(index(a.y, g.originM.y) - index(b.y, g.originM.y)));
+}
+
+/// Agreement of a frame's range image with the reference's, pixel by pixel.
+struct HitAgreement {
+  int pixels = 0;
+  int same = 0;         ///< same voxel or a neighbour at the fast frame's level, or both sky
+  int skyMismatch = 0;  ///< sky in one, terrain in the other, away from the terrain's edge
+  int atEdge = 0;       ///< sky in one, terrain within a voxel of the terrain's edge in the other
+  double fraction() const { return pixels ? static_cast<double>(same) / pixels : 1.0; }
+};
+
+inline HitAgreement compareHits(const Frame& fast, const Frame& reference, const TerrainGeometry& g, double quality) {
+  const ViewGeometry geo(fast.pose, fast.intrinsics, g, quality);
+  HitAgreement a;
+  const int w = fast.intrinsics.widthPx;
+  for (int v = 0; v < fast.intrinsics.heightPx; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const std::size_t k = static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + u;
+      const float rf = fast.rangeM[k];
+      const float rr = reference.rangeM[k];
+      ++a.pixels;
+      if (std::isinf(rf) || std::isinf(rr)) {
+        if (std::isinf(rf) == std::isinf(rr)) {
+          ++a.same;
+          continue;
+        }
+        // One saw the sky, the other terrain. Where the terrain ends, the caster's last sample is the
+        // last grid line of its level: a hit within one voxel (at that level) of the edge counts as
+        // a neighbour.
+        const glm::dvec3 d = geo.ray(u + 0.5, v + 0.5);
+        const double r = std::isinf(rf) ? rr : rf;
+        const glm::dvec3 p = fast.pose.positionM + r * glm::normalize(d);
+        const double voxel = std::ldexp(g.spacingM, geo.lodLevel(r / glm::length(d)));
+        const double edge = std::min({p.x - g.originM.x, g.originM.x + (g.widthVox - 1) * g.spacingM - p.x,
+                                      p.y - g.originM.y, g.originM.y + (g.heightVox - 1) * g.spacingM - p.y});
+        if (edge <= voxel) {
+          ++a.same;
+          ++a.atEdge;
+          continue;
+        }
+        ++a.skyMismatch;
+        if (std::getenv("FIELDCAST_DEBUG_HITS")) {
+          std::printf("  sky mismatch at (%d,%d): fast %s, hit at %.1f %.1f %.1f\n", u, v,
+                      std::isinf(rf) ? "sky" : "hit", p.x, p.y, p.z);
+        }
+        continue;
+      }
+      const glm::dvec3 d = geo.ray(u + 0.5, v + 0.5);
+      const glm::dvec3 unit = glm::normalize(d);
+      const glm::dvec3 pf = fast.pose.positionM + static_cast<double>(rf) * unit;
+      const glm::dvec3 pr = fast.pose.positionM + static_cast<double>(rr) * unit;
+      const int level = geo.lodLevel(rf / glm::length(d));
+      if (voxelDistance(g, pf, pr, level) <= 1) ++a.same;
+    }
+  }
+  return a;
+}
+
+}  // namespace fieldcast::core::test
