@@ -12,6 +12,8 @@
 // Minor positions are level-L voxel indices in 32.32 fixed point; heights are quanta in 48.16.
 #include "ColumnCaster.h"
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -474,10 +476,397 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
   camX = (p.x - g.originM.x) * unitsPerM;
   camY = (p.y - g.originM.y) * unitsPerM;
   camZq = (p.z - g.heightBaseM) * quantaPerM;
+  invLodDepth0M = 1.0 / geometry.lodDepth0M();
   ceilingQ = ceiling;
 }
 
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The column-plane march. All rays of an image column lie in one plane Π through the camera (for
+// a pitched camera Π is tilted, not vertical). On each grid line M = M_i of the column's major
+// axis, Π cuts a line L_i; where L_i crosses the terrain profile of that grid line (linear between
+// voxel centres along the minor axis) is the one terrain point of this grid line that the column
+// sees, and projecting it gives the image row v_i where it appears. Walking the grid lines away
+// from the camera, the rows between the highest crossing so far and v_i see the terrain between
+// grid lines i−1 and i: they are filled by interpolating the two crossings (perspective-correct).
+// This is the vertical coherence of the seed paper done exactly for tilted columns: every ray of
+// the column is tested at every grid line, yet the work is one crossing per grid line plus one
+// fill per pixel, with no per-ray set-up.
+// ---------------------------------------------------------------------------------------------
+
+// Grid space: x, y in level-0 voxel units, z in height quanta.
+struct ColumnPlane {
+  bool xMajor = true;
+  int sx = 1;                               // march direction along the major axis (rows go up)
+  double nMaj = 0, nMin = 1, nZ = 0;        // plane normal in grid space, oriented so nMin > 0
+  double cMaj = 0, cMin = 0, cZ = 0;        // camera in grid space
+  double upMaj = 0, upMin = 0, upZ = 0;     // camera up axis, grid deltas → metres
+  double fwdMaj = 0, fwdMin = 0, fwdZ = 0;  // camera forward axis, grid deltas → metres
+  double vHorizon = 0;                      // rows above this (smaller v) look upwards
+  double xc = 0;                            // camera-space x of the column (ray = (xc, yc, 1))
+  int majSize = 0, minSize = 0;             // level-0 grid size along major / minor
+};
+
+// The terrain point of one grid line that the column sees.
+struct Crossing {
+  int level = 0;
+  int i = 0;         // level-L major index of the grid line
+  int j = 0;         // minor segment j .. j+1 (level-L indices)
+  double phi = 0;    // fraction along the segment
+  double v = 0;      // image row (continuous)
+  double depth = 0;  // metres along the forward axis
+  bool haveColour = false;
+  Rgb colour;
+};
+
+// One window per level on the tile last read there: most height and colour reads of the column
+// march are two compares and a load.
+struct TileWindows {
+  std::array<const TerrainTile*, 24> tile{};
+  std::array<int, 24> x0{};  // level-L voxel of the tile's corner
+  std::array<int, 24> y0{};
+  TileWindows() {
+    x0.fill(std::numeric_limits<int>::min() / 4);
+    y0.fill(std::numeric_limits<int>::min() / 4);
+  }
+};
+
+// Tile of voxel (x, y) at `level` into the window; false when it is outside the grid or missing.
+inline bool windowFor(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x, int y) noexcept {
+  const auto l = static_cast<std::size_t>(level);
+  const unsigned size = 1u << f.tileShift;
+  if (static_cast<unsigned>(x - w.x0[l]) < size && static_cast<unsigned>(y - w.y0[l]) < size) return true;
+  if (x < 0 || y < 0 || x >= f.levelWidth[l] || y >= f.levelHeight[l]) return false;
+  const TerrainTile* tile = tileAt(f, t, level, x >> f.tileShift, y >> f.tileShift);
+  if (tile == nullptr) return false;
+  w.tile[l] = tile;
+  w.x0[l] = (x >> f.tileShift) << f.tileShift;
+  w.y0[l] = (y >> f.tileShift) << f.tileShift;
+  return true;
+}
+
+inline std::uint16_t windowHeight(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
+                                  int y) noexcept {
+  if (!windowFor(f, t, w, level, x, y)) return heightAt(f, t, level, x, y);  // clamped / coarser fallback
+  const auto l = static_cast<std::size_t>(level);
+  return w.tile[l]->heightQ[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
+}
+
+inline std::uint32_t windowColour(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
+                                  int y) noexcept {
+  if (!windowFor(f, t, w, level, x, y)) return colourAt(f, t, level, x, y);
+  const auto l = static_cast<std::size_t>(level);
+  return w.tile[l]->colourRgba[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
+}
+
+ColumnPlane columnPlane(const CasterFrame& f, double uc) noexcept {
+  const ViewGeometry& geo = *f.geo;
+  const Intrinsics& k = geo.intrinsics();
+  const CameraAxes& ax = geo.axes();
+  ColumnPlane c;
+  c.xc = (uc - k.cxPx) / k.fxPx;
+  const double sp = 1.0 / f.unitsPerM;
+  const double hs = 1.0 / f.quantaPerM;
+  // Plane directions in grid space: the column's central direction and the camera's up axis.
+  const glm::dvec3 aw = c.xc * ax.right + ax.forward;
+  const glm::dvec3 a{aw.x * f.unitsPerM, aw.y * f.unitsPerM, aw.z * f.quantaPerM};
+  const glm::dvec3 b{ax.up.x * f.unitsPerM, ax.up.y * f.unitsPerM, ax.up.z * f.quantaPerM};
+  glm::dvec3 n = glm::cross(a, b);
+  c.xMajor = std::abs(n.y) >= std::abs(n.x);  // the plane's ground trace runs along (n.y, −n.x)
+  const double nMin = c.xMajor ? n.y : n.x;
+  if (nMin < 0.0) n = -n;
+  c.nMaj = c.xMajor ? n.x : n.y;
+  c.nMin = c.xMajor ? n.y : n.x;
+  c.nZ = n.z;
+  c.cMaj = c.xMajor ? f.camX : f.camY;
+  c.cMin = c.xMajor ? f.camY : f.camX;
+  c.cZ = f.camZq;
+  c.upMaj = (c.xMajor ? ax.up.x : ax.up.y) * sp;
+  c.upMin = (c.xMajor ? ax.up.y : ax.up.x) * sp;
+  c.upZ = ax.up.z * hs;
+  c.fwdMaj = (c.xMajor ? ax.forward.x : ax.forward.y) * sp;
+  c.fwdMin = (c.xMajor ? ax.forward.y : ax.forward.x) * sp;
+  c.fwdZ = ax.forward.z * hs;
+  c.vHorizon = ax.up.z > 1e-12 ? k.cyPx + k.fyPx * aw.z / ax.up.z : (aw.z > 0 ? 1e30 : -1e30);
+  c.majSize = c.xMajor ? f.levelWidth[0] : f.levelHeight[0];
+  c.minSize = c.xMajor ? f.levelHeight[0] : f.levelWidth[0];
+  // Rows go up the image as the ground point moves along up_z·d_h − d_z·up_h (d: a ray of the
+  // column; the direction is the same for every ray that looks down).
+  const glm::dvec3 d = a + (-0.5) * b;  // a ray below the centre row
+  const double dirMaj = b.z * (c.xMajor ? d.x : d.y) - d.z * (c.xMajor ? b.x : b.y);
+  c.sx = dirMaj >= 0.0 ? 1 : -1;
+  return c;
+}
+
+// Finds where grid line i of `level` sees the terrain, starting the walk at minor segment `j`.
+// False when the crossing lies outside the grid or behind the camera.
+bool crossingAt(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c, int level, int i, int j,
+                Crossing& out) noexcept {
+  const double p = pow2(level);
+  const double m = (i + 0.5) * p - 0.5;
+  const int minLast = (c.xMajor ? f.levelHeight : f.levelWidth)[static_cast<std::size_t>(level)] - 2;
+  if (minLast < 0) return false;
+  j = std::clamp(j, 0, minLast);
+  const double base = c.nMaj * (m - c.cMaj) - c.nMin * c.cMin - c.nZ * c.cZ;
+  const auto height = [&](int jj) -> double {
+    return c.xMajor ? windowHeight(f, t, w, level, i, jj) : windowHeight(f, t, w, level, jj, i);
+  };
+  const auto g = [&](int jj, double h) { return c.nMin * ((jj + 0.5) * p - 0.5) + c.nZ * h + base; };
+  double h0 = height(j);
+  double h1 = height(j + 1);
+  double g0 = g(j, h0);
+  double g1 = g(j + 1, h1);
+  t.steps += 2;
+  // g grows along the minor axis; walk to the segment where it changes sign.
+  for (int walk = 0; walk < 512; ++walk) {
+    if (g0 > 0.0) {
+      if (j == 0) return false;
+      --j;
+      h1 = h0;
+      g1 = g0;
+      h0 = height(j);
+      g0 = g(j, h0);
+      ++t.steps;
+    } else if (g1 <= 0.0) {
+      if (j == minLast) return false;
+      ++j;
+      h0 = h1;
+      g0 = g1;
+      h1 = height(j + 1);
+      g1 = g(j + 1, h1);
+      ++t.steps;
+    } else {
+      break;
+    }
+  }
+  if (!(g0 <= 0.0 && g1 > 0.0)) return false;
+  const double phi = g0 / (g0 - g1);
+  const double dMaj = m - c.cMaj;
+  const double dMin = (j + 0.5 + phi) * p - 0.5 - c.cMin;
+  const double dZ = h0 + phi * (h1 - h0) - c.cZ;
+  const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + dZ * c.fwdZ;
+  if (!(zc > 1e-6)) return false;
+  const double yc = dMaj * c.upMaj + dMin * c.upMin + dZ * c.upZ;
+  const Intrinsics& k = f.geo->intrinsics();
+  out.level = level;
+  out.i = i;
+  out.j = j;
+  out.phi = phi;
+  out.depth = zc;
+  out.v = k.cyPx - k.fyPx * yc / zc;
+  out.haveColour = false;
+  return true;
+}
+
+// Colour of a crossing: linear along the grid line at its level, blended with the next level.
+const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                          Crossing& x) noexcept {
+  if (x.haveColour) return x.colour;
+  const int l = x.level;
+  const std::uint32_t c0 = c.xMajor ? windowColour(f, t, w, l, x.i, x.j) : windowColour(f, t, w, l, x.j, x.i);
+  const std::uint32_t c1 = c.xMajor ? windowColour(f, t, w, l, x.i, x.j + 1) : windowColour(f, t, w, l, x.j + 1, x.i);
+  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
+  x.haveColour = true;
+  if (!f.blend || l + 1 >= f.levels) return x.colour;
+  const double blend = std::clamp(x.depth * f.invLodDepth0M * pow2(1 - l) - 1.0, 0.0, 1.0);
+  if (blend <= 0.0) return x.colour;
+  const double p = pow2(l);
+  const double mMaj = (x.i + 0.5) * p - 0.5;
+  const double mMin = (x.j + 0.5 + x.phi) * p - 0.5;
+  const double ux = levelIndex(c.xMajor ? mMaj : mMin, l + 1);
+  const double uy = levelIndex(c.xMajor ? mMin : mMaj, l + 1);
+  const int x0 = floorToInt(ux);
+  const int y0 = floorToInt(uy);
+  const auto fx = static_cast<float>(ux - x0);
+  const auto fy = static_cast<float>(uy - y0);
+  const int up = l + 1;
+  const Rgb lo =
+      mix(unpackRgb(windowColour(f, t, w, up, x0, y0)), unpackRgb(windowColour(f, t, w, up, x0 + 1, y0)), fx);
+  const Rgb hi =
+      mix(unpackRgb(windowColour(f, t, w, up, x0, y0 + 1)), unpackRgb(windowColour(f, t, w, up, x0 + 1, y0 + 1)), fx);
+  x.colour = mix(x.colour, mix(lo, hi, fy), static_cast<float>(blend));
+  return x.colour;
+}
+
+// Collects the sub-rows of a column (bottom to top) into pixels.
+struct ColumnSink {
+  const CasterFrame& f;
+  int u;
+  int s;
+  float scale;
+  Rgb sum;
+  float range = std::numeric_limits<float>::infinity();
+
+  void emit(int q, const Rgb& c, float rangeM) noexcept {
+    sum.r += c.r;
+    sum.g += c.g;
+    sum.b += c.b;
+    const int sub = q % s;
+    if (sub == s / 2) range = rangeM;
+    if (sub != 0) return;
+    const int v = q / s;
+    if (f.image != nullptr) f.shading.store(f.image->row(v), u, sum, scale);
+    if (f.rangeM != nullptr) {
+      f.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(f.geo->intrinsics().widthPx) + u] = range;
+    }
+    sum = Rgb{};
+    range = std::numeric_limits<float>::infinity();
+  }
+};
+
+inline float rayLength(double xc, double yc) noexcept { return static_cast<float>(std::sqrt(1.0 + xc * xc + yc * yc)); }
+
+// Per-ray casting of sub-rows q = qFrom, qFrom−1, ... (the rows the plane march cannot take: below
+// the first hit, and beyond the terrain's edge). Stops after the first hit when `untilHit`.
+// Returns the sub-row below which it stopped (−1 when the column is done) and the hit.
+int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double uc, int qFrom, bool untilHit,
+                   bool& havePrev, glm::dvec2& prevHit, MarchHit& hitOut, RayLine& lineOut) noexcept {
+  const Intrinsics& k = f.geo->intrinsics();
+  const double xc = (uc - k.cxPx) / k.fxPx;
+  bool sky = false;
+  for (int q = qFrom; q >= 0; --q) {
+    const double vq = (q + 0.5) / f.supersample;
+    const glm::dvec3 d = f.geo->ray(uc, vq);
+    const float length = rayLength(xc, -(vq - k.cyPx) / k.fyPx);
+    ++t.rays;
+    RayLine r;
+    if (!sky && setupLine(f, d, r)) {
+      const double mStart =
+          havePrev ? r.sx * ((r.xMajor ? prevHit.x : prevHit.y) - r.cMaj) : (++t.firstHits, firstHitStart(f, r));
+      const MarchHit h = march(f, t, r, mStart);
+      const double maj = r.cMaj + r.sx * h.m;
+      const double min = r.cMin + r.slope * h.m;
+      prevHit = r.xMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj};
+      havePrev = true;
+      if (h.hit) {
+        const double depth = h.m / r.aMaj;
+        const float rangeM = static_cast<float>(depth) * length;
+        sink.emit(q, f.shading.terrain(hitColour(f, t, r, h, depth), rangeM), rangeM);
+        if (untilHit) {
+          hitOut = h;
+          lineOut = r;
+          return q - 1;
+        }
+        continue;
+      }
+      // Missed. An ascending ray passes over everything, and so does every ray above it. A
+      // descending one left the terrain's side; the ray above starts where this one left (a
+      // pitched column fans out in azimuth, so it may come back over the terrain: retrace).
+      if (d.z >= 0.0) sky = true;
+    } else {
+      havePrev = false;  // nowhere near the terrain: the next ray starts afresh
+    }
+    sink.emit(q, f.shading.sky(static_cast<float>(d.z) / length), std::numeric_limits<float>::infinity());
+  }
+  return -1;
+}
+
+void castColumn(const CasterFrame& f, CasterThread& t, int u) noexcept {
+  const Intrinsics& k = f.geo->intrinsics();
+  const double uc = u + 0.5;
+  const int s = f.supersample;
+  ColumnSink sink{f, u, s, 1.0f / static_cast<float>(s), {}};
+  bool havePrev = false;
+  glm::dvec2 prevHit{0.0};
+  MarchHit hit;
+  RayLine line;
+  // The bottom rays, one by one until one hits (the first by descending the max pyramid).
+  int q = castRowsPerRay(f, t, sink, uc, s * k.heightPx - 1, true, havePrev, prevHit, hit, line);
+  if (q < 0) return;
+
+  const ColumnPlane c = columnPlane(f, uc);
+  const double invS = 1.0 / s;
+  const auto rowV = [invS](int qq) { return (qq + 0.5) * invS; };
+  TileWindows window;
+  // Start on the grid line (of the column's major axis) at or before that hit.
+  const double hitMaj = c.xMajor ? prevHit.x : prevHit.y;
+  const double hitMin = c.xMajor ? prevHit.y : prevHit.x;
+  int level = hit.at.level;
+  int i = c.sx > 0 ? floorToInt(levelIndex(hitMaj, level)) : ceilToInt(levelIndex(hitMaj, level));
+  Crossing prev;
+  bool ok = crossingAt(f, t, window, c, level, i, floorToInt(levelIndex(hitMin, level)), prev);
+  double vTop = ok ? prev.v : 0.0;
+  const double drift = -c.nMaj / c.nMin * c.sx;  // minor change of the trace per major step
+  const double ceilingAbove = f.ceilingQ - c.cZ;
+  const double horizonRow = c.vHorizon;
+  const double lodDepth = f.geo->lodDepth0M();
+  int sinceCheck = 0;
+  while (ok && q >= 0) {
+    // Next grid line: on an even step past the level's depth, the coarser level's line (half a
+    // step ahead); otherwise the next line of this level.
+    int nextLevel = level;
+    int nextI = i + c.sx;
+    if (level + 1 < f.levels && prev.depth > lodDepth * pow2(level) && ((i & 1) == (c.sx > 0 ? 0 : 1))) {
+      nextLevel = level + 1;
+      nextI = i >> 1;
+    }
+    const int majLast = (c.xMajor ? f.levelWidth : f.levelHeight)[static_cast<std::size_t>(nextLevel)] - 1;
+    const double mNext = (nextI + 0.5) * pow2(nextLevel) - 0.5;
+    if (nextI < 0 || nextI > majLast || mNext > c.majSize - 1 || mNext < 0.0) break;  // left the terrain
+    const double jGuess = (prev.j + prev.phi) * pow2(prev.level - nextLevel) + drift;
+    Crossing cur;
+    if (!crossingAt(f, t, window, c, nextLevel, nextI, floorToInt(jGuess), cur)) break;
+    if (cur.v < vTop) {
+      // Rows between the highest crossing so far and this one see the terrain between the two grid
+      // lines: perspective-correct interpolation between the crossings (1/depth is linear in v).
+      const double invZ0 = 1.0 / prev.depth;
+      const double invZ1 = 1.0 / cur.depth;
+      const double dv = cur.v - prev.v;
+      while (q >= 0 && rowV(q) > cur.v) {
+        const double vq = rowV(q);
+        const double ts = dv != 0.0 ? std::clamp((vq - prev.v) / dv, 0.0, 1.0) : 1.0;
+        const double depth = 1.0 / (invZ0 + ts * (invZ1 - invZ0));
+        const double dz = cur.depth - prev.depth;
+        const auto tw = static_cast<float>(dz != 0.0 ? std::clamp((depth - prev.depth) / dz, 0.0, 1.0) : ts);
+        const Rgb colour = mix(crossingColour(f, t, window, c, prev), crossingColour(f, t, window, c, cur), tw);
+        const float rangeM = static_cast<float>(depth) * rayLength(c.xc, -(vq - k.cyPx) / k.fyPx);
+        ++t.rays;
+        sink.emit(q, f.shading.terrain(colour, rangeM), rangeM);
+        --q;
+      }
+      vTop = cur.v;
+    }
+    prev = cur;
+    level = nextLevel;
+    i = nextI;
+    // Now and then: are all rows left looking upwards and already above the highest terrain?
+    if (++sinceCheck >= 32) {
+      sinceCheck = 0;
+      if (q >= 0 && rowV(q) < horizonRow) {
+        const double m = (i + 0.5) * pow2(level) - 0.5;
+        // Point of L_i at the ceiling height.
+        const double dMaj = m - c.cMaj;
+        const double dMin = -(c.nMaj * dMaj + c.nZ * ceilingAbove) / c.nMin;
+        const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + ceilingAbove * c.fwdZ;
+        const double yc = dMaj * c.upMaj + dMin * c.upMin + ceilingAbove * c.upZ;
+        if (zc > 0.0 && k.cyPx - k.fyPx * yc / zc >= rowV(q)) break;
+      }
+    }
+  }
+  if (q < 0) return;
+  // Beyond the terrain (or above it): rows that look up see the sky; rows that still look down
+  // (over the terrain's edge, where a tilted column may come back over it) are cast one by one.
+  if (rowV(q) < horizonRow) {
+    for (; q >= 0; --q) {
+      const double vq = rowV(q);
+      const double yc = -(vq - k.cyPx) / k.fyPx;
+      const glm::dvec3 d = f.geo->ray(uc, vq);
+      sink.emit(q, f.shading.sky(static_cast<float>(d.z) / rayLength(c.xc, yc)),
+                std::numeric_limits<float>::infinity());
+    }
+    return;
+  }
+  castRowsPerRay(f, t, sink, uc, q, false, havePrev, prevHit, hit, line);
+}
+
+}  // namespace
+
 void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept {
+  for (int u = u0; u < u1; ++u) castColumn(f, t, u);
+}
+
+void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const int s = f.supersample;
   const float scale = 1.0f / static_cast<float>(s);
