@@ -599,66 +599,6 @@ ColumnPlane columnPlane(const CasterFrame& f, double uc) noexcept {
   return c;
 }
 
-// Finds where grid line i of `level` sees the terrain, starting the walk at minor segment `j`.
-// False when the crossing lies outside the grid or behind the camera.
-bool crossingAt(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c, int level, int i, int j,
-                Crossing& out) noexcept {
-  const double p = pow2(level);
-  const double m = (i + 0.5) * p - 0.5;
-  const int minLast = (c.xMajor ? f.levelHeight : f.levelWidth)[static_cast<std::size_t>(level)] - 2;
-  if (minLast < 0) return false;
-  j = std::clamp(j, 0, minLast);
-  const double base = c.nMaj * (m - c.cMaj) - c.nMin * c.cMin - c.nZ * c.cZ;
-  const auto height = [&](int jj) -> double {
-    return c.xMajor ? windowHeight(f, t, w, level, i, jj) : windowHeight(f, t, w, level, jj, i);
-  };
-  const auto g = [&](int jj, double h) { return c.nMin * ((jj + 0.5) * p - 0.5) + c.nZ * h + base; };
-  double h0 = height(j);
-  double h1 = height(j + 1);
-  double g0 = g(j, h0);
-  double g1 = g(j + 1, h1);
-  t.steps += 2;
-  // g grows along the minor axis; walk to the segment where it changes sign.
-  for (int walk = 0; walk < 512; ++walk) {
-    if (g0 > 0.0) {
-      if (j == 0) return false;
-      --j;
-      h1 = h0;
-      g1 = g0;
-      h0 = height(j);
-      g0 = g(j, h0);
-      ++t.steps;
-    } else if (g1 <= 0.0) {
-      if (j == minLast) return false;
-      ++j;
-      h0 = h1;
-      g0 = g1;
-      h1 = height(j + 1);
-      g1 = g(j + 1, h1);
-      ++t.steps;
-    } else {
-      break;
-    }
-  }
-  if (!(g0 <= 0.0 && g1 > 0.0)) return false;
-  const double phi = g0 / (g0 - g1);
-  const double dMaj = m - c.cMaj;
-  const double dMin = (j + 0.5 + phi) * p - 0.5 - c.cMin;
-  const double dZ = h0 + phi * (h1 - h0) - c.cZ;
-  const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + dZ * c.fwdZ;
-  if (!(zc > 1e-6)) return false;
-  const double yc = dMaj * c.upMaj + dMin * c.upMin + dZ * c.upZ;
-  const Intrinsics& k = f.geo->intrinsics();
-  out.level = level;
-  out.i = i;
-  out.j = j;
-  out.phi = phi;
-  out.depth = zc;
-  out.v = k.cyPx - k.fyPx * yc / zc;
-  out.haveColour = false;
-  return true;
-}
-
 // Colour of a crossing: linear along the grid line at its level, blended with the next level.
 const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
                           Crossing& x) noexcept {
@@ -699,6 +639,13 @@ struct ColumnSink {
   float range = std::numeric_limits<float>::infinity();
 
   void emit(int q, const Rgb& c, float rangeM) noexcept {
+    if (s == 1) {
+      if (f.image != nullptr) f.shading.store(f.image->row(q), u, c, 1.0f);
+      if (f.rangeM != nullptr) {
+        f.rangeM[static_cast<std::size_t>(q) * static_cast<std::size_t>(f.geo->intrinsics().widthPx) + u] = rangeM;
+      }
+      return;
+    }
     sum.r += c.r;
     sum.g += c.g;
     sum.b += c.b;
@@ -762,6 +709,216 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
   return -1;
 }
 
+// The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
+// sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
+// fill (−1 when the column is done): the march left the terrain, or the rows left look over it.
+template <bool kXMajor>
+int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
+                   const glm::dvec2& start, int level) noexcept {
+  const Intrinsics& k = f.geo->intrinsics();
+  const int sx = c.sx;
+  const double invS = 1.0 / sink.s;
+  const double lodDepth = f.geo->lodDepth0M();
+  const double cMinHalf = 0.5 + c.cMin;
+  const auto& majSizes = c.xMajor ? f.levelWidth : f.levelHeight;
+  const auto& minSizes = c.xMajor ? f.levelHeight : f.levelWidth;
+  TileWindows window;
+  // The tile of the current level the heights come from, kept in registers: a read is two
+  // unsigned compares and a load; anything else goes through the window cache.
+  const std::uint16_t* tileHeights = nullptr;
+  int wx0 = std::numeric_limits<int>::min() / 4;
+  int wy0 = std::numeric_limits<int>::min() / 4;
+  const unsigned tileSize = 1u << f.tileShift;
+  const auto height = [&](int lv, int i, int j) -> double {
+    const int x = kXMajor ? i : j;
+    const int y = kXMajor ? j : i;
+    if (static_cast<unsigned>(x - wx0) < tileSize && static_cast<unsigned>(y - wy0) < tileSize) {
+      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
+    }
+    if (windowFor(f, t, window, lv, x, y)) {
+      const auto l = static_cast<std::size_t>(lv);
+      tileHeights = window.tile[l]->heightQ;
+      wx0 = window.x0[l];
+      wy0 = window.y0[l];
+      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
+    }
+    return heightAt(f, t, lv, x, y);  // outside the grid (clamped) or tile missing (coarser level)
+  };
+
+  // Per-level constants of the crossing equation g(j) = gA·j + gB + nZ·h(j) + base, where base
+  // carries the grid line's major position and grows by baseStep per step.
+  double p = 0, gA = 0, gB = 0, baseStep = 0, dMajStep = 0, switchDepth = 0;
+  int majLast = 0, minLast = 0;
+  const auto enterLevel = [&](int lv) {
+    p = pow2(lv);
+    gA = c.nMin * p;
+    gB = c.nMin * (0.5 * p - 0.5);
+    dMajStep = sx * p;
+    baseStep = c.nMaj * dMajStep;
+    switchDepth = lv + 1 < f.levels ? lodDepth * p : std::numeric_limits<double>::infinity();
+    wx0 = std::numeric_limits<int>::min() / 4;  // the register window belongs to the old level
+    // Last grid line inside both the level's grid and the hull of the level-0 voxel centres.
+    const int hullLast = sx > 0 ? floorToInt(levelIndex(c.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
+    majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
+    minLast = minSizes[static_cast<std::size_t>(lv)] - 2;
+  };
+  const double startMaj = c.xMajor ? start.x : start.y;
+  const double startMin = c.xMajor ? start.y : start.x;
+  enterLevel(level);
+  int i = sx > 0 ? floorToInt(levelIndex(startMaj, level)) : ceilToInt(levelIndex(startMaj, level));
+  double dMaj = (i + 0.5) * p - 0.5 - c.cMaj;
+  double base = c.nMaj * dMaj - c.nMin * c.cMin - c.nZ * c.cZ;
+  double jPos = levelIndex(startMin, level);   // predicted minor position of the next crossing
+  const double drift = -c.nMaj / c.nMin * sx;  // minor change of the plane's trace per major step
+
+  // The last crossing (prev) and the one being found (cur).
+  struct Found {
+    double v, depth, invDepth, phi;
+    int level, i, j;
+    bool haveColour;
+    Rgb colour;
+  };
+  Found found[2]{};
+  Found* prevP = &found[0];
+  Found* curP = &found[1];
+  std::uint64_t steps = 0;
+  const auto colourOf = [&](Found& x) -> const Rgb& {
+    if (!x.haveColour) {
+      Crossing cx;
+      cx.level = x.level;
+      cx.i = x.i;
+      cx.j = x.j;
+      cx.phi = x.phi;
+      cx.depth = x.depth;
+      x.colour = crossingColour(f, t, window, c, cx);
+      x.haveColour = true;
+    }
+    return x.colour;
+  };
+  // Solves the crossing on the current grid line; false when it leaves the grid or the view.
+  const auto solve = [&](Found& out) -> bool {
+    if (sx > 0 ? i > majLast : i < majLast) return false;
+    if (minLast < 0) return false;
+    int j = floorToInt(jPos);
+    j = j < 0 ? 0 : (j > minLast ? minLast : j);
+    double h0 = height(level, i, j);
+    double h1 = height(level, i, j + 1);
+    double g0 = gA * j + gB + c.nZ * h0 + base;
+    double g1 = g0 + gA + c.nZ * (h1 - h0);
+    std::uint64_t samples = 2;
+    // g grows along the minor axis: walk to the segment where it changes sign.
+    while (g0 > 0.0) {
+      if (j == 0) return false;
+      --j;
+      h1 = h0;
+      g1 = g0;
+      h0 = height(level, i, j);
+      g0 -= gA + c.nZ * (h1 - h0);
+      ++samples;
+    }
+    while (g1 <= 0.0) {
+      if (j == minLast) return false;
+      ++j;
+      h0 = h1;
+      g0 = g1;
+      h1 = height(level, i, j + 1);
+      g1 = g0 + gA + c.nZ * (h1 - h0);
+      ++samples;
+    }
+    steps += samples;
+    const double phi = g0 / (g0 - g1);
+    const double dMin = (j + phi) * p + 0.5 * p - cMinHalf;
+    const double dZ = h0 + phi * (h1 - h0) - c.cZ;
+    const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + dZ * c.fwdZ;
+    if (!(zc > 1e-6)) return false;
+    const double yc = dMaj * c.upMaj + dMin * c.upMin + dZ * c.upZ;
+    out.invDepth = 1.0 / zc;
+    out.depth = zc;
+    out.v = k.cyPx - k.fyPx * yc * out.invDepth;
+    out.phi = phi;
+    out.level = level;
+    out.i = i;
+    out.j = j;
+    out.haveColour = false;
+    jPos = j + phi + drift;
+    return true;
+  };
+
+  if (!solve(*prevP)) return q;
+  double vTop = prevP->v;
+  double vq = (q + 0.5) * invS;
+  const float xc2 = static_cast<float>(1.0 + c.xc * c.xc);
+  const double invFy = 1.0 / k.fyPx;
+  int sinceCheck = 0;
+  for (;;) {
+    // Next grid line: on an even step past the level's depth, the coarser level's line (half a
+    // step ahead); otherwise the next line of this level.
+    Found& prev = *prevP;
+    Found& cur = *curP;
+    if (prev.depth > switchDepth && (i & 1) == (sx > 0 ? 0 : 1)) {
+      ++level;
+      i >>= 1;
+      enterLevel(level);
+      dMaj = (i + 0.5) * p - 0.5 - c.cMaj;
+      base = c.nMaj * dMaj - c.nMin * c.cMin - c.nZ * c.cZ;
+      jPos = (jPos + 0.5) * 0.5 - 0.5;
+    } else {
+      i += sx;
+      dMaj += dMajStep;
+      base += baseStep;
+    }
+    if (!solve(cur)) {
+      t.steps += steps;
+      return q;
+    }
+    if (cur.v < vTop) {
+      // Sub-rows between the highest crossing so far and this one see the terrain between the two
+      // grid lines: perspective-correct interpolation between the crossings (1/depth is linear in v).
+      const double invDv = 1.0 / (cur.v - prev.v);
+      const double dInvZ = cur.invDepth - prev.invDepth;
+      const double dz = cur.depth - prev.depth;
+      const double invDz = dz != 0.0 ? 1.0 / dz : 0.0;
+      const Rgb& c0 = colourOf(prev);
+      const Rgb& c1 = colourOf(cur);
+      while (vq > cur.v) {
+        const double ts = std::min((vq - prev.v) * invDv, 1.0);
+        const double depth = 1.0 / (prev.invDepth + ts * dInvZ);
+        const auto tw = static_cast<float>(std::clamp((depth - prev.depth) * invDz, 0.0, 1.0));
+        const auto yc = static_cast<float>((k.cyPx - vq) * invFy);
+        const float rangeM = static_cast<float>(depth) * std::sqrt(xc2 + yc * yc);
+        sink.emit(q, f.shading.terrain(mix(c0, c1, tw), rangeM), rangeM);
+        if (--q < 0) {
+          t.steps += steps;
+          return -1;
+        }
+        vq -= invS;
+      }
+      vTop = cur.v;
+    }
+    std::swap(prevP, curP);
+    // Now and then: do all rows left look upwards, already above the highest terrain?
+    if (++sinceCheck >= 32) {
+      sinceCheck = 0;
+      if (vq < c.vHorizon) {
+        const double above = f.ceilingQ - c.cZ;  // the point of this grid line's L_i at the ceiling
+        const double dMin = -(c.nMaj * dMaj + c.nZ * above) / c.nMin;
+        const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + above * c.fwdZ;
+        const double yc = dMaj * c.upMaj + dMin * c.upMin + above * c.upZ;
+        if (zc > 0.0 && k.cyPx - k.fyPx * yc / zc >= vq) {
+          t.steps += steps;
+          return q;
+        }
+      }
+    }
+  }
+}
+
+int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
+               const glm::dvec2& start, int level) noexcept {
+  return c.xMajor ? marchPlaneAxis<true>(f, t, sink, c, q, start, level)
+                  : marchPlaneAxis<false>(f, t, sink, c, q, start, level);
+}
+
 void castColumn(const CasterFrame& f, CasterThread& t, int u) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const double uc = u + 0.5;
@@ -778,72 +935,8 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u) noexcept {
   const ColumnPlane c = columnPlane(f, uc);
   const double invS = 1.0 / s;
   const auto rowV = [invS](int qq) { return (qq + 0.5) * invS; };
-  TileWindows window;
-  // Start on the grid line (of the column's major axis) at or before that hit.
-  const double hitMaj = c.xMajor ? prevHit.x : prevHit.y;
-  const double hitMin = c.xMajor ? prevHit.y : prevHit.x;
-  int level = hit.at.level;
-  int i = c.sx > 0 ? floorToInt(levelIndex(hitMaj, level)) : ceilToInt(levelIndex(hitMaj, level));
-  Crossing prev;
-  bool ok = crossingAt(f, t, window, c, level, i, floorToInt(levelIndex(hitMin, level)), prev);
-  double vTop = ok ? prev.v : 0.0;
-  const double drift = -c.nMaj / c.nMin * c.sx;  // minor change of the trace per major step
-  const double ceilingAbove = f.ceilingQ - c.cZ;
   const double horizonRow = c.vHorizon;
-  const double lodDepth = f.geo->lodDepth0M();
-  int sinceCheck = 0;
-  while (ok && q >= 0) {
-    // Next grid line: on an even step past the level's depth, the coarser level's line (half a
-    // step ahead); otherwise the next line of this level.
-    int nextLevel = level;
-    int nextI = i + c.sx;
-    if (level + 1 < f.levels && prev.depth > lodDepth * pow2(level) && ((i & 1) == (c.sx > 0 ? 0 : 1))) {
-      nextLevel = level + 1;
-      nextI = i >> 1;
-    }
-    const int majLast = (c.xMajor ? f.levelWidth : f.levelHeight)[static_cast<std::size_t>(nextLevel)] - 1;
-    const double mNext = (nextI + 0.5) * pow2(nextLevel) - 0.5;
-    if (nextI < 0 || nextI > majLast || mNext > c.majSize - 1 || mNext < 0.0) break;  // left the terrain
-    const double jGuess = (prev.j + prev.phi) * pow2(prev.level - nextLevel) + drift;
-    Crossing cur;
-    if (!crossingAt(f, t, window, c, nextLevel, nextI, floorToInt(jGuess), cur)) break;
-    if (cur.v < vTop) {
-      // Rows between the highest crossing so far and this one see the terrain between the two grid
-      // lines: perspective-correct interpolation between the crossings (1/depth is linear in v).
-      const double invZ0 = 1.0 / prev.depth;
-      const double invZ1 = 1.0 / cur.depth;
-      const double dv = cur.v - prev.v;
-      while (q >= 0 && rowV(q) > cur.v) {
-        const double vq = rowV(q);
-        const double ts = dv != 0.0 ? std::clamp((vq - prev.v) / dv, 0.0, 1.0) : 1.0;
-        const double depth = 1.0 / (invZ0 + ts * (invZ1 - invZ0));
-        const double dz = cur.depth - prev.depth;
-        const auto tw = static_cast<float>(dz != 0.0 ? std::clamp((depth - prev.depth) / dz, 0.0, 1.0) : ts);
-        const Rgb colour = mix(crossingColour(f, t, window, c, prev), crossingColour(f, t, window, c, cur), tw);
-        const float rangeM = static_cast<float>(depth) * rayLength(c.xc, -(vq - k.cyPx) / k.fyPx);
-        ++t.rays;
-        sink.emit(q, f.shading.terrain(colour, rangeM), rangeM);
-        --q;
-      }
-      vTop = cur.v;
-    }
-    prev = cur;
-    level = nextLevel;
-    i = nextI;
-    // Now and then: are all rows left looking upwards and already above the highest terrain?
-    if (++sinceCheck >= 32) {
-      sinceCheck = 0;
-      if (q >= 0 && rowV(q) < horizonRow) {
-        const double m = (i + 0.5) * pow2(level) - 0.5;
-        // Point of L_i at the ceiling height.
-        const double dMaj = m - c.cMaj;
-        const double dMin = -(c.nMaj * dMaj + c.nZ * ceilingAbove) / c.nMin;
-        const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + ceilingAbove * c.fwdZ;
-        const double yc = dMaj * c.upMaj + dMin * c.upMin + ceilingAbove * c.upZ;
-        if (zc > 0.0 && k.cyPx - k.fyPx * yc / zc >= rowV(q)) break;
-      }
-    }
-  }
+  q = marchPlane(f, t, sink, c, q, prevHit, hit.at.level);
   if (q < 0) return;
   // Beyond the terrain (or above it): rows that look up see the sky; rows that still look down
   // (over the terrain's edge, where a tilted column may come back over it) are cast one by one.
