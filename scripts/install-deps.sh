@@ -14,12 +14,15 @@ build_packages=(
   libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libzstd-dev libxxhash-dev
+  nlohmann-json3-dev  # the JSON run summary
 )
 interop_packages=(
   ffmpeg
   gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
   tshark
   clang-14 libclang-rt-14-dev
+  # io_bridge sinks: the live-window test runs against a virtual X server
+  xvfb xauth
 )
 
 wanted=("${build_packages[@]}")

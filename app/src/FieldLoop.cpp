@@ -1,0 +1,65 @@
+#include "FieldLoop.h"
+
+#include <cstdlib>
+
+namespace fieldcast::app {
+
+FieldLoop::FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::FieldWarper& warper,
+                     warp::FrameHandover& frames, const warp::PoseSource& poses, io::SinkHub& sinks,
+                     ServiceMetrics& metrics, PendingInput* pendingInput)
+    : mClock(clock),
+      mTime(timeSource),
+      mWarper(warper),
+      mFrames(frames),
+      mPoses(poses),
+      mSinks(sinks),
+      mMetrics(metrics),
+      mPendingInput(pendingInput),
+      mField(warper.makeField()) {}
+
+void FieldLoop::run(const std::atomic<bool>& stop, std::uint64_t lastField) noexcept {
+  while (!stop.load(std::memory_order_acquire)) {
+    const warp::FieldTick tick = mClock.next();
+    if (stop.load(std::memory_order_acquire)) break;
+    if (lastField != 0 && tick.fieldNumber >= lastField) break;
+    emit(tick);
+  }
+}
+
+void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
+  const TimePoint start = mTime.now();
+  ServiceCounters& counters = mMetrics.counters;
+  if (tick.missedBefore > 0) counters.fieldsMissed.fetch_add(tick.missedBefore, std::memory_order_relaxed);
+  mMetrics.record(Measure::FieldJitter, Nanoseconds{std::abs((start - tick.wakeTime).count())});
+
+  // Take the newest complete frame; keep the one we have if nothing newer arrived.
+  mFrames.update();
+  const Frame& frame = mFrames.hasTaken() ? mFrames.front() : mNoFrame;
+  // The pose below is computed now, so every input that arrived before this instant is reflected.
+  const std::int64_t inputNs = mPendingInput != nullptr ? mPendingInput->exchange(0, std::memory_order_acq_rel) : 0;
+  const warp::FieldStatus status = mWarper.produce(frame, mPoses, warp::FieldSpec::of(tick), mField);
+
+  if (status == warp::FieldStatus::Ok) {
+    mMetrics.record(Measure::FrameAge, tick.displayTime - frame.poseTime);
+  } else if (status == warp::FieldStatus::NoFrame || status == warp::FieldStatus::BadFrame) {
+    counters.fieldsBlack.fetch_add(1, std::memory_order_relaxed);
+  }
+  if (status != warp::FieldStatus::BadOutput) {
+    mSinks.publish(mField);
+    counters.fieldsEmitted.fetch_add(1, std::memory_order_relaxed);
+  }
+  if (inputNs != 0) {
+    mMetrics.record(Measure::StickLatency, tick.displayTime - TimePoint{Nanoseconds{inputNs}});
+  }
+  // The warper counts in totals; the service reports deltas in its own counters.
+  const auto& warpCounters = mWarper.counters();
+  const std::uint64_t fallbacks = warpCounters.fitFallbacks.load(std::memory_order_relaxed);
+  const std::uint64_t violations = warpCounters.marginViolations.load(std::memory_order_relaxed);
+  counters.warpFallbacks.fetch_add(fallbacks - mLastFallbacks, std::memory_order_relaxed);
+  counters.marginViolations.fetch_add(violations - mLastViolations, std::memory_order_relaxed);
+  mLastFallbacks = fallbacks;
+  mLastViolations = violations;
+  mMetrics.record(Measure::WarpTime, mTime.now() - start);
+}
+
+}  // namespace fieldcast::app

@@ -1,0 +1,55 @@
+#pragma once
+// The field thread (DESIGN.md §4–§5): sleeps to each field's absolute wake-up, takes the newest
+// complete frame without waiting, asks the motion model for the pose at the field's display
+// time, warps, and hands the field to the sinks. Never allocates, never blocks on the renderer,
+// the sinks or the input; a field that cannot be made in time is counted and skipped.
+
+#include "ServiceMetrics.h"
+
+#include <fieldcast/Field.h>
+#include <fieldcast/Time.h>
+#include <io_bridge/SinkHub.h>
+#include <prp_warp/FieldClock.h>
+#include <prp_warp/FieldWarper.h>
+#include <prp_warp/PoseSource.h>
+#include <prp_warp/TripleBuffer.h>
+
+#include <atomic>
+#include <cstdint>
+
+namespace fieldcast::app {
+
+/// Instant of the newest control input not yet reflected in a field, for stick → field latency.
+/// The input thread stores the event's kernel timestamp; the field loop takes it. 0: none pending.
+using PendingInput = std::atomic<std::int64_t>;
+
+class FieldLoop {
+ public:
+  /// Every reference must outlive the loop. `pendingInput` may be null (no stick).
+  FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::FieldWarper& warper, warp::FrameHandover& frames,
+            const warp::PoseSource& poses, io::SinkHub& sinks, ServiceMetrics& metrics,
+            PendingInput* pendingInput = nullptr);
+
+  /// Emits fields until `stop` is set, or until `lastField` (exclusive) when non-zero. Field
+  /// thread body. RT-safe after the first field.
+  void run(const std::atomic<bool>& stop, std::uint64_t lastField = 0) noexcept;
+
+  /// Makes one field for `tick` and publishes it (the body of run(); exposed for virtual-time tests).
+  void emit(const warp::FieldTick& tick) noexcept;
+
+ private:
+  warp::FieldClock& mClock;
+  const Clock& mTime;
+  warp::FieldWarper& mWarper;
+  warp::FrameHandover& mFrames;
+  const warp::PoseSource& mPoses;
+  io::SinkHub& mSinks;
+  ServiceMetrics& mMetrics;
+  PendingInput* mPendingInput;
+  Field mField;    // reused for every field: allocated once at construction
+  Frame mNoFrame;  // the empty frame warped (to black) before the first frame arrives
+  std::uint64_t mLastFallbacks = 0;
+  std::uint64_t mLastViolations = 0;
+};
+
+}  // namespace fieldcast::app

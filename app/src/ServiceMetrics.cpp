@@ -1,0 +1,120 @@
+#include "ServiceMetrics.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+
+namespace fieldcast::app {
+namespace {
+
+std::string ms(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", seconds * 1e3);
+  return text;
+}
+
+nlohmann::json toJson(const DurationSummary& s) {
+  return {{"count", s.count},
+          {"p50_ms", s.p50S * 1e3},
+          {"p99_ms", s.p99S * 1e3},
+          {"max_ms", s.maxS * 1e3},
+          {"mean_ms", s.meanS * 1e3}};
+}
+
+}  // namespace
+
+ServiceMetrics::ServiceMetrics() : mStart(MonotonicClock::now()), mLast(mStart) {}
+
+std::string ServiceMetrics::intervalLine(TimePoint now) {
+  const double seconds = std::max(1e-9, toSeconds(now - mLast));
+  const auto frames = counters.framesRendered.load(std::memory_order_relaxed);
+  const auto fields = counters.fieldsEmitted.load(std::memory_order_relaxed);
+  const auto missed = counters.fieldsMissed.load(std::memory_order_relaxed);
+  const auto margin = counters.marginViolations.load(std::memory_order_relaxed);
+
+  DurationSummary s[static_cast<int>(Measure::kCount)];
+  for (int m = 0; m < static_cast<int>(Measure::kCount); ++m) {
+    mInterval[m].drainInto(mScratch);
+    s[m] = mScratch.summary();
+    mTotal[m].merge(mScratch);
+  }
+  char line[512];
+  std::snprintf(
+      line, sizeof line, "render %.1f Hz | fields %llu missed %llu | margin px %llu | warp %s/%s ms",
+      static_cast<double>(frames - mLastFrames) / seconds, static_cast<unsigned long long>(fields - mLastFields),
+      static_cast<unsigned long long>(missed - mLastMissed), static_cast<unsigned long long>(margin - mLastMargin),
+      ms(s[static_cast<int>(Measure::WarpTime)].p50S).c_str(), ms(s[static_cast<int>(Measure::WarpTime)].p99S).c_str());
+  std::string result = line;
+  const DurationSummary& age = s[static_cast<int>(Measure::FrameAge)];
+  if (age.count > 0) result += " | frame age " + ms(age.p50S) + "/" + ms(age.p99S) + " ms";
+  const DurationSummary& stick = s[static_cast<int>(Measure::StickLatency)];
+  if (stick.count > 0) result += " | stick→field " + ms(stick.p50S) + "/" + ms(stick.p99S) + " ms";
+  result += " (p50/p99)";
+  mLast = now;
+  mLastFrames = frames;
+  mLastFields = fields;
+  mLastMissed = missed;
+  mLastMargin = margin;
+  return result;
+}
+
+ServiceFigures ServiceMetrics::figures(TimePoint now) {
+  for (int m = 0; m < static_cast<int>(Measure::kCount); ++m) {
+    mInterval[m].drainInto(mScratch);
+    mTotal[m].merge(mScratch);
+  }
+  ServiceFigures f;
+  f.durationS = toSeconds(now - mStart);
+  f.framesRendered = counters.framesRendered.load();
+  f.fieldsEmitted = counters.fieldsEmitted.load();
+  f.fieldsBlack = counters.fieldsBlack.load();
+  f.fieldsMissed = counters.fieldsMissed.load();
+  f.marginViolations = counters.marginViolations.load();
+  f.warpFallbacks = counters.warpFallbacks.load();
+  f.render = mTotal[static_cast<int>(Measure::RenderTime)].summary();
+  f.warp = mTotal[static_cast<int>(Measure::WarpTime)].summary();
+  f.frameAge = mTotal[static_cast<int>(Measure::FrameAge)].summary();
+  f.jitter = mTotal[static_cast<int>(Measure::FieldJitter)].summary();
+  f.stickLatency = mTotal[static_cast<int>(Measure::StickLatency)].summary();
+  return f;
+}
+
+nlohmann::json toJson(const ServiceFigures& f) {
+  return {{"duration_s", f.durationS},
+          {"frames_rendered", f.framesRendered},
+          {"render_hz", f.durationS > 0 ? static_cast<double>(f.framesRendered) / f.durationS : 0.0},
+          {"fields_emitted", f.fieldsEmitted},
+          {"fields_black", f.fieldsBlack},
+          {"fields_missed", f.fieldsMissed},
+          {"margin_violation_px", f.marginViolations},
+          {"warp_fallbacks", f.warpFallbacks},
+          {"render_time", toJson(f.render)},
+          {"warp_time", toJson(f.warp)},
+          {"frame_age", toJson(f.frameAge)},
+          {"field_jitter", toJson(f.jitter)},
+          {"stick_latency", toJson(f.stickLatency)}};
+}
+
+std::string describe(const ServiceFigures& f) {
+  char text[768];
+  std::snprintf(text, sizeof text,
+                "ran %.1f s: %llu frames (%.1f Hz), %llu fields emitted (%llu black before the first frame), "
+                "%llu missed, %llu margin-violation px, %llu warp fallbacks\n"
+                "  render ms p50 %s p99 %s | warp ms p50 %s p99 %s max %s | frame age ms p50 %s p99 %s | "
+                "field jitter ms p50 %s p99 %s max %s",
+                f.durationS, static_cast<unsigned long long>(f.framesRendered),
+                f.durationS > 0 ? static_cast<double>(f.framesRendered) / f.durationS : 0.0,
+                static_cast<unsigned long long>(f.fieldsEmitted), static_cast<unsigned long long>(f.fieldsBlack),
+                static_cast<unsigned long long>(f.fieldsMissed), static_cast<unsigned long long>(f.marginViolations),
+                static_cast<unsigned long long>(f.warpFallbacks), ms(f.render.p50S).c_str(), ms(f.render.p99S).c_str(),
+                ms(f.warp.p50S).c_str(), ms(f.warp.p99S).c_str(), ms(f.warp.maxS).c_str(), ms(f.frameAge.p50S).c_str(),
+                ms(f.frameAge.p99S).c_str(), ms(f.jitter.p50S).c_str(), ms(f.jitter.p99S).c_str(),
+                ms(f.jitter.maxS).c_str());
+  std::string result = text;
+  if (f.stickLatency.count > 0) {
+    result += "\n  stick→field ms p50 " + ms(f.stickLatency.p50S) + " p99 " + ms(f.stickLatency.p99S);
+  }
+  return result;
+}
+
+}  // namespace fieldcast::app

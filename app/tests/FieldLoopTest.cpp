@@ -1,0 +1,146 @@
+#include "FieldLoop.h"
+
+#include <fieldcast/Conventions.h>
+#include <io_bridge/FieldSink.h>
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <mutex>
+#include <vector>
+
+namespace fieldcast::app {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Seen {
+  std::mutex mutex;
+  std::vector<std::uint64_t> numbers;
+  std::vector<FieldParity> parities;
+  std::vector<int> meanLuma;
+};
+
+class RecordingSink final : public io::FieldSink {
+ public:
+  explicit RecordingSink(std::shared_ptr<Seen> seen) : mSeen(std::move(seen)) {}
+  std::string name() const override { return "recording"; }
+  void open(const io::StreamFormat&) override {}
+  io::SinkStatus consume(const Field& field) override {
+    long sum = 0;
+    for (std::size_t b = 1; b < field.image.bytes().size(); b += 2) sum += field.image.bytes()[b];  // UYVY luma
+    std::lock_guard lock(mSeen->mutex);
+    mSeen->numbers.push_back(field.fieldNumber);
+    mSeen->parities.push_back(field.parity);
+    mSeen->meanLuma.push_back(static_cast<int>(sum / static_cast<long>(field.image.bytes().size() / 2)));
+    return io::SinkStatus::Ok;
+  }
+  void close() override {}
+
+ private:
+  std::shared_ptr<Seen> mSeen;
+};
+
+// A mid-grey frame of a 64×48 display with margins, seen from a fixed pose over flat ground.
+Frame greyFrame(const Pose& pose, TimePoint poseTime) {
+  Frame f;
+  f.margin = MarginPx{8, 6};
+  f.intrinsics = Intrinsics::fromHorizontalFov(80, 60, radians(60.0));
+  f.image = Image(80, 60, PixelFormat::Rgb8);
+  for (auto& b : f.image.bytes()) b = 128;
+  f.pose = pose;
+  f.poseTime = poseTime;
+  f.frameNumber = 1;
+  for (const glm::dvec2& px : controlGridFramePx(64, 48, f.margin)) {
+    const glm::dvec3 ray = pixelRay(pose, f.intrinsics, px);
+    const double t = pose.positionM.z / -ray.z;  // ground plane z = 0
+    f.controlPoints.push_back(ControlPoint{px, pose.positionM + t * ray, ControlPointKind::Surface});
+  }
+  return f;
+}
+
+struct Rig {
+  VirtualClock clock{TimePoint{1s}};
+  warp::FieldClockConfig clockConfig;
+  std::unique_ptr<warp::FieldClock> fieldClock;
+  warp::FieldWarper warper{warp::FieldWarperConfig{warp::WarpKind::Quadratic, 64, 48, PixelFormat::Uyvy422}};
+  warp::FrameHandover frames;
+  Pose pose{{0, 0, 100}, 0.0, radians(-30.0), 0.0};
+  warp::FunctionPoseSource poses{[this](TimePoint) noexcept { return pose; }};
+  std::shared_ptr<Seen> seen = std::make_shared<Seen>();
+  std::unique_ptr<io::SinkHub> hub;
+  ServiceMetrics metrics;
+
+  Rig() {
+    fieldClock = std::make_unique<warp::FieldClock>(clock, clockConfig, clock.now() + 10ms);
+    io::StreamFormat format;
+    format.widthPx = 64;
+    format.heightPx = 48;
+    format.pixelAspect = {1, 1};
+    hub = std::make_unique<io::SinkHub>(format, io::SinkHubOptions{64});
+    hub->add(std::make_unique<RecordingSink>(seen));
+    hub->start();
+  }
+};
+
+TEST(FieldLoop, BlackUntilTheFirstFrameThenWarpedFieldsInOrder) {
+  Rig rig;
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
+  for (int k = 0; k < 4; ++k) loop.emit(rig.fieldClock->next());
+  rig.frames.back() = greyFrame(rig.pose, rig.clock.now());
+  rig.frames.publish();
+  for (int k = 0; k < 6; ++k) loop.emit(rig.fieldClock->next());
+  rig.hub->stop();
+
+  ASSERT_EQ(rig.seen->numbers.size(), 10u);
+  for (std::uint64_t k = 0; k < 10; ++k) EXPECT_EQ(rig.seen->numbers[k], k);
+  EXPECT_EQ(rig.seen->parities[0], FieldParity::Bottom);  // NTSC: bottom field first
+  EXPECT_EQ(rig.seen->parities[1], FieldParity::Top);
+  EXPECT_LE(rig.seen->meanLuma[3], 17);        // black (video range)
+  EXPECT_NEAR(rig.seen->meanLuma[9], 126, 4);  // mid grey through BT.601
+  const ServiceFigures f = rig.metrics.figures(rig.clock.now());
+  EXPECT_EQ(f.fieldsEmitted, 10u);
+  EXPECT_EQ(f.fieldsBlack, 4u);
+  EXPECT_EQ(f.frameAge.count, 6u);
+  EXPECT_EQ(f.marginViolations, 0u);
+}
+
+TEST(FieldLoop, AFieldThatCannotBeMadeIsCountedAndTheScheduleGoesOn) {
+  Rig rig;
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
+  loop.emit(rig.fieldClock->next());
+  rig.clock.advance(50ms);  // a stall: fields 1 and 2 can no longer be made, field 3 can
+  const warp::FieldTick tick = rig.fieldClock->next();
+  loop.emit(tick);
+  rig.hub->stop();
+  EXPECT_EQ(tick.fieldNumber, 3u);
+  EXPECT_EQ(rig.metrics.figures(rig.clock.now()).fieldsMissed, 2u);
+  ASSERT_EQ(rig.seen->numbers.size(), 2u);
+  EXPECT_EQ(rig.seen->numbers[1], 3u);  // no burst of late fields
+}
+
+TEST(FieldLoop, StickLatencyIsFromTheEventToTheFirstFieldThatReflectsIt) {
+  Rig rig;
+  PendingInput pending{0};
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics, &pending);
+  const warp::FieldTick first = rig.fieldClock->next();
+  pending.store((first.displayTime - 25ms).time_since_epoch().count());
+  loop.emit(first);
+  loop.emit(rig.fieldClock->next());  // nothing new: no second sample
+  rig.hub->stop();
+  const ServiceFigures f = rig.metrics.figures(rig.clock.now());
+  EXPECT_EQ(f.stickLatency.count, 1u);
+  EXPECT_NEAR(f.stickLatency.maxS, 0.025, 0.001);
+}
+
+TEST(FieldLoop, RunStopsAtTheLastFieldAsked) {
+  Rig rig;
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
+  std::atomic<bool> stop{false};
+  loop.run(stop, 30);
+  rig.hub->stop();
+  EXPECT_EQ(rig.seen->numbers.size(), 30u);
+}
+
+}  // namespace
+}  // namespace fieldcast::app

@@ -1,0 +1,190 @@
+// Field warp timings (one core). Run:
+//   fieldcast_bench_warp --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+// Sizes: an NTSC field (720 × 243 of a 720 × 486 raster) and a 1080i field (1920 × 540).
+// The frame is the analytic ground-plane scene (10 % margins, RGB8) rendered once; the field pose
+// is 80 ms later with 3° of roll, the kind of map the PRP fits every field.
+#include "AnalyticScene.h"
+
+#include <prp_warp/FieldWarper.h>
+#include <prp_warp/Resample.h>
+#include <prp_warp/WarpFit.h>
+#include <prp_warp/Warps.h>
+
+#include <benchmark/benchmark.h>
+#include <opencv2/imgproc.hpp>
+
+#include <map>
+#include <memory>
+
+namespace fieldcast::warp {
+namespace {
+
+struct Setup {
+  Frame frame;
+  Pose fieldPose;
+  int rasterW = 0, rasterH = 0;
+  QuadraticMap map;
+};
+
+/// Raster sizes by benchmark argument: 0 = NTSC 720 × 486, 1 = 1080i 1920 × 1080.
+const Setup& setup(int which) {
+  static std::map<int, std::unique_ptr<Setup>> cache;
+  auto& s = cache[which];
+  if (!s) {
+    s = std::make_unique<Setup>();
+    s->rasterW = which == 0 ? 720 : 1920;
+    s->rasterH = which == 0 ? 486 : 1080;
+    const Pose framePose{{0.0, 0.0, 300.0}, radians(20.0), radians(-15.0), 0.0};
+    s->frame = test::renderFrame(framePose, s->rasterW, s->rasterH, MarginPx{s->rasterW / 10, s->rasterH / 10},
+                                 radians(60.0), PixelFormat::Rgb8, 1, true);
+    s->fieldPose = framePose;
+    s->fieldPose.positionM += glm::dvec3{3.0, 8.0, 1.0};  // 80 ms at ~100 m/s
+    s->fieldPose.headingRad += radians(1.0);
+    s->fieldPose.rollRad = radians(3.0);
+    const QuadraticFit fit =
+        fitFieldQuadratic(s->frame, s->fieldPose, OutputGeometry::of(s->frame, s->rasterW, s->rasterH));
+    s->map = fit.quadratic;
+  }
+  return *s;
+}
+
+void label(benchmark::State& state, const Setup& s) {
+  const int rows = fieldRowCount(FieldParity::Bottom, s.rasterH);
+  state.SetLabel(std::to_string(s.rasterW) + "x" + std::to_string(rows) + " field");
+  state.counters["Mpx/s"] =
+      benchmark::Counter(static_cast<double>(s.rasterW) * rows * static_cast<double>(state.iterations()) / 1e6,
+                         benchmark::Counter::kIsRate);
+}
+
+void BM_FastKernel(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  Image out(s.rasterW, fieldRowCount(FieldParity::Bottom, s.rasterH), PixelFormat::Rgb8);
+  RowScratch scratch(s.rasterW);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(resampleQuadraticFast(s.frame.image, s.map, FieldParity::Bottom, s.rasterH, out, scratch));
+    benchmark::ClobberMemory();
+  }
+  label(state, s);
+}
+BENCHMARK(BM_FastKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+void BM_ScalarReference(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  Image out(s.rasterW, fieldRowCount(FieldParity::Bottom, s.rasterH), PixelFormat::Rgb8);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(resampleQuadraticReference(s.frame.image, s.map, FieldParity::Bottom, s.rasterH, out));
+    benchmark::ClobberMemory();
+  }
+  label(state, s);
+}
+BENCHMARK(BM_ScalarReference)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+/// OpenCV's remap with its map built per field, as a user of OpenCV would warp: evaluate the
+/// quadratic into float maps (pixel-centre origin), then cv::remap bilinear with edge replicate.
+void BM_OpenCvRemapWithMapBuild(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  const int rows = fieldRowCount(FieldParity::Bottom, s.rasterH);
+  Image out(s.rasterW, rows, PixelFormat::Rgb8);
+  Image& src = const_cast<Image&>(s.frame.image);
+  const cv::Mat srcMat(src.heightPx(), src.widthPx(), CV_8UC3, src.row(0));
+  cv::Mat dstMat(rows, s.rasterW, CV_8UC3, out.row(0));
+  cv::Mat mapX(rows, s.rasterW, CV_32FC1), mapY(rows, s.rasterW, CV_32FC1);
+  for (auto _ : state) {
+    for (int r = 0; r < rows; ++r) {
+      float* mx = mapX.ptr<float>(r);
+      float* my = mapY.ptr<float>(r);
+      const double v = rasterRow(FieldParity::Bottom, r) + 0.5;
+      for (int i = 0; i < s.rasterW; ++i) {
+        const glm::dvec2 p = s.map({i + 0.5, v});
+        mx[i] = static_cast<float>(p.x - 0.5);
+        my[i] = static_cast<float>(p.y - 0.5);
+      }
+    }
+    cv::remap(srcMat, dstMat, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    benchmark::ClobberMemory();
+  }
+  label(state, s);
+}
+BENCHMARK(BM_OpenCvRemapWithMapBuild)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+/// cv::remap alone with a map built once (what remap costs if the map were free).
+void BM_OpenCvRemapOnly(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  const int rows = fieldRowCount(FieldParity::Bottom, s.rasterH);
+  Image out(s.rasterW, rows, PixelFormat::Rgb8);
+  Image& src = const_cast<Image&>(s.frame.image);
+  const cv::Mat srcMat(src.heightPx(), src.widthPx(), CV_8UC3, src.row(0));
+  cv::Mat dstMat(rows, s.rasterW, CV_8UC3, out.row(0));
+  cv::Mat mapX(rows, s.rasterW, CV_32FC1), mapY(rows, s.rasterW, CV_32FC1);
+  for (int r = 0; r < rows; ++r)
+    for (int i = 0; i < s.rasterW; ++i) {
+      const glm::dvec2 p = s.map({i + 0.5, rasterRow(FieldParity::Bottom, r) + 0.5});
+      mapX.at<float>(r, i) = static_cast<float>(p.x - 0.5);
+      mapY.at<float>(r, i) = static_cast<float>(p.y - 0.5);
+    }
+  for (auto _ : state) {
+    cv::remap(srcMat, dstMat, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    benchmark::ClobberMemory();
+  }
+  label(state, s);
+}
+BENCHMARK(BM_OpenCvRemapOnly)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+void BM_QuadraticFit(benchmark::State& state) {
+  const Setup& s = setup(0);
+  const OutputGeometry g = OutputGeometry::of(s.frame, s.rasterW, s.rasterH);
+  Pose pose = s.fieldPose;
+  for (auto _ : state) {
+    pose.positionM.x += 1e-9;
+    benchmark::DoNotOptimize(fitFieldQuadratic(s.frame, pose, g));
+  }
+}
+BENCHMARK(BM_QuadraticFit)->Unit(benchmark::kMicrosecond);
+
+/// Every warp through the common interface (fit + resample), NTSC and 1080i fields.
+void BM_Warp(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(1)));
+  const auto kind = static_cast<WarpKind>(state.range(0));
+  auto warp = makeWarp(kind, s.rasterW, s.rasterH);
+  Image out(s.rasterW, fieldRowCount(FieldParity::Bottom, s.rasterH), PixelFormat::Rgb8);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(warp->warp(s.frame, s.fieldPose, FieldParity::Bottom, out));
+    benchmark::ClobberMemory();
+  }
+  label(state, s);
+  state.SetLabel(std::string(toString(kind)) + " " + std::to_string(s.rasterW) + " wide");
+}
+BENCHMARK(BM_Warp)
+    ->ArgsProduct({{static_cast<int>(WarpKind::Hold), static_cast<int>(WarpKind::Quadratic),
+                    static_cast<int>(WarpKind::Homography), static_cast<int>(WarpKind::Range3d)},
+                   {0, 1}})
+    ->Unit(benchmark::kMicrosecond);
+
+/// The whole per-field step of the service: pose, fit, warp, AGC, flicker filter (cached per
+/// frame), conversion to UYVY.
+void BM_FieldWarperNtscUyvy(benchmark::State& state) {
+  const Setup& s = setup(0);
+  FieldWarperConfig cfg;
+  cfg.rasterWidthPx = s.rasterW;
+  cfg.rasterHeightPx = s.rasterH;
+  cfg.autoGain.enabled = true;
+  cfg.flickerFilter = true;
+  FieldWarper warper(cfg);
+  Field field = warper.makeField();
+  ConstantVelocityPredictor poses;
+  poses.push(TimePoint{}, s.frame.pose);
+  poses.push(TimePoint{Nanoseconds{80'000'000}}, s.fieldPose);
+  std::uint64_t k = 0;
+  for (auto _ : state) {
+    const FieldSpec spec{k, TimePoint{Nanoseconds{80'000'000}}, k % 2 ? FieldParity::Top : FieldParity::Bottom};
+    benchmark::DoNotOptimize(warper.produce(s.frame, poses, spec, field));
+    ++k;
+  }
+  label(state, s);
+}
+BENCHMARK(BM_FieldWarperNtscUyvy)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace fieldcast::warp
+
+BENCHMARK_MAIN();

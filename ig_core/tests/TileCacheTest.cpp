@@ -1,0 +1,215 @@
+#include <ig_core/BuiltinTerrain.h>
+#include <ig_core/MemoryTerrain.h>
+#include <ig_core/TileCache.h>
+
+#include "TerrainTestUtil.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <mutex>
+
+namespace fieldcast::core {
+namespace {
+
+using testing::ScratchDir;
+
+// A 1024² built-in terrain at 2 m in 64² tiles (16×16 tiles at level 0, 5 levels), built once.
+class TileCacheTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sDir = new ScratchDir();
+    BuiltinTerrainSpec spec;
+    spec.sizeVox = 1024;
+    sGrid = new TerrainGrid(generateBuiltinTerrain(spec));
+    BuildOptions options;
+    options.tileShift = 6;
+    writeTerrainDatabase(*sGrid, dbPath(), options);
+    TerrainGeometry g = sGrid->geometry;
+    g.tileShift = 6;
+    g.levels = 0;
+    sMemory = new MemoryTerrain(g, sGrid->heightQ, sGrid->colourRgba);
+  }
+  static void TearDownTestSuite() {
+    delete sMemory;
+    delete sGrid;
+    delete sDir;
+  }
+  static std::filesystem::path dbPath() { return *sDir / "flight.fctdb"; }
+  static std::size_t tileBytes() { return 64 * 64 * 8; }
+
+  static ScratchDir* sDir;
+  static TerrainGrid* sGrid;
+  static MemoryTerrain* sMemory;
+};
+ScratchDir* TileCacheTest::sDir = nullptr;
+TerrainGrid* TileCacheTest::sGrid = nullptr;
+MemoryTerrain* TileCacheTest::sMemory = nullptr;
+
+TEST_F(TileCacheTest, CoarseLevelsAreResidentFromTheStart) {
+  TileCacheOptions options;
+  options.budgetBytes = 200 * tileBytes();
+  TileCache cache(std::make_unique<DatabaseTileSource>(dbPath()), options);
+  const TileCacheStats s = cache.stats();
+  EXPECT_EQ(s.pinnedFromLevel, 2);  // levels 2..4: 16 + 4 + 1 tiles fit in a quarter of 200
+  EXPECT_EQ(s.pinnedTiles, 21u);
+  // Every query has an answer at once, from a coarser level when level 0 is not there.
+  const TerrainView::Sample sample = cache.view().sample(0, 500, 500);
+  EXPECT_EQ(sample.level, 2);
+  EXPECT_EQ(sample.heightQ, sMemory->view().heightQ(2, 125, 125));
+}
+
+// A flight at 300 m/s over the terrain with a budget an eighth of the database: every query is
+// answered, the budget holds, and the loaded tiles are the real ones.
+TEST_F(TileCacheTest, ScriptedFlightWithASmallBudget) {
+  TileCacheOptions options;
+  options.budgetBytes = 48 * tileBytes();  // the database has 341 tiles
+  options.retireGrace = std::chrono::milliseconds(0);
+  TileCache cache(std::make_unique<DatabaseTileSource>(dbPath()), options);
+  const Intrinsics camera = Intrinsics::fromHorizontalFov(256, 192, radians(60.0));
+  const double speed = 300.0;
+  const double dt = 1.0 / 30.0;
+  std::uint64_t levelZeroAnswers = 0;
+  for (int frame = 0; frame < 180; ++frame) {
+    // A figure of eight at 300 m/s over the 2 km square, 150 m above the ground, looking ahead.
+    const double t = frame * dt;
+    const double w = speed / 700.0;
+    Pose pose;
+    pose.positionM = {1023.0 + 700.0 * std::sin(w * t), 1023.0 + 350.0 * std::sin(2 * w * t), 0.0};
+    const glm::dvec3 velocity{700.0 * w * std::cos(w * t), 700.0 * w * std::cos(2 * w * t), 0.0};
+    pose.headingRad = std::atan2(velocity.x, velocity.y);
+    pose.pitchRad = radians(-10.0);
+    pose.positionM.z = cache.heightAtM(pose.positionM.x, pose.positionM.y) + 150.0;
+    const FrameLease lease = cache.lease();
+    cache.prefetch(pose, velocity, camera);
+    for (int k = 0; k < 200; ++k) {
+      const int i = (frame * 37 + k * 101) % 1024;
+      const int j = (frame * 53 + k * 211) % 1024;
+      const TerrainView::Sample s = cache.view().sample(0, i, j);
+      ASSERT_EQ(s.heightQ, sMemory->view().heightQ(s.level, i >> s.level, j >> s.level));
+      if (s.level == 0) ++levelZeroAnswers;
+    }
+    ASSERT_LE(cache.stats().residentBytes, options.budgetBytes);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the loader runs beside the frames
+  }
+  const TileCacheStats s = cache.stats();
+  std::printf("flight: %llu prefetch calls, hit rate %.3f, %llu loads, %llu evictions, load p50 %.2f ms p99 %.2f ms\n",
+              static_cast<unsigned long long>(s.prefetchCalls), s.prefetchHitRate,
+              static_cast<unsigned long long>(s.loads), static_cast<unsigned long long>(s.evictions), s.loadP50Ms,
+              s.loadP99Ms);
+  EXPECT_GT(s.evictions, 0u);  // the budget forced paging
+  EXPECT_GT(s.prefetchHitRate, 0.5);
+  EXPECT_GT(levelZeroAnswers, 0u);
+  EXPECT_EQ(s.loadFailures, 0u);
+}
+
+// A source that blocks on fine tiles until released: a loader slower than any disk.
+class StuckSource final : public TileSource {
+ public:
+  StuckSource(const std::filesystem::path& path, int stuckBelowLevel) : mInner(path), mStuckBelow(stuckBelowLevel) {}
+  const TerrainGeometry& geometry() const override { return mInner.geometry(); }
+  std::string name() const override { return mInner.name(); }
+  void readTile(int level, int tx, int ty, TileBuffers& out) override {
+    if (level < mStuckBelow) {
+      std::unique_lock lock(mMutex);
+      ++mWaiting;
+      mChanged.notify_all();
+      mChanged.wait(lock, [this] { return mReleased; });
+    }
+    mInner.readTile(level, tx, ty, out);
+  }
+  void release() {
+    const std::lock_guard lock(mMutex);
+    mReleased = true;
+    mChanged.notify_all();
+  }
+  void waitUntilStuck() {
+    std::unique_lock lock(mMutex);
+    mChanged.wait(lock, [this] { return mWaiting > 0; });
+  }
+
+ private:
+  DatabaseTileSource mInner;
+  int mStuckBelow;
+  std::mutex mMutex;
+  std::condition_variable mChanged;
+  int mWaiting = 0;
+  bool mReleased = false;
+};
+
+TEST_F(TileCacheTest, AStuckLoaderNeverBlocksAQuery) {
+  TileCacheOptions options;
+  options.budgetBytes = 200 * tileBytes();  // levels 2..4 pinned
+  auto source = std::make_unique<StuckSource>(dbPath(), 2);
+  StuckSource* stuck = source.get();
+  TileCache cache(std::move(source), options);
+  Pose pose;
+  pose.positionM = {1000.0, 1000.0, 300.0};
+  pose.pitchRad = radians(-30.0);
+  cache.prefetch(pose, {0.0, 100.0, 0.0}, radians(60.0));
+  stuck->waitUntilStuck();  // the loader is now inside a read that does not return
+  for (int k = 0; k < 10000; ++k) {
+    const TerrainView::Sample s = cache.view().sample(0, k % 1024, (k * 7) % 1024);
+    ASSERT_GE(s.level, 2);
+  }
+  EXPECT_GE(cache.view().missCount(), 10000u);
+  EXPECT_TRUE(std::isfinite(cache.heightAtM(1000.0, 1000.0)));
+  stuck->release();
+  ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
+  EXPECT_EQ(cache.view().sample(0, 500, 520).level, 0);  // under the camera, now loaded
+}
+
+TEST_F(TileCacheTest, ACorruptTileIsLoggedOnceAndTheCoarserLevelAnswers) {
+  ScratchDir dir;
+  const std::filesystem::path path = dir / "corrupt.fctdb";
+  std::filesystem::copy_file(dbPath(), path);
+  std::vector<char> bytes = testing::readFile(path);
+  {
+    const DatabaseReader reader(path);
+    const TileIndexEntry& e = reader.entry(0, 3, 4);
+    bytes[e.offset + e.compressedBytes / 2] ^= 0x5A;
+  }
+  testing::writeFile(path, bytes);
+  TileCacheOptions options;
+  options.budgetBytes = 400 * tileBytes();
+  TileCache cache(std::make_unique<DatabaseTileSource>(path), options);
+  cache.request(0, 3, 4);
+  cache.request(0, 3, 5);
+  ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
+  cache.request(0, 3, 4);  // asked again: not retried
+  ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
+  const TileCacheStats s = cache.stats();
+  EXPECT_EQ(s.loadFailures, 1u);
+  EXPECT_EQ(cache.view().sample(0, 3 * 64 + 10, 4 * 64 + 10).level, 1);
+  EXPECT_EQ(cache.view().sample(0, 3 * 64 + 10, 5 * 64 + 10).level, 0);
+}
+
+TEST_F(TileCacheTest, AnEvictedTileOutlivesTheLeasesThatCouldSeeIt) {
+  TileCacheOptions options;
+  options.budgetBytes = 30 * tileBytes();  // 21 pinned + room for a few
+  options.retireGrace = std::chrono::milliseconds(0);
+  TileCache cache(std::make_unique<DatabaseTileSource>(dbPath()), options);
+  cache.request(0, 0, 0);
+  ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
+  FrameLease lease = cache.lease();
+  ASSERT_TRUE(lease.active());
+  const TerrainTile* held = cache.view().tile(0, 0, 0);
+  ASSERT_NE(held, nullptr);
+  const std::uint16_t first = held->heightQ[0];
+  // Fill the cache with other tiles so (0, 0) is evicted while the lease is held.
+  for (int round = 0; round < 3; ++round) {
+    for (int k = 1; k < 16; ++k) cache.request(0, k, round + 1);
+    ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
+  }
+  EXPECT_EQ(cache.view().tile(0, 0, 0), nullptr);
+  EXPECT_GT(cache.stats().retiredPending, 0u);
+  EXPECT_EQ(held->heightQ[0], first);  // still alive (ASan would flag a use after free)
+  lease.release();
+  std::this_thread::sleep_for(std::chrono::milliseconds(250));  // the loader reclaims on its 100 ms tick
+  EXPECT_EQ(cache.stats().retiredPending, 0u);
+}
+
+}  // namespace
+}  // namespace fieldcast::core

@@ -1,0 +1,44 @@
+#pragma once
+// The one interface every field output implements (Y4M, RTP, image files, window, shared memory,
+// GPIO pulse). A SinkHub drives each sink from its own worker thread, so a sink may block (write
+// to a pipe, pace packets, sleep to a pulse edge) without ever holding up the field thread.
+
+#include <io_bridge/StreamFormat.h>
+
+#include <fieldcast/Field.h>
+
+#include <string>
+
+namespace fieldcast::io {
+
+/// What a sink says after consuming a field.
+enum class SinkStatus : std::uint8_t {
+  Ok,     ///< keep feeding me
+  Ended,  ///< the sink is finished for good (broken pipe, consumer gone); see endReason()
+};
+
+/// A field output. All calls come from the one worker thread that owns the sink, in the order
+/// open → consume* → close; a sink therefore needs no locking of its own.
+class FieldSink {
+ public:
+  virtual ~FieldSink() = default;
+  FieldSink() = default;
+  FieldSink(const FieldSink&) = delete;
+  FieldSink& operator=(const FieldSink&) = delete;
+
+  /// Short name for logs and figures ("y4m", "rtp", …).
+  virtual std::string name() const = 0;
+  /// Prepares the output for `format` (opens files and sockets, allocates every buffer). Called
+  /// on the worker thread before the first field. Throws with a message naming the resource and
+  /// what went wrong; the hub then refuses to start.
+  virtual void open(const StreamFormat& format) = 0;
+  /// Emits one field (which matches the format given to open()). May block; must not throw for
+  /// a consumer going away: return Ended and say why in endReason().
+  virtual SinkStatus consume(const Field& field) = 0;
+  /// Flushes and releases the output (completes a half-written frame where the format needs it).
+  virtual void close() = 0;
+  /// Why consume() returned Ended; empty otherwise.
+  virtual std::string endReason() const { return {}; }
+};
+
+}  // namespace fieldcast::io

@@ -1,0 +1,69 @@
+#include <io_bridge/InputSources.h>
+
+#include <io_bridge/EvdevSource.h>
+#include <io_bridge/HidReportDescriptor.h>
+#include <io_bridge/HidrawSource.h>
+#include <io_bridge/InputRecording.h>
+#include <io_bridge/UsbHidSource.h>
+
+#include <stdexcept>
+
+namespace fieldcast::io {
+
+bool isReplaySpec(const std::string& spec) noexcept { return spec.rfind("replay:", 0) == 0; }
+
+StickInput::SourceFactory makeSourceFactory(const std::string& spec, Clock& clock) {
+  if (spec.empty()) throw std::runtime_error("input source: empty name");
+  auto after = [&](std::size_t n) { return spec.substr(n); };
+  if (spec.rfind("hidraw:", 0) == 0) {
+    const std::string path = after(7);
+    return [path] { return std::make_unique<HidrawSource>(path); };
+  }
+  if (spec.rfind("usb:", 0) == 0) {
+    std::string rest = after(4);
+    std::vector<std::uint8_t> descriptor;
+    if (const auto d = rest.find(":descriptor="); d != std::string::npos) {
+      descriptor = readHidDescriptorFile(rest.substr(d + 12));
+      (void)parseHidReportDescriptor(descriptor);  // refuse a bad file now, with its reason
+      rest.resize(d);
+    }
+    bool detach = false;
+    if (rest.size() > 7 && rest.substr(rest.size() - 7) == ":detach") {
+      detach = true;
+      rest.resize(rest.size() - 7);
+    }
+    UsbDeviceSelector sel;
+    if (rest.rfind("class:", 0) == 0) {
+      // A panel that is not bound to usbhid: the first device with an interface of that class.
+      const std::string cls = rest.substr(6);
+      std::size_t used = 0;
+      unsigned long v = 256;
+      try {
+        v = std::stoul(cls, &used, 0);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != cls.size() || v > 255)
+        throw std::runtime_error("input source \"" + spec + "\": expected usb:class:N with N 0-255");
+      sel.interfaceClass = static_cast<std::uint8_t>(v);
+    } else {
+      sel = parseUsbSelector(rest);
+    }
+    sel.detachKernelDriver = detach;
+    return [sel, descriptor] { return std::make_unique<UsbHidSource>(openLibusbTransport(sel), descriptor); };
+  }
+  if (isReplaySpec(spec)) {
+    std::string path = after(7);
+    ReplayPacing pacing = ReplayPacing::AsFastAsPossible;
+    if (path.size() > 9 && path.substr(path.size() - 9) == ":realtime") {
+      pacing = ReplayPacing::RealTime;
+      path.resize(path.size() - 9);
+    }
+    (void)readInputRecording(path);  // fail now, with file:line, if it is not a recording
+    return [path, pacing, &clock] { return std::make_unique<ReplaySource>(path, pacing, clock); };
+  }
+  const std::string evdev = spec.rfind("evdev:", 0) == 0 ? after(6) : spec;
+  return [evdev] { return std::make_unique<EvdevSource>(evdev); };
+}
+
+}  // namespace fieldcast::io

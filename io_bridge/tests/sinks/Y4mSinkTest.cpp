@@ -1,0 +1,130 @@
+#include <io_bridge/Y4mSink.h>
+
+#include "TestFields.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+namespace fieldcast::io {
+namespace {
+
+using testing::makeField;
+using testing::testFormat;
+
+std::string readAll(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+std::filesystem::path tempPath(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("fieldcast_y4m_" + std::to_string(::getpid()) + "_" + name);
+}
+
+TEST(Y4mSink, HeaderOfNtscInterlaced) {
+  StreamFormat f = testFormat(720, 486);
+  EXPECT_EQ(Y4mSink::header(f, Y4mChroma::C420),
+            "YUV4MPEG2 W720 H486 F30000:1001 Ib A10:11 C420mpeg2 XCOLORRANGE=LIMITED\n");
+  f.fieldOrder = FieldOrder::TopFirst;
+  EXPECT_EQ(Y4mSink::header(f, Y4mChroma::C422),
+            "YUV4MPEG2 W720 H486 F30000:1001 It A10:11 C422 XCOLORRANGE=LIMITED\n");
+}
+
+TEST(Y4mSink, HeaderOfProgressiveHd) {
+  StreamFormat f = testFormat(1920, 1080, ScanMode::Progressive);
+  EXPECT_EQ(Y4mSink::header(f, Y4mChroma::C420),
+            "YUV4MPEG2 W1920 H1080 F60000:1001 Ip A1:1 C420mpeg2 XCOLORRANGE=LIMITED\n");
+  f.fieldRate = {50, 1};
+  f.scan = ScanMode::Interlaced;
+  EXPECT_EQ(Y4mSink::header(f, Y4mChroma::C420).substr(0, 32), "YUV4MPEG2 W1920 H1080 F25:1 Ib A");
+}
+
+// 4:2:2 output of UYVY fields is lossless: every byte of the file is predictable.
+TEST(Y4mSink, WeavesTwoFieldsIntoEachFrame) {
+  const StreamFormat f = testFormat(16, 6);
+  const auto path = tempPath("weave.y4m");
+  Y4mSink sink({path, Y4mChroma::C422});
+  sink.open(f);
+  for (std::uint64_t k = 0; k < 4; ++k) ASSERT_EQ(sink.consume(makeField(f, k)), SinkStatus::Ok);
+  sink.close();
+  EXPECT_EQ(sink.framesWritten(), 2u);
+  EXPECT_EQ(sink.incompleteFrames(), 0u);
+
+  const std::string bytes = readAll(path);
+  const std::string head = Y4mSink::header(f, Y4mChroma::C422);
+  const std::size_t frameBytes = 6 + 16 * 6 + 2 * (8 * 6);
+  ASSERT_EQ(bytes.size(), head.size() + 2 * frameBytes);
+  for (int frame = 0; frame < 2; ++frame) {
+    const std::size_t base = head.size() + static_cast<std::size_t>(frame) * frameBytes;
+    ASSERT_EQ(bytes.substr(base, 6), "FRAME\n");
+    for (int row = 0; row < 6; ++row) {
+      // Bottom field first: field 2·frame carries the odd rows, field 2·frame+1 the even rows.
+      const std::uint64_t k = 2 * static_cast<std::uint64_t>(frame) + (row % 2 == 1 ? 0 : 1);
+      for (int x = 0; x < 16; ++x) {
+        const auto luma = static_cast<std::uint8_t>(bytes[base + 6 + static_cast<std::size_t>(row) * 16 + x]);
+        ASSERT_EQ(luma, testing::patternByte(k, row, 2 * x + 1)) << "frame " << frame << " row " << row << " x " << x;
+      }
+      for (int c = 0; c < 8; ++c) {
+        const auto cb = static_cast<std::uint8_t>(bytes[base + 6 + 96 + static_cast<std::size_t>(row) * 8 + c]);
+        const auto cr = static_cast<std::uint8_t>(bytes[base + 6 + 96 + 48 + static_cast<std::size_t>(row) * 8 + c]);
+        ASSERT_EQ(cb, testing::patternByte(k, row, 4 * c));
+        ASSERT_EQ(cr, testing::patternByte(k, row, 4 * c + 2));
+      }
+    }
+  }
+  std::filesystem::remove(path);
+}
+
+// 4:2:0 of an interlaced frame subsamples each field on its own: chroma rows alternate fields.
+TEST(Y4mSink, Interlaced420KeepsTheFieldsChromaApart) {
+  StreamFormat f = testFormat(8, 8);
+  const auto path = tempPath("420.y4m");
+  Y4mSink sink({path, Y4mChroma::C420});
+  sink.open(f);
+  for (std::uint64_t k = 0; k < 2; ++k) {
+    Field field = makeField(f, k);
+    const std::uint8_t cb = field.parity == FieldParity::Top ? 60 : 200;
+    for (int r = 0; r < field.image.heightPx(); ++r) {
+      for (int i = 0; i < 4; ++i) field.image.row(r)[4 * i] = cb;
+    }
+    sink.consume(field);
+  }
+  sink.close();
+  const std::string bytes = readAll(path);
+  const std::size_t base = Y4mSink::header(f, Y4mChroma::C420).size() + 6 + 64;
+  ASSERT_EQ(bytes.size(), base + 2 * 16);
+  for (int c = 0; c < 4; ++c) {
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_EQ(static_cast<std::uint8_t>(bytes[base + static_cast<std::size_t>(c) * 4 + i]), c % 2 == 0 ? 60 : 200)
+          << "chroma row " << c;
+    }
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(Y4mSink, ALostFieldStillWritesItsFrame) {
+  const StreamFormat f = testFormat(16, 6);
+  const auto path = tempPath("lost.y4m");
+  Y4mSink sink({path, Y4mChroma::C422});
+  sink.open(f);
+  for (std::uint64_t k : {0u, 1u, 2u, 4u, 5u}) sink.consume(makeField(f, k));  // field 3 lost
+  sink.close();
+  EXPECT_EQ(sink.framesWritten(), 3u);
+  EXPECT_EQ(sink.incompleteFrames(), 1u);
+  std::filesystem::remove(path);
+}
+
+TEST(Y4mSink, UnwritableFolderIsAClearError) {
+  Y4mSink sink({"/nonexistent-dir/out.y4m", Y4mChroma::C420});
+  try {
+    sink.open(testFormat(16, 6));
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-dir"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace fieldcast::io

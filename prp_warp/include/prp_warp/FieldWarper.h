@@ -1,0 +1,98 @@
+#pragma once
+// The post-rendering processor's per-field step (DESIGN.md §3): one Field from the newest frame,
+// the pose at the field's display time, and the field's parity — warp, AGC, format conversion.
+// Everything is allocated at construction; produce() allocates nothing and never throws.
+
+#include <prp_warp/FieldClock.h>
+#include <prp_warp/PoseSource.h>
+#include <prp_warp/PostProcess.h>
+#include <prp_warp/Warp.h>
+
+#include <fieldcast/Field.h>
+#include <fieldcast/Frame.h>
+#include <fieldcast/Image.h>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+
+namespace fieldcast::warp {
+
+/// Settings of a FieldWarper.
+struct FieldWarperConfig {
+  WarpKind warp = WarpKind::Quadratic;
+  int rasterWidthPx = 720;  ///< output raster (whole interlaced frame)
+  int rasterHeightPx = 486;
+  PixelFormat outputFormat = PixelFormat::Uyvy422;
+  int maxFrameWidthPx = 1024;  ///< largest frame the flicker filter handles without allocating
+  int maxFrameHeightPx = 768;
+  bool flickerFilter = false;
+  AutoGainConfig autoGain;
+};
+
+/// Which field to make.
+struct FieldSpec {
+  std::uint64_t fieldNumber = 0;
+  TimePoint displayTime{};
+  FieldParity parity = FieldParity::Progressive;
+  /// The spec of a clock tick.
+  static FieldSpec of(const FieldTick& tick) noexcept { return {tick.fieldNumber, tick.displayTime, tick.parity}; }
+};
+
+/// How producing one field went. Every status still yields a complete field (black when there
+/// was nothing to show): the display never waits.
+enum class FieldStatus : std::uint8_t {
+  Ok,
+  NoFrame,    ///< no frame yet (empty image): black field
+  BadFrame,   ///< the frame was inconsistent: black field
+  BadOutput,  ///< the output Field could not take this shape without allocating: left untouched
+};
+
+/// Running totals, readable from any thread.
+struct FieldWarperCounters {
+  std::atomic<std::uint64_t> fields{0};
+  std::atomic<std::uint64_t> fitFallbacks{0};
+  std::atomic<std::uint64_t> marginViolations{0};  ///< output pixels, summed over fields
+  std::atomic<std::uint64_t> fieldsWithViolations{0};
+  std::atomic<std::uint64_t> blackFields{0};  ///< NoFrame or BadFrame
+};
+
+/// Produces fields. One instance per field thread.
+class FieldWarper {
+ public:
+  /// Allocates the warp and every buffer. Throws std::invalid_argument on a bad config.
+  explicit FieldWarper(const FieldWarperConfig& config);
+
+  /// A Field whose image is allocated for any parity of this raster and output format.
+  Field makeField() const;
+
+  /// Warps `frame` to the pose `poses` gives for `spec.displayTime`, into `out` (made by
+  /// makeField()). RT-safe: no allocation, noexcept.
+  FieldStatus produce(const Frame& frame, const PoseSource& poses, const FieldSpec& spec, Field& out) noexcept;
+
+  const FieldWarperConfig& config() const noexcept { return mConfig; }
+  const Warp& warp() const noexcept { return *mWarp; }
+  const FieldWarperCounters& counters() const noexcept { return mCounters; }
+  /// The gain the AGC applied to the last field (1 when off).
+  double gain() const noexcept { return mAutoGain.gain(); }
+
+ private:
+  /// Reshapes `image` without allocating (its capacity was reserved); false if it cannot.
+  static bool reshape(Image& image, int widthPx, int heightPx, PixelFormat format, std::size_t reservedBytes) noexcept;
+  const Image& flickerFiltered(const Frame& frame) noexcept;
+
+  FieldWarperConfig mConfig;
+  std::unique_ptr<Warp> mWarp;
+  AutoGain mAutoGain;
+  Image mWork;  // the warped field in the frame's format, before conversion
+  std::size_t mWorkReserved = 0;
+  Image mFiltered;  // the flicker-filtered copy of the current frame
+  std::uint64_t mFilteredFrameNumber = 0;
+  TimePoint mFilteredPoseTime{};
+  bool mHaveFiltered = false;
+  TimePoint mLastDisplayTime{};
+  bool mHaveLast = false;
+  FieldWarperCounters mCounters;
+};
+
+}  // namespace fieldcast::warp

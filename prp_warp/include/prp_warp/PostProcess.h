@@ -1,0 +1,64 @@
+#pragma once
+// Post-processing of a warped field, as the seed's video processor did (DESIGN.md §3): automatic
+// gain control smoothed over time, an interlace flicker filter, and conversion to the output
+// pixel format. Scaling to the output raster is folded into the warp's map (OutputGeometry.h),
+// which saves a second resample and its blur.
+
+#include <fieldcast/Image.h>
+#include <fieldcast/Time.h>
+
+#include <array>
+#include <cstdint>
+
+namespace fieldcast::warp {
+
+/// Settings of the automatic gain control.
+struct AutoGainConfig {
+  bool enabled = false;
+  double targetMeanLevel = 110.0;  ///< mean luma (0..255) the gain steers towards
+  double timeConstantS = 0.5;      ///< first-order smoothing of the gain over time
+  double minGain = 0.5;
+  double maxGain = 4.0;
+};
+
+/// Automatic gain control: measures the mean luma of each field, steers a gain towards
+/// target/mean with a first-order low-pass in time (so a bright flash or a cloud does not pump),
+/// and applies it through a 256-entry table.
+class AutoGain {
+ public:
+  explicit AutoGain(const AutoGainConfig& config = {}) noexcept;
+  /// Measures `field` (Grey8 or Rgb8), updates the gain for `elapsed` time since the last field,
+  /// and applies the gain in place. RT-safe.
+  void process(Image& field, Nanoseconds elapsed) noexcept;
+  /// The gain applied to the last field.
+  double gain() const noexcept { return mGain; }
+  void reset() noexcept;
+
+ private:
+  void rebuildTable() noexcept;
+
+  AutoGainConfig mConfig;
+  double mGain = 1.0;
+  double mTableGain = -1.0;
+  std::array<std::uint8_t, 256> mTable{};
+};
+
+/// Mean luma (BT.601 weights, 0..255) of an Rgb8 or Grey8 image, from every `step`-th pixel of
+/// every `step`-th row. RT-safe.
+double meanLuma(const Image& image, int step = 1) noexcept;
+
+/// The interlace flicker filter: a vertical [1 2 1]/4 low-pass across frame rows, which removes
+/// the 30 Hz twitter of one-line detail on an interlaced display. It runs once per new frame
+/// (frame rows ≈ raster lines), not per field. `dst` must already have the shape and format of
+/// `src` (Grey8 or Rgb8). Returns false (dst untouched) otherwise. RT-safe.
+bool flickerFilter(const Image& src, Image& dst) noexcept;
+
+/// Converts `src` (Grey8 or Rgb8) into `dst` of the same size in dst's format: Grey8 (BT.601
+/// luma, full range), Rgb8, or UYVY 4:2:2 (BT.601 video range: Y 16..235, Cb/Cr 16..240, chroma
+/// averaged over each pixel pair). Returns false when the shapes or formats do not fit. RT-safe.
+bool convertPixels(const Image& src, Image& dst) noexcept;
+
+/// Fills `image` with black in its format (UYVY black is Y 16, Cb = Cr = 128). RT-safe.
+void fillBlack(Image& image) noexcept;
+
+}  // namespace fieldcast::warp

@@ -1,0 +1,75 @@
+#pragma once
+// Bilinear resampling of a frame through a map into the rows of one field (DESIGN.md §3).
+//
+// Every kernel follows the same rules, so they can be compared pixel for pixel:
+//  - field row r is raster row rasterRow(parity, r); its pixel i is sampled at the map of the
+//    raster point (i + ½, row + ½);
+//  - a map value outside the frame ([0, W] × [0, H] in frame pixels, or NaN) is a margin
+//    violation: it is counted and the sample is clamped to the nearest edge of the frame;
+//  - the source and the field image have the same pixel format (Grey8 or Rgb8).
+
+#include <prp_warp/WarpMaps.h>
+
+#include <fieldcast/Field.h>
+#include <fieldcast/Image.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace fieldcast::warp {
+
+/// Per-row work buffers of the fast kernels, sized once for the widest raster. Not shared
+/// between threads.
+class RowScratch {
+ public:
+  /// Allocates for rows up to `maxWidthPx` pixels.
+  explicit RowScratch(int maxWidthPx = 0) { reserve(maxWidthPx); }
+  /// Grows the buffers (allocates; not for the field thread).
+  void reserve(int maxWidthPx);
+  int capacityPx() const noexcept { return mCapacityPx; }
+
+  /// Frame coordinates of a row (float: exact to 1e-4 px over any frame, and twice the lanes).
+  float* x() noexcept { return mX.data(); }
+  float* y() noexcept { return mY.data(); }
+  /// Byte offsets of each sample's top-left neighbour, and its weight pairs (1 − f, f) in x and y.
+  std::int32_t* offset() noexcept { return mOffset.data(); }
+  std::uint32_t* weightsX() noexcept { return mWeightsX.data(); }
+  std::uint32_t* weightsY() noexcept { return mWeightsY.data(); }
+
+ private:
+  int mCapacityPx = 0;
+  std::vector<float> mX, mY;
+  std::vector<std::int32_t> mOffset;
+  std::vector<std::uint32_t> mWeightsX, mWeightsY;
+};
+
+/// True when `dst` is the right shape for a field of `parity` of a raster `rasterHeightPx` high
+/// and `src` can be sampled (same format, Grey8 or Rgb8, at least 2 × 2). RT-safe.
+bool resampleShapesValid(const Image& src, FieldParity parity, int rasterHeightPx, const Image& dst) noexcept;
+
+/// The plain reference: evaluates the quadratic at every pixel and interpolates in double
+/// precision. Returns the margin violations. RT-safe.
+std::uint32_t resampleQuadraticReference(const Image& src, const QuadraticMap& map, FieldParity parity,
+                                         int rasterHeightPx, Image& dst) noexcept;
+
+/// The fast kernel: the quadratic stepped by forward differences along each row in four
+/// independent lanes, then fixed-point (8-bit) bilinear sampling. Matches the reference within
+/// one grey level. Returns the margin violations. RT-safe (scratch must be wide enough).
+std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, FieldParity parity, int rasterHeightPx,
+                                    Image& dst, RowScratch& scratch) noexcept;
+
+/// Homography resampling (one division per pixel), same sampling as the fast kernel. RT-safe.
+std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldParity parity, int rasterHeightPx,
+                                 Image& dst, RowScratch& scratch) noexcept;
+
+/// Samples `src` at the given frame pixel coordinates for one row of `n` pixels into `dstRow`
+/// (fixed-point bilinear, edge clamp). Returns the margin violations. The shared last stage of
+/// every fast kernel. RT-safe.
+std::uint32_t sampleRow(const Image& src, const float* framePxX, const float* framePxY, int n, std::uint8_t* dstRow,
+                        RowScratch& scratch) noexcept;
+
+/// Reference bilinear sample of channel `c` of `src` at frame pixel `(x, y)` (clamped to the
+/// frame), in grey levels. RT-safe.
+double sampleBilinearReference(const Image& src, double x, double y, int c) noexcept;
+
+}  // namespace fieldcast::warp

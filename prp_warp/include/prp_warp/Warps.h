@@ -1,0 +1,106 @@
+#pragma once
+// The four field warps behind the Warp interface. Each file in src/ implements one of them.
+
+#include <prp_warp/OutputGeometry.h>
+#include <prp_warp/Resample.h>
+#include <prp_warp/Warp.h>
+#include <prp_warp/WarpFit.h>
+#include <prp_warp/WarpMaps.h>
+
+#include <vector>
+
+namespace fieldcast::warp {
+
+/// No warp: shows the frame's display window scaled to the raster (the baseline).
+class HoldWarp final : public Warp {
+ public:
+  HoldWarp(int rasterWidthPx, int rasterHeightPx);
+  WarpKind kind() const noexcept override { return WarpKind::Hold; }
+  std::optional<glm::dvec2> sourcePx(glm::dvec2 rasterPx) const noexcept override;
+
+ protected:
+  WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
+                    Image& out) noexcept override;
+
+ private:
+  RowScratch mScratch;
+  std::optional<QuadraticMap> mLastMap;
+};
+
+/// Which resampling kernel a QuadraticWarp uses.
+enum class ResampleKernel : std::uint8_t {
+  Fast,       ///< forward differences + fixed-point bilinear (production)
+  Reference,  ///< per-pixel evaluation, double precision (the test oracle)
+};
+
+/// The design's warp: a least-squares quadratic through the control points projected into the
+/// field's pose (roll included), falling back to the rotation-only homography.
+class QuadraticWarp final : public Warp {
+ public:
+  QuadraticWarp(int rasterWidthPx, int rasterHeightPx, ResampleKernel kernel = ResampleKernel::Fast);
+  WarpKind kind() const noexcept override { return WarpKind::Quadratic; }
+  std::optional<glm::dvec2> sourcePx(glm::dvec2 rasterPx) const noexcept override;
+  /// The fit of the last field.
+  const QuadraticFit& lastFit() const noexcept { return mFit; }
+
+ protected:
+  WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
+                    Image& out) noexcept override;
+
+ private:
+  ResampleKernel mKernel;
+  RowScratch mScratch;
+  QuadraticFit mFit;
+  bool mHaveFit = false;
+};
+
+/// A least-squares homography through the control points projected into the field's pose: the
+/// exact map for a planar scene or a pure rotation. Falls back to the rotation-only homography
+/// with fewer than four usable points.
+class HomographyWarp final : public Warp {
+ public:
+  HomographyWarp(int rasterWidthPx, int rasterHeightPx);
+  WarpKind kind() const noexcept override { return WarpKind::Homography; }
+  std::optional<glm::dvec2> sourcePx(glm::dvec2 rasterPx) const noexcept override;
+  const Homography& lastHomography() const noexcept { return mMap; }
+
+ protected:
+  WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
+                    Image& out) noexcept override;
+
+ private:
+  RowScratch mScratch;
+  Homography mMap;
+  bool mHaveMap = false;
+};
+
+/// Post-rendering 3D warping (after Mark, McMillan & Bishop 1997): every frame pixel with a range
+/// is lifted to 3D, projected into the field's pose and splatted with a depth test onto the
+/// field's rows; each written raster pixel records the frame position it extrapolates to, holes
+/// are filled from the farther neighbour, and the frame is then sampled bilinearly through that
+/// per-pixel map. Frames without a range image fall back to the quadratic warp.
+class Range3dWarp final : public Warp {
+ public:
+  Range3dWarp(int rasterWidthPx, int rasterHeightPx);
+  WarpKind kind() const noexcept override { return WarpKind::Range3d; }
+  /// The per-pixel map is defined at pixel centres: this returns the source of the centre of
+  /// the raster pixel containing `rasterPx`, on the last field's rows only.
+  std::optional<glm::dvec2> sourcePx(glm::dvec2 rasterPx) const noexcept override;
+
+ protected:
+  WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
+                    Image& out) noexcept override;
+
+ private:
+  void splat(const Frame& frame, const Pose& fieldPose, const OutputGeometry& g, FieldParity parity) noexcept;
+  void fillHoles(FieldParity parity, const OutputGeometry& g) noexcept;
+
+  RowScratch mScratch;
+  std::vector<float> mDepth;        // per raster pixel: depth of the sample kept
+  std::vector<float> mMapX, mMapY;  // per raster pixel: frame pixel it samples
+  QuadraticWarp mFallback;
+  bool mUsedFallback = false;
+  std::optional<FieldParity> mLastParity;
+};
+
+}  // namespace fieldcast::warp

@@ -1,0 +1,119 @@
+// One field: pose at t_k → warp (with the frame flicker-filtered once per frame) → AGC → format.
+#include <prp_warp/FieldWarper.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace fieldcast::warp {
+
+FieldWarper::FieldWarper(const FieldWarperConfig& config)
+    : mConfig(config),
+      mWarp(makeWarp(config.warp, config.rasterWidthPx, config.rasterHeightPx)),
+      mAutoGain(config.autoGain) {
+  if (config.outputFormat == PixelFormat::Uyvy422 && config.rasterWidthPx % 2 != 0) {
+    throw std::invalid_argument("field warper: UYVY 4:2:2 output needs an even width, got " +
+                                std::to_string(config.rasterWidthPx));
+  }
+  if (config.maxFrameWidthPx < 2 || config.maxFrameHeightPx < 2) {
+    throw std::invalid_argument("field warper: max frame size must be at least 2x2");
+  }
+  // Reserve the largest shapes once: Rgb8 is the widest working format, progressive the tallest field
+  mWork.resize(config.rasterWidthPx, config.rasterHeightPx, PixelFormat::Rgb8);
+  mWorkReserved = mWork.bytes().size();
+  if (config.flickerFilter) mFiltered.resize(config.maxFrameWidthPx, config.maxFrameHeightPx, PixelFormat::Rgb8);
+}
+
+Field FieldWarper::makeField() const {
+  Field f;
+  // Progressive needs every row; the image is reshaped (never grown) per field
+  f.image.resize(mConfig.rasterWidthPx, mConfig.rasterHeightPx, mConfig.outputFormat);
+  f.rasterHeightPx = mConfig.rasterHeightPx;
+  return f;
+}
+
+bool FieldWarper::reshape(Image& image, int widthPx, int heightPx, PixelFormat format,
+                          std::size_t reservedBytes) noexcept {
+  if (image.widthPx() == widthPx && image.heightPx() == heightPx && image.format() == format) return true;
+  // Reshape only within the bytes reserved up front: vector::assign keeps the allocation then
+  if (rowBytes(format, widthPx) * static_cast<std::size_t>(heightPx) > reservedBytes) return false;
+  try {
+    image.resize(widthPx, heightPx, format);
+  } catch (...) {
+    return false;
+  }
+  return true;
+}
+
+const Image& FieldWarper::flickerFiltered(const Frame& frame) noexcept {
+  if (!mConfig.flickerFilter) return frame.image;
+  if (mHaveFiltered && mFilteredFrameNumber == frame.frameNumber && mFilteredPoseTime == frame.poseTime &&
+      mFiltered.widthPx() == frame.image.widthPx() && mFiltered.heightPx() == frame.image.heightPx() &&
+      mFiltered.format() == frame.image.format())
+    return mFiltered;
+  // A frame larger than the reserved buffer is warped unfiltered rather than allocating
+  const std::size_t reserved =
+      rowBytes(PixelFormat::Rgb8, mConfig.maxFrameWidthPx) * static_cast<std::size_t>(mConfig.maxFrameHeightPx);
+  if (!reshape(mFiltered, frame.image.widthPx(), frame.image.heightPx(), frame.image.format(), reserved) ||
+      !flickerFilter(frame.image, mFiltered)) {
+    mHaveFiltered = false;
+    return frame.image;
+  }
+  mHaveFiltered = true;
+  mFilteredFrameNumber = frame.frameNumber;
+  mFilteredPoseTime = frame.poseTime;
+  return mFiltered;
+}
+
+FieldStatus FieldWarper::produce(const Frame& frame, const PoseSource& poses, const FieldSpec& spec,
+                                 Field& out) noexcept {
+  const int rows = fieldRowCount(spec.parity, mConfig.rasterHeightPx);
+  // `out` comes from makeField(): room for a progressive field in the output format
+  const std::size_t outReserved =
+      rowBytes(mConfig.outputFormat, mConfig.rasterWidthPx) * static_cast<std::size_t>(mConfig.rasterHeightPx);
+  if (out.image.widthPx() != mConfig.rasterWidthPx) return FieldStatus::BadOutput;  // not from makeField()
+  if (!reshape(out.image, mConfig.rasterWidthPx, rows, mConfig.outputFormat, outReserved))
+    return FieldStatus::BadOutput;
+  out.parity = spec.parity;
+  out.rasterHeightPx = mConfig.rasterHeightPx;
+  out.fieldNumber = spec.fieldNumber;
+  out.displayTime = spec.displayTime;
+  out.sourceFrameNumber = frame.frameNumber;
+  out.sourcePoseTime = frame.poseTime;
+  out.marginViolations = 0;
+  mCounters.fields.fetch_add(1, std::memory_order_relaxed);
+
+  auto black = [&](FieldStatus status) noexcept {
+    fillBlack(out.image);
+    mCounters.blackFields.fetch_add(1, std::memory_order_relaxed);
+    return status;
+  };
+  if (frame.image.empty()) return black(FieldStatus::NoFrame);
+  const PixelFormat workFormat = frame.image.format();
+  if ((workFormat != PixelFormat::Rgb8 && workFormat != PixelFormat::Grey8) ||
+      !reshape(mWork, mConfig.rasterWidthPx, rows, workFormat, mWorkReserved))
+    return black(FieldStatus::BadFrame);
+
+  // Warp to the pose at the field's own display time
+  const Pose pose = poses.pose(spec.displayTime);
+  const WarpResult r = mWarp->warp(frame, flickerFiltered(frame), pose, spec.parity, mWork);
+  if (r.status != WarpStatus::Ok) return black(FieldStatus::BadFrame);
+  if (r.fellBack) mCounters.fitFallbacks.fetch_add(1, std::memory_order_relaxed);
+  if (r.marginViolations) {
+    mCounters.marginViolations.fetch_add(r.marginViolations, std::memory_order_relaxed);
+    mCounters.fieldsWithViolations.fetch_add(1, std::memory_order_relaxed);
+  }
+  out.marginViolations = r.marginViolations;
+
+  // Gain over the time since the previous field, then the output format
+  const Nanoseconds elapsed =
+      mHaveLast ? std::clamp(spec.displayTime - mLastDisplayTime, Nanoseconds{0}, Nanoseconds{1'000'000'000})
+                : Nanoseconds{0};
+  mLastDisplayTime = spec.displayTime;
+  mHaveLast = true;
+  mAutoGain.process(mWork, elapsed);
+  if (!convertPixels(mWork, out.image)) return black(FieldStatus::BadOutput);
+  return FieldStatus::Ok;
+}
+
+}  // namespace fieldcast::warp

@@ -1,0 +1,123 @@
+// FieldWarper::produce() end to end, with the global allocator instrumented: the per-field path
+// must not allocate (DESIGN.md §5), whatever the warp, parity and post-processing.
+#include "AnalyticScene.h"
+
+#include <prp_warp/FieldWarper.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace {
+std::atomic<long> gAllocations{0};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  gAllocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  throw std::bad_alloc();
+}
+// GCC cannot see that this replaced operator new pairs with these deletes.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace fieldcast::warp {
+namespace {
+
+constexpr int kW = 160, kH = 120;
+
+const Frame& scene() {
+  static const Frame f = test::renderFrame(Pose{{0.0, 0.0, 150.0}, radians(30.0), radians(-15.0), 0.0}, kW, kH,
+                                           MarginPx{16, 12}, radians(60.0), PixelFormat::Rgb8, 1, true);
+  return f;
+}
+
+class ProduceWithoutAllocating : public ::testing::TestWithParam<WarpKind> {};
+
+TEST_P(ProduceWithoutAllocating, EveryParityAndFormat) {
+  for (PixelFormat format : {PixelFormat::Uyvy422, PixelFormat::Rgb8, PixelFormat::Grey8}) {
+    FieldWarperConfig cfg;
+    cfg.warp = GetParam();
+    cfg.rasterWidthPx = 2 * kW;       // scaled output raster
+    cfg.rasterHeightPx = 2 * kH + 1;  // odd: the two parities differ in rows
+    cfg.outputFormat = format;
+    cfg.flickerFilter = true;
+    cfg.autoGain.enabled = true;
+    cfg.maxFrameWidthPx = 256;
+    cfg.maxFrameHeightPx = 256;
+    FieldWarper warper(cfg);
+    Field field = warper.makeField();
+    ConstantVelocityPredictor poses;
+    poses.push(TimePoint{}, scene().pose);
+    Pose later = scene().pose;
+    later.positionM.y += 10.0;
+    later.rollRad = 0.05;
+    poses.push(TimePoint{Nanoseconds{100'000'000}}, later);
+
+    const long before = gAllocations.load();
+    FieldStatus statuses[6];
+    for (int k = 0; k < 6; ++k) {
+      const FieldSpec spec{static_cast<std::uint64_t>(k), TimePoint{Nanoseconds{100'000'000 + k * 16'683'333}},
+                           k % 2 ? FieldParity::Bottom : FieldParity::Top};
+      statuses[k] = warper.produce(scene(), poses, spec, field);
+    }
+    const FieldSpec prog{6, TimePoint{Nanoseconds{200'000'000}}, FieldParity::Progressive};
+    const FieldStatus progStatus = warper.produce(scene(), poses, prog, field);
+    const long allocations = gAllocations.load() - before;
+
+    EXPECT_EQ(allocations, 0) << toString(GetParam()) << " " << toString(format);
+    for (FieldStatus s : statuses) EXPECT_EQ(s, FieldStatus::Ok);
+    EXPECT_EQ(progStatus, FieldStatus::Ok);
+    EXPECT_EQ(field.image.heightPx(), 2 * kH + 1);
+    EXPECT_EQ(field.image.format(), format);
+    EXPECT_EQ(warper.counters().fields.load(), 7u);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Kinds, ProduceWithoutAllocating,
+                         ::testing::Values(WarpKind::Hold, WarpKind::Quadratic, WarpKind::Homography,
+                                           WarpKind::Range3d),
+                         [](const auto& p) { return std::string(toString(p.param)); });
+
+TEST(FieldWarper, NoFrameGivesABlackFieldAndCountsIt) {
+  FieldWarperConfig cfg;
+  cfg.rasterWidthPx = 64;
+  cfg.rasterHeightPx = 48;
+  FieldWarper warper(cfg);
+  Field field = warper.makeField();
+  ConstantVelocityPredictor poses;
+  EXPECT_EQ(warper.produce(Frame{}, poses, FieldSpec{0, TimePoint{}, FieldParity::Top}, field), FieldStatus::NoFrame);
+  EXPECT_EQ(field.image.heightPx(), 24);
+  EXPECT_EQ(field.image.row(3)[1], 16);  // UYVY video black
+  EXPECT_EQ(warper.counters().blackFields.load(), 1u);
+  Field notFromMakeField;
+  EXPECT_EQ(warper.produce(Frame{}, poses, FieldSpec{}, notFromMakeField), FieldStatus::BadOutput);
+}
+
+TEST(FieldWarper, FieldCarriesItsSpecAndSource) {
+  FieldWarperConfig cfg;
+  cfg.rasterWidthPx = kW;
+  cfg.rasterHeightPx = kH;
+  FieldWarper warper(cfg);
+  Field field = warper.makeField();
+  Frame frame = scene();
+  frame.frameNumber = 77;
+  frame.poseTime = TimePoint{Nanoseconds{5}};
+  ConstantVelocityPredictor poses;
+  poses.push(TimePoint{}, frame.pose);
+  const FieldSpec spec{12, TimePoint{Nanoseconds{1234}}, FieldParity::Bottom};
+  ASSERT_EQ(warper.produce(frame, poses, spec, field), FieldStatus::Ok);
+  EXPECT_EQ(field.fieldNumber, 12u);
+  EXPECT_EQ(field.displayTime, spec.displayTime);
+  EXPECT_EQ(field.parity, FieldParity::Bottom);
+  EXPECT_EQ(field.sourceFrameNumber, 77u);
+  EXPECT_EQ(field.sourcePoseTime, frame.poseTime);
+  EXPECT_EQ(field.rasterHeightPx, kH);
+  EXPECT_EQ(field.marginViolations, 0u);
+}
+
+}  // namespace
+}  // namespace fieldcast::warp

@@ -1,0 +1,74 @@
+#pragma once
+// The warp-quality evaluation (issue 5): a scripted flight in virtual time; the IG renders frames
+// at a fixed rate with one frame period of render latency; every field is made by each warp from
+// the newest frame and compared with the ground truth rendered at the field's own pose.
+
+#include <prp_warp/Warp.h>
+
+#include <ig_core/Renderer.h>
+#include <motion/ScriptedTrajectory.h>
+
+#include <fieldcast/Field.h>
+#include <fieldcast/Time.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace fieldcast::tools {
+
+/// What to evaluate.
+struct EvaluationSpec {
+  int rasterWidthPx = 360;  ///< output raster = display window rendered by the IG
+  int rasterHeightPx = 240;
+  double hfovDeg = 60.0;
+  RationalRate fieldRate{60000, 1001};
+  ScanMode scan = ScanMode::Interlaced;
+  FieldOrder order = FieldOrder::BottomFirst;
+  double startS = 0.5;    ///< flight time of the first field (frames start one frame period earlier)
+  int fields = 240;       ///< fields evaluated per flight and rate
+  int checkColumns = 16;  ///< held-out check pixels: a grid over the raster, off the control grid
+  int checkRows = 12;
+};
+
+/// The warps compared, in table order.
+inline constexpr std::array<warp::WarpKind, 4> kEvaluatedWarps{warp::WarpKind::Hold, warp::WarpKind::Quadratic,
+                                                               warp::WarpKind::Homography, warp::WarpKind::Range3d};
+
+/// Figures of one warp over one flight at one render rate.
+struct WarpScore {
+  warp::WarpKind kind = warp::WarpKind::Hold;
+  double meanPsnrDb = 0.0;
+  double minPsnrDb = 0.0;
+  double meanErrPx = 0.0;  ///< geometric error at the check pixels, mean over fields and pixels
+  double p95ErrPx = 0.0;
+  double maxErrPx = 0.0;
+  double violationsPerField = 0.0;  ///< margin violations (output pixels) per field
+  std::uint64_t fallbacks = 0;      ///< fields where the warp fell back
+};
+
+/// One row group of the table.
+struct RateResult {
+  std::string flight;
+  double renderRateHz = 0.0;
+  double meanFrameAgeMs = 0.0;   ///< display time − frame pose time, mean over fields
+  std::vector<WarpScore> warps;  ///< in kEvaluatedWarps order
+};
+
+/// Frames rendered once per field for the ground truth, shared by every rate of one flight.
+struct TruthField {
+  Frame frame;   ///< rendered at the field's pose (unrolled, with range)
+  Image pixels;  ///< the field's rows, roll applied exactly
+};
+
+/// Runs the evaluation of one flight for every rate. `progress` (may be null) gets one line per
+/// rate. Throws std::runtime_error when the flight ends before the requested fields.
+std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight, core::Renderer& renderer,
+                                       const EvaluationSpec& spec, const std::vector<double>& ratesHz);
+
+/// Minimum height above the terrain (m) along the evaluated part of the flight.
+double minimumClearanceM(const motion::ScriptedTrajectory& flight, const core::TerrainView& terrain,
+                         const EvaluationSpec& spec);
+
+}  // namespace fieldcast::tools
