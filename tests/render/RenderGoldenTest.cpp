@@ -32,7 +32,7 @@ const MemoryTerrain& terrain() {
 Frame renderView(const GoldenView& g) {
   const TerrainView& view = terrain().view();
   RenderSettings settings;
-  settings.colourMode = g.grey ? ColourMode::Grey : ColourMode::Rgb;
+  settings.colourMode = g.grey ? FrameColour::Grey : FrameColour::Rgb;
   Renderer renderer(view, settings, 2);
   ViewRequest r;
   r.pose.positionM = {1000.0, 900.0, view.heightAtM(1000.0, 900.0) + g.altitude};

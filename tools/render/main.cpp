@@ -1,7 +1,11 @@
 // fieldcast-render: renders one frame for a pose and writes it as a PNG (and optionally the range
 // image as a 32-bit float TIFF/EXR), with the frame's figures on stdout.
 //
-//   fieldcast-render --pose 4096,4096,300,45,-20,0 --agl --fov 60 --size 720x486 --out f.png
+//   fieldcast-render --db builtin --pose 8192,8192,300,45,-20,0 --agl --fov 60 --size 720x486 --out f.png
+//
+// --db builtin renders the built-in terrain (generated into the cache folder on first use), --db
+// PATH a database made by fieldcast-db, --db synthetic the small procedural hills of the tests.
+#include <ig_core/OpenTerrain.h>
 #include <ig_core/Renderer.h>
 #include <ig_core/SyntheticTerrain.h>
 
@@ -60,8 +64,10 @@ int run(int argc, char** argv) {
   std::string rangePath;
   bool agl = false;
   bool displayOnly = false;
-  int terrainSize = 4096;
-  unsigned seed = 11;
+  std::string db = "builtin";
+  std::string cacheDir;
+  int terrainSize = 0;
+  unsigned seed = 0;
   core::RenderSettings settings;
   bool grey = false;
   int threads = 0;
@@ -82,9 +88,12 @@ int run(int argc, char** argv) {
   app.add_option("--haze", settings.hazeRangeM, "range (m) where haze covers 63%; 0 = none")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--threads", threads, "render workers (0: one per core)");
-  app.add_option("--terrain-size", terrainSize, "voxels per side of the synthetic terrain (2 m spacing)")
+  app.add_option("--db", db, "terrain: 'builtin', a database path, or 'synthetic' (procedural test hills)");
+  app.add_option("--cache-dir", cacheDir, "cache folder of the built-in terrain (default: ~/.cache/fieldcast)");
+  app.add_option("--terrain-size", terrainSize,
+                 "voxels per side of the built-in (default 8192) or synthetic (default 4096) terrain, 2 m spacing")
       ->check(CLI::Range(64, 16384));
-  app.add_option("--seed", seed, "synthetic terrain seed");
+  app.add_option("--seed", seed, "terrain seed (built-in default 1, synthetic default 11)");
   CLI11_PARSE(app, argc, argv);
 
   const std::vector<double> p = parseNumbers(poseText, 6, "pose");
@@ -93,21 +102,44 @@ int run(int argc, char** argv) {
   if (std::sscanf(sizeText.c_str(), "%dx%d", &w, &h) != 2 || w < 2 || h < 2 || w > 16384 || h > 16384) {
     throw std::runtime_error("--size: expected WxH such as 720x486, got '" + sizeText + "'");
   }
-  settings.colourMode = grey ? core::ColourMode::Grey : core::ColourMode::Rgb;
+  settings.colourMode = grey ? core::FrameColour::Grey : core::FrameColour::Rgb;
   settings.rangeImage = !rangePath.empty();
 
-  const auto terrain = core::makeSyntheticTerrain({core::SyntheticKind::Hills, terrainSize, 2.0, 8, seed});
-  const core::TerrainView& view = terrain->view();
   core::ViewRequest request;
-  request.pose.positionM = {p[0], p[1], p[2] + (agl ? view.heightAtM(p[0], p[1]) : 0.0)};
   request.pose.headingRad = radians(p[3]);
   request.pose.pitchRad = radians(p[4]);
   request.pose.rollRad = radians(p[5]);
   request.display = Intrinsics::fromHorizontalFov(w, h, radians(fovDeg));
 
-  core::Renderer renderer(view, settings, threads);
+  std::unique_ptr<core::MemoryTerrain> synthetic;
+  std::unique_ptr<core::TileCache> cache;
+  const core::TerrainView* view = nullptr;
+  if (db == "synthetic") {
+    synthetic = core::makeSyntheticTerrain(
+        {core::SyntheticKind::Hills, terrainSize > 0 ? terrainSize : 4096, 2.0, 8, seed > 0 ? seed : 11u});
+    view = &synthetic->view();
+  } else {
+    core::BuiltinTerrainSpec spec;
+    if (terrainSize > 0) spec.sizeVox = terrainSize;
+    if (seed > 0) spec.seed = seed;
+    cache = core::openTerrain(db, cacheDir, std::size_t{1} << 30, spec);
+    view = &cache->view();
+  }
+  request.pose.positionM = {p[0], p[1], p[2] + (agl ? view->heightAtM(p[0], p[1]) : 0.0)};
+  if (cache) {
+    // One frame, no hurry: page in what this view needs before rendering it.
+    const core::FrameLayout layout = core::layoutFrame(request.display, settings.marginFraction, request.pose.rollRad);
+    cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
+    cache->waitIdle(std::chrono::seconds(60));
+    request.pose.positionM.z = p[2] + (agl ? view->heightAtM(p[0], p[1]) : 0.0);
+  }
+
+  core::Renderer renderer(*view, settings, threads);
   core::RenderStats stats;
+  core::FrameLease lease;
+  if (cache) lease = cache->lease();  // tiles stay alive while the frame reads them
   const Frame frame = renderer.render(request, &stats);
+  lease.release();
   const double ms = std::chrono::duration<double, std::milli>(frame.renderEnd - frame.renderStart).count();
 
   const int channels = grey ? 1 : 3;

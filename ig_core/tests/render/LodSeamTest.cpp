@@ -29,7 +29,7 @@ SeamFigures measureSeams(bool blend) {
   const TerrainView& view = plane->view();
   RenderSettings settings;
   settings.blendLevels = blend;
-  settings.colourMode = ColourMode::Grey;
+  settings.colourMode = FrameColour::Grey;
   settings.rangeImage = true;
   settings.hazeRangeM = 0.0;
   settings.quality = 4.0;  // several switches within the 2 km plane

@@ -95,7 +95,7 @@ TEST(Renderer, GreyFramesAreTheLumaOfColourFrames) {
   const TerrainView& view = hills().view();
   RenderSettings colour;
   RenderSettings grey;
-  grey.colourMode = ColourMode::Grey;
+  grey.colourMode = FrameColour::Grey;
   Renderer a(view, colour, 2);
   Renderer b(view, grey, 2);
   const ViewRequest r = someView(view, 120, -25, 200);
