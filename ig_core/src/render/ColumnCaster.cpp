@@ -729,7 +729,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   int wx0 = std::numeric_limits<int>::min() / 4;
   int wy0 = std::numeric_limits<int>::min() / 4;
   const unsigned tileSize = 1u << f.tileShift;
-  const auto height = [&](int lv, int i, int j) -> double {
+  const auto height = [&](int lv, int i, int j) __attribute__((always_inline))->double {
     const int x = kXMajor ? i : j;
     const int y = kXMajor ? j : i;
     if (static_cast<unsigned>(x - wx0) < tileSize && static_cast<unsigned>(y - wy0) < tileSize) {
@@ -796,7 +796,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     return x.colour;
   };
   // Solves the crossing on the current grid line; false when it leaves the grid or the view.
-  const auto solve = [&](Found& out) -> bool {
+  const auto solve = [&](Found & out) __attribute__((always_inline))->bool {
     if (sx > 0 ? i > majLast : i < majLast) return false;
     if (minLast < 0) return false;
     int j = floorToInt(jPos);
@@ -887,6 +887,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         const auto yc = static_cast<float>((k.cyPx - vq) * invFy);
         const float rangeM = static_cast<float>(depth) * std::sqrt(xc2 + yc * yc);
         sink.emit(q, f.shading.terrain(mix(c0, c1, tw), rangeM), rangeM);
+        ++t.rays;
         if (--q < 0) {
           t.steps += steps;
           return -1;
@@ -941,12 +942,15 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u) noexcept {
   // Beyond the terrain (or above it): rows that look up see the sky; rows that still look down
   // (over the terrain's edge, where a tilted column may come back over it) are cast one by one.
   if (rowV(q) < horizonRow) {
+    // Sky: the elevation sine of a ray is its world z over its length; both are linear / quadratic
+    // in the camera-space yc of the row.
+    const CameraAxes& ax = f.geo->axes();
+    const double az = c.xc * ax.right.z + ax.forward.z;
     for (; q >= 0; --q) {
-      const double vq = rowV(q);
-      const double yc = -(vq - k.cyPx) / k.fyPx;
-      const glm::dvec3 d = f.geo->ray(uc, vq);
-      sink.emit(q, f.shading.sky(static_cast<float>(d.z) / rayLength(c.xc, yc)),
-                std::numeric_limits<float>::infinity());
+      const double yc = (k.cyPx - rowV(q)) / k.fyPx;
+      const float len = rayLength(c.xc, yc);
+      sink.emit(q, f.shading.sky(static_cast<float>(az + yc * ax.up.z) / len), std::numeric_limits<float>::infinity());
+      ++t.rays;
     }
     return;
   }
