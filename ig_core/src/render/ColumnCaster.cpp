@@ -503,6 +503,8 @@ struct ColumnPlane {
   double cMaj = 0, cMin = 0, cZ = 0;        // camera in grid space
   double upMaj = 0, upMin = 0, upZ = 0;     // camera up axis, grid deltas → metres
   double fwdMaj = 0, fwdMin = 0, fwdZ = 0;  // camera forward axis, grid deltas → metres
+  double aMaj = 0, aMin = 0, aZ = 0;        // the column ray at yc = 0, grid space: ray(yc) = a + yc·b
+  double bMaj = 0, bMin = 0, bZ = 0;        // the camera up axis, grid space
   double vHorizon = 0;                      // rows above this (smaller v) look upwards
   double xc = 0;                            // camera-space x of the column (ray = (xc, yc, 1))
   int majSize = 0, minSize = 0;             // level-0 grid size along major / minor
@@ -582,6 +584,12 @@ ColumnPlane columnPlane(const CasterFrame& f, double uc) noexcept {
   c.cMaj = c.xMajor ? f.camX : f.camY;
   c.cMin = c.xMajor ? f.camY : f.camX;
   c.cZ = f.camZq;
+  c.aMaj = c.xMajor ? a.x : a.y;
+  c.aMin = c.xMajor ? a.y : a.x;
+  c.aZ = a.z;
+  c.bMaj = c.xMajor ? b.x : b.y;
+  c.bMin = c.xMajor ? b.y : b.x;
+  c.bZ = b.z;
   c.upMaj = (c.xMajor ? ax.up.x : ax.up.y) * sp;
   c.upMin = (c.xMajor ? ax.up.y : ax.up.x) * sp;
   c.upZ = ax.up.z * hs;
@@ -850,6 +858,68 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const float xc2 = static_cast<float>(1.0 + c.xc * c.xc);
   const double invFy = 1.0 / k.fyPx;
   int sinceCheck = 0;
+  // Occlusion skipping. The ray of row vTop (the highest terrain seen so far) meets grid line i at
+  // R; a crossing of line i can only be visible above R on L_i, i.e. where the terrain reaches at
+  // least R's height, between R and the ceiling. When the conservative max mip of a coarse cell
+  // (level + 3) covering that stretch for all the cell's grid lines is below R, none of them can
+  // be seen: they are skipped without solving their crossings.
+  double topMin = 0.0, topZ = 0.0;  // the top ray's minor and height change per unit of major
+  bool topValid = false;
+  const auto setTop = [&](double v) {
+    const double yc = (k.cyPx - v) * (1.0 / k.fyPx);
+    const double dMajTop = c.aMaj + yc * c.bMaj;
+    topValid = dMajTop * sx > 1e-12;
+    if (!topValid) return;
+    topMin = (c.aMin + yc * c.bMin) / dMajTop;
+    topZ = (c.aZ + yc * c.bZ) / dMajTop;
+  };
+  const double ceilSlope = -c.nMaj / c.nMin;  // minor of L_i at the ceiling, per unit of major
+  const double ceilOffset = -c.nZ * (f.ceilingQ - c.cZ) / c.nMin;
+  bool lastOccluded = false;
+  bool skippedSincePrev = false;
+  int failedCell = std::numeric_limits<int>::min();
+  std::uint64_t skippedLines = 0;
+  const auto trySkip = [&]() -> bool {
+    const int kLevel = std::min(level + 3, f.levels - 1);
+    const int shiftK = kLevel - level;
+    if (shiftK <= 0 || !topValid) return false;
+    const int ci = i >> shiftK;
+    if (ci == failedCell) return false;
+    const int iFar = sx > 0 ? ((ci + 1) << shiftK) - 1 : (ci << shiftK);
+    const double dMajFar = (iFar + 0.5) * p - 0.5 - c.cMaj;
+    const double zNear = c.cZ + dMaj * topZ;
+    const double zFar = c.cZ + dMajFar * topZ;
+    const double nNear = c.cMin + dMaj * topMin;
+    const double nFar = c.cMin + dMajFar * topMin;
+    const double cNear = c.cMin + dMaj * ceilSlope + ceilOffset;
+    const double cFar = c.cMin + dMajFar * ceilSlope + ceilOffset;
+    const double lo = std::min({nNear, nFar, cNear, cFar});
+    const double hi = std::max({nNear, nFar, cNear, cFar});
+    const double invCell = pow2(-kLevel);
+    const int cj = floorToInt((lo + 0.5) * invCell);
+    failedCell = ci;
+    if (cj != floorToInt((hi + 0.5) * invCell)) return false;
+    // Do not skip past the depth where the march changes level.
+    const double depthFar = dMajFar * c.fwdMaj + (nFar - c.cMin) * c.fwdMin + (zFar - c.cZ) * c.fwdZ;
+    if (depthFar > switchDepth) return false;
+    const int x = kXMajor ? ci : cj;
+    const int y = kXMajor ? cj : ci;
+    if (!windowFor(f, t, window, kLevel, x, y)) return false;
+    const auto l = static_cast<std::size_t>(kLevel);
+    const double maxQ = window.tile[l]->maxHeightQ[((y - window.y0[l]) << f.tileShift) + (x - window.x0[l])];
+    if (!(maxQ < std::min(zNear, zFar))) return false;
+    if (sx > 0 ? iFar > majLast : iFar < majLast) return false;  // near the edge: march normally
+    skippedLines += static_cast<std::uint64_t>(std::abs(iFar - i) + 1);
+    const double dSkip = dMajFar - dMaj;
+    i = iFar;
+    dMaj = dMajFar;
+    base += c.nMaj * dSkip;
+    jPos = (nFar + 0.5) / p - 0.5;
+    skippedSincePrev = true;
+    return true;
+  };
+  setTop(vTop);
+
   for (;;) {
     // Next grid line: on an even step past the level's depth, the coarser level's line (half a
     // step ahead); otherwise the next line of this level.
@@ -867,10 +937,28 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       dMaj += dMajStep;
       base += baseStep;
     }
+    if (lastOccluded && trySkip()) continue;
     if (!solve(cur)) {
       t.steps += steps;
       return q;
     }
+    lastOccluded = !(cur.v < vTop);
+    if (!lastOccluded && skippedSincePrev) {
+      // The crossing before this one was skipped: solve it now, it bounds the rows to fill.
+      const int iHere = i;
+      const double dMajHere = dMaj, baseHere = base;
+      i -= sx;
+      dMaj -= dMajStep;
+      base -= baseStep;
+      jPos = cur.j + cur.phi - drift;
+      Found before{};
+      if (solve(before)) prev = before;
+      i = iHere;
+      dMaj = dMajHere;
+      base = baseHere;
+      jPos = cur.j + cur.phi + drift;
+    }
+    skippedSincePrev = false;
     if (cur.v < vTop) {
       // Sub-rows between the highest crossing so far and this one see the terrain between the two
       // grid lines: perspective-correct interpolation between the crossings (1/depth is linear in v).
@@ -895,6 +983,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         vq -= invS;
       }
       vTop = cur.v;
+      setTop(vTop);
     }
     std::swap(prevP, curP);
     // Now and then: do all rows left look upwards, already above the highest terrain?
