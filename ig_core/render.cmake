@@ -10,4 +10,6 @@ target_sources(fieldcast_core PRIVATE
 list(APPEND FIELDCAST_CORE_TEST_SOURCES
   tests/render/RenderAccuracyTest.cpp
   tests/render/RenderPoolTest.cpp
+  tests/render/RendererTest.cpp
+  tests/render/LodSeamTest.cpp
   tests/render/FrameLayoutTest.cpp)

@@ -13,7 +13,7 @@
 namespace fieldcast::core {
 
 /// Colour of the rendered image.
-enum class ColourMode : std::uint8_t {
+enum class FrameColour : std::uint8_t {
   Rgb,   ///< PixelFormat::Rgb8
   Grey,  ///< PixelFormat::Grey8, BT.601 luma of the colour
 };
@@ -26,7 +26,7 @@ struct RenderSettings {
   double quality = 1.0;
   bool blendLevels = true;      ///< blend colours of adjacent levels by distance (no LOD seam)
   int verticalSupersample = 1;  ///< sub-rays per pixel along the column, 1..4 (for shallow pitch)
-  ColourMode colourMode = ColourMode::Rgb;
+  FrameColour colourMode = FrameColour::Rgb;
   bool rangeImage = false;                  ///< also produce per-pixel range (metres, +inf = sky)
   glm::dvec3 skyZenithRgb{62, 104, 178};    ///< sky colour straight up, sRGB 0..255
   glm::dvec3 skyHorizonRgb{196, 210, 226};  ///< sky colour at the horizon and haze colour, sRGB 0..255

@@ -12,6 +12,8 @@
 // Minor positions are level-L voxel indices in 32.32 fixed point; heights are quanta in 48.16.
 #include "ColumnCaster.h"
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -474,10 +476,583 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
   camX = (p.x - g.originM.x) * unitsPerM;
   camY = (p.y - g.originM.y) * unitsPerM;
   camZq = (p.z - g.heightBaseM) * quantaPerM;
+  invLodDepth0M = 1.0 / geometry.lodDepth0M();
   ceilingQ = ceiling;
 }
 
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The column-plane march. All rays of an image column lie in one plane Π through the camera (for
+// a pitched camera Π is tilted, not vertical). On each grid line M = M_i of the column's major
+// axis, Π cuts a line L_i; where L_i crosses the terrain profile of that grid line (linear between
+// voxel centres along the minor axis) is the one terrain point of this grid line that the column
+// sees, and projecting it gives the image row v_i where it appears. Walking the grid lines away
+// from the camera, the rows between the highest crossing so far and v_i see the terrain between
+// grid lines i−1 and i: they are filled by interpolating the two crossings (perspective-correct).
+// This is the vertical coherence of the seed paper done exactly for tilted columns: every ray of
+// the column is tested at every grid line, yet the work is one crossing per grid line plus one
+// fill per pixel, with no per-ray set-up.
+// ---------------------------------------------------------------------------------------------
+
+// Grid space: x, y in level-0 voxel units, z in height quanta.
+struct ColumnPlane {
+  bool xMajor = true;
+  int sx = 1;                               // march direction along the major axis (rows go up)
+  double nMaj = 0, nMin = 1, nZ = 0;        // plane normal in grid space, oriented so nMin > 0
+  double cMaj = 0, cMin = 0, cZ = 0;        // camera in grid space
+  double upMaj = 0, upMin = 0, upZ = 0;     // camera up axis, grid deltas → metres
+  double fwdMaj = 0, fwdMin = 0, fwdZ = 0;  // camera forward axis, grid deltas → metres
+  double aMaj = 0, aMin = 0, aZ = 0;        // the column ray at yc = 0, grid space: ray(yc) = a + yc·b
+  double bMaj = 0, bMin = 0, bZ = 0;        // the camera up axis, grid space
+  double vHorizon = 0;                      // rows above this (smaller v) look upwards
+  double xc = 0;                            // camera-space x of the column (ray = (xc, yc, 1))
+  int majSize = 0, minSize = 0;             // level-0 grid size along major / minor
+};
+
+// The terrain point of one grid line that the column sees.
+struct Crossing {
+  int level = 0;
+  int i = 0;         // level-L major index of the grid line
+  int j = 0;         // minor segment j .. j+1 (level-L indices)
+  double phi = 0;    // fraction along the segment
+  double v = 0;      // image row (continuous)
+  double depth = 0;  // metres along the forward axis
+  bool haveColour = false;
+  Rgb colour;
+};
+
+// One window per level on the tile last read there: most height and colour reads of the column
+// march are two compares and a load.
+struct TileWindows {
+  std::array<const TerrainTile*, 24> tile{};
+  std::array<int, 24> x0{};  // level-L voxel of the tile's corner
+  std::array<int, 24> y0{};
+  TileWindows() {
+    x0.fill(std::numeric_limits<int>::min() / 4);
+    y0.fill(std::numeric_limits<int>::min() / 4);
+  }
+};
+
+// Tile of voxel (x, y) at `level` into the window; false when it is outside the grid or missing.
+inline bool windowFor(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x, int y) noexcept {
+  const auto l = static_cast<std::size_t>(level);
+  const unsigned size = 1u << f.tileShift;
+  if (static_cast<unsigned>(x - w.x0[l]) < size && static_cast<unsigned>(y - w.y0[l]) < size) return true;
+  if (x < 0 || y < 0 || x >= f.levelWidth[l] || y >= f.levelHeight[l]) return false;
+  const TerrainTile* tile = tileAt(f, t, level, x >> f.tileShift, y >> f.tileShift);
+  if (tile == nullptr) return false;
+  w.tile[l] = tile;
+  w.x0[l] = (x >> f.tileShift) << f.tileShift;
+  w.y0[l] = (y >> f.tileShift) << f.tileShift;
+  return true;
+}
+
+inline std::uint16_t windowHeight(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
+                                  int y) noexcept {
+  if (!windowFor(f, t, w, level, x, y)) return heightAt(f, t, level, x, y);  // clamped / coarser fallback
+  const auto l = static_cast<std::size_t>(level);
+  return w.tile[l]->heightQ[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
+}
+
+inline std::uint32_t windowColour(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
+                                  int y) noexcept {
+  if (!windowFor(f, t, w, level, x, y)) return colourAt(f, t, level, x, y);
+  const auto l = static_cast<std::size_t>(level);
+  return w.tile[l]->colourRgba[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
+}
+
+ColumnPlane columnPlane(const CasterFrame& f, double uc) noexcept {
+  const ViewGeometry& geo = *f.geo;
+  const Intrinsics& k = geo.intrinsics();
+  const CameraAxes& ax = geo.axes();
+  ColumnPlane c;
+  c.xc = (uc - k.cxPx) / k.fxPx;
+  const double sp = 1.0 / f.unitsPerM;
+  const double hs = 1.0 / f.quantaPerM;
+  // Plane directions in grid space: the column's central direction and the camera's up axis.
+  const glm::dvec3 aw = c.xc * ax.right + ax.forward;
+  const glm::dvec3 a{aw.x * f.unitsPerM, aw.y * f.unitsPerM, aw.z * f.quantaPerM};
+  const glm::dvec3 b{ax.up.x * f.unitsPerM, ax.up.y * f.unitsPerM, ax.up.z * f.quantaPerM};
+  glm::dvec3 n = glm::cross(a, b);
+  c.xMajor = std::abs(n.y) >= std::abs(n.x);  // the plane's ground trace runs along (n.y, −n.x)
+  const double nMin = c.xMajor ? n.y : n.x;
+  if (nMin < 0.0) n = -n;
+  c.nMaj = c.xMajor ? n.x : n.y;
+  c.nMin = c.xMajor ? n.y : n.x;
+  c.nZ = n.z;
+  c.cMaj = c.xMajor ? f.camX : f.camY;
+  c.cMin = c.xMajor ? f.camY : f.camX;
+  c.cZ = f.camZq;
+  c.aMaj = c.xMajor ? a.x : a.y;
+  c.aMin = c.xMajor ? a.y : a.x;
+  c.aZ = a.z;
+  c.bMaj = c.xMajor ? b.x : b.y;
+  c.bMin = c.xMajor ? b.y : b.x;
+  c.bZ = b.z;
+  c.upMaj = (c.xMajor ? ax.up.x : ax.up.y) * sp;
+  c.upMin = (c.xMajor ? ax.up.y : ax.up.x) * sp;
+  c.upZ = ax.up.z * hs;
+  c.fwdMaj = (c.xMajor ? ax.forward.x : ax.forward.y) * sp;
+  c.fwdMin = (c.xMajor ? ax.forward.y : ax.forward.x) * sp;
+  c.fwdZ = ax.forward.z * hs;
+  c.vHorizon = ax.up.z > 1e-12 ? k.cyPx + k.fyPx * aw.z / ax.up.z : (aw.z > 0 ? 1e30 : -1e30);
+  c.majSize = c.xMajor ? f.levelWidth[0] : f.levelHeight[0];
+  c.minSize = c.xMajor ? f.levelHeight[0] : f.levelWidth[0];
+  // Rows go up the image as the ground point moves along up_z·d_h − d_z·up_h (d: a ray of the
+  // column; the direction is the same for every ray that looks down).
+  const glm::dvec3 d = a + (-0.5) * b;  // a ray below the centre row
+  const double dirMaj = b.z * (c.xMajor ? d.x : d.y) - d.z * (c.xMajor ? b.x : b.y);
+  c.sx = dirMaj >= 0.0 ? 1 : -1;
+  return c;
+}
+
+// Colour of a crossing: linear along the grid line at its level, blended with the next level.
+const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                          Crossing& x) noexcept {
+  if (x.haveColour) return x.colour;
+  const int l = x.level;
+  const std::uint32_t c0 = c.xMajor ? windowColour(f, t, w, l, x.i, x.j) : windowColour(f, t, w, l, x.j, x.i);
+  const std::uint32_t c1 = c.xMajor ? windowColour(f, t, w, l, x.i, x.j + 1) : windowColour(f, t, w, l, x.j + 1, x.i);
+  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
+  x.haveColour = true;
+  if (!f.blend || l + 1 >= f.levels) return x.colour;
+  const double blend = std::clamp(x.depth * f.invLodDepth0M * pow2(1 - l) - 1.0, 0.0, 1.0);
+  if (blend <= 0.0) return x.colour;
+  const double p = pow2(l);
+  const double mMaj = (x.i + 0.5) * p - 0.5;
+  const double mMin = (x.j + 0.5 + x.phi) * p - 0.5;
+  const double ux = levelIndex(c.xMajor ? mMaj : mMin, l + 1);
+  const double uy = levelIndex(c.xMajor ? mMin : mMaj, l + 1);
+  const int x0 = floorToInt(ux);
+  const int y0 = floorToInt(uy);
+  const auto fx = static_cast<float>(ux - x0);
+  const auto fy = static_cast<float>(uy - y0);
+  const int up = l + 1;
+  const Rgb lo =
+      mix(unpackRgb(windowColour(f, t, w, up, x0, y0)), unpackRgb(windowColour(f, t, w, up, x0 + 1, y0)), fx);
+  const Rgb hi =
+      mix(unpackRgb(windowColour(f, t, w, up, x0, y0 + 1)), unpackRgb(windowColour(f, t, w, up, x0 + 1, y0 + 1)), fx);
+  x.colour = mix(x.colour, mix(lo, hi, fy), static_cast<float>(blend));
+  return x.colour;
+}
+
+// Collects the sub-rows of a column (bottom to top) into pixels.
+struct ColumnSink {
+  const CasterFrame& f;
+  int u;
+  int s;
+  float scale;
+  Rgb sum;
+  float range = std::numeric_limits<float>::infinity();
+
+  void emit(int q, const Rgb& c, float rangeM) noexcept {
+    if (s == 1) {
+      if (f.image != nullptr) f.shading.store(f.image->row(q), u, c, 1.0f);
+      if (f.rangeM != nullptr) {
+        f.rangeM[static_cast<std::size_t>(q) * static_cast<std::size_t>(f.geo->intrinsics().widthPx) + u] = rangeM;
+      }
+      return;
+    }
+    sum.r += c.r;
+    sum.g += c.g;
+    sum.b += c.b;
+    const int sub = q % s;
+    if (sub == s / 2) range = rangeM;
+    if (sub != 0) return;
+    const int v = q / s;
+    if (f.image != nullptr) f.shading.store(f.image->row(v), u, sum, scale);
+    if (f.rangeM != nullptr) {
+      f.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(f.geo->intrinsics().widthPx) + u] = range;
+    }
+    sum = Rgb{};
+    range = std::numeric_limits<float>::infinity();
+  }
+};
+
+inline float rayLength(double xc, double yc) noexcept { return static_cast<float>(std::sqrt(1.0 + xc * xc + yc * yc)); }
+
+// Per-ray casting of sub-rows q = qFrom, qFrom−1, ... (the rows the plane march cannot take: below
+// the first hit, and beyond the terrain's edge). Stops after the first hit when `untilHit`.
+// Returns the sub-row below which it stopped (−1 when the column is done) and the hit.
+int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double uc, int qFrom, bool untilHit,
+                   bool& havePrev, glm::dvec2& prevHit, MarchHit& hitOut, RayLine& lineOut) noexcept {
+  const Intrinsics& k = f.geo->intrinsics();
+  const double xc = (uc - k.cxPx) / k.fxPx;
+  bool sky = false;
+  for (int q = qFrom; q >= 0; --q) {
+    const double vq = (q + 0.5) / f.supersample;
+    const glm::dvec3 d = f.geo->ray(uc, vq);
+    const float length = rayLength(xc, -(vq - k.cyPx) / k.fyPx);
+    ++t.rays;
+    RayLine r;
+    if (!sky && setupLine(f, d, r)) {
+      const double mStart =
+          havePrev ? r.sx * ((r.xMajor ? prevHit.x : prevHit.y) - r.cMaj) : (++t.firstHits, firstHitStart(f, r));
+      const MarchHit h = march(f, t, r, mStart);
+      const double maj = r.cMaj + r.sx * h.m;
+      const double min = r.cMin + r.slope * h.m;
+      prevHit = r.xMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj};
+      havePrev = true;
+      if (h.hit) {
+        const double depth = h.m / r.aMaj;
+        const float rangeM = static_cast<float>(depth) * length;
+        sink.emit(q, f.shading.terrain(hitColour(f, t, r, h, depth), rangeM), rangeM);
+        if (untilHit) {
+          hitOut = h;
+          lineOut = r;
+          return q - 1;
+        }
+        continue;
+      }
+      // Missed. An ascending ray passes over everything, and so does every ray above it. A
+      // descending one left the terrain's side; the ray above starts where this one left (a
+      // pitched column fans out in azimuth, so it may come back over the terrain: retrace).
+      if (d.z >= 0.0) sky = true;
+    } else {
+      havePrev = false;  // nowhere near the terrain: the next ray starts afresh
+    }
+    sink.emit(q, f.shading.sky(static_cast<float>(d.z) / length), std::numeric_limits<float>::infinity());
+  }
+  return -1;
+}
+
+// The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
+// sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
+// fill (−1 when the column is done): the march left the terrain, or the rows left look over it.
+template <bool kXMajor>
+int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
+                   const glm::dvec2& start, int level) noexcept {
+  const Intrinsics& k = f.geo->intrinsics();
+  const int sx = c.sx;
+  const double invS = 1.0 / sink.s;
+  const double lodDepth = f.geo->lodDepth0M();
+  const double cMinHalf = 0.5 + c.cMin;
+  const auto& majSizes = c.xMajor ? f.levelWidth : f.levelHeight;
+  const auto& minSizes = c.xMajor ? f.levelHeight : f.levelWidth;
+  TileWindows window;
+  // The tile of the current level the heights come from, kept in registers: a read is two
+  // unsigned compares and a load; anything else goes through the window cache.
+  const std::uint16_t* tileHeights = nullptr;
+  int wx0 = std::numeric_limits<int>::min() / 4;
+  int wy0 = std::numeric_limits<int>::min() / 4;
+  const unsigned tileSize = 1u << f.tileShift;
+  const auto height = [&](int lv, int i, int j) __attribute__((always_inline))->double {
+    const int x = kXMajor ? i : j;
+    const int y = kXMajor ? j : i;
+    if (static_cast<unsigned>(x - wx0) < tileSize && static_cast<unsigned>(y - wy0) < tileSize) {
+      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
+    }
+    if (windowFor(f, t, window, lv, x, y)) {
+      const auto l = static_cast<std::size_t>(lv);
+      tileHeights = window.tile[l]->heightQ;
+      wx0 = window.x0[l];
+      wy0 = window.y0[l];
+      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
+    }
+    return heightAt(f, t, lv, x, y);  // outside the grid (clamped) or tile missing (coarser level)
+  };
+
+  // Per-level constants of the crossing equation g(j) = gA·j + gB + nZ·h(j) + base, where base
+  // carries the grid line's major position and grows by baseStep per step.
+  double p = 0, gA = 0, gB = 0, baseStep = 0, dMajStep = 0, switchDepth = 0;
+  int majLast = 0, minLast = 0;
+  const auto enterLevel = [&](int lv) {
+    p = pow2(lv);
+    gA = c.nMin * p;
+    gB = c.nMin * (0.5 * p - 0.5);
+    dMajStep = sx * p;
+    baseStep = c.nMaj * dMajStep;
+    switchDepth = lv + 1 < f.levels ? lodDepth * p : std::numeric_limits<double>::infinity();
+    wx0 = std::numeric_limits<int>::min() / 4;  // the register window belongs to the old level
+    // Last grid line inside both the level's grid and the hull of the level-0 voxel centres.
+    const int hullLast = sx > 0 ? floorToInt(levelIndex(c.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
+    majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
+    minLast = minSizes[static_cast<std::size_t>(lv)] - 2;
+  };
+  const double startMaj = c.xMajor ? start.x : start.y;
+  const double startMin = c.xMajor ? start.y : start.x;
+  enterLevel(level);
+  int i = sx > 0 ? floorToInt(levelIndex(startMaj, level)) : ceilToInt(levelIndex(startMaj, level));
+  double dMaj = (i + 0.5) * p - 0.5 - c.cMaj;
+  double base = c.nMaj * dMaj - c.nMin * c.cMin - c.nZ * c.cZ;
+  double jPos = levelIndex(startMin, level);   // predicted minor position of the next crossing
+  const double drift = -c.nMaj / c.nMin * sx;  // minor change of the plane's trace per major step
+
+  // The last crossing (prev) and the one being found (cur).
+  struct Found {
+    double v, depth, invDepth, phi;
+    int level, i, j;
+    bool haveColour;
+    Rgb colour;
+  };
+  Found found[2]{};
+  Found* prevP = &found[0];
+  Found* curP = &found[1];
+  std::uint64_t steps = 0;
+  const auto colourOf = [&](Found& x) -> const Rgb& {
+    if (!x.haveColour) {
+      Crossing cx;
+      cx.level = x.level;
+      cx.i = x.i;
+      cx.j = x.j;
+      cx.phi = x.phi;
+      cx.depth = x.depth;
+      x.colour = crossingColour(f, t, window, c, cx);
+      x.haveColour = true;
+    }
+    return x.colour;
+  };
+  // Solves the crossing on the current grid line; false when it leaves the grid or the view.
+  const auto solve = [&](Found & out) __attribute__((always_inline))->bool {
+    if (sx > 0 ? i > majLast : i < majLast) return false;
+    if (minLast < 0) return false;
+    int j = floorToInt(jPos);
+    j = j < 0 ? 0 : (j > minLast ? minLast : j);
+    double h0 = height(level, i, j);
+    double h1 = height(level, i, j + 1);
+    double g0 = gA * j + gB + c.nZ * h0 + base;
+    double g1 = g0 + gA + c.nZ * (h1 - h0);
+    std::uint64_t samples = 2;
+    // g grows along the minor axis: walk to the segment where it changes sign.
+    while (g0 > 0.0) {
+      if (j == 0) return false;
+      --j;
+      h1 = h0;
+      g1 = g0;
+      h0 = height(level, i, j);
+      g0 -= gA + c.nZ * (h1 - h0);
+      ++samples;
+    }
+    while (g1 <= 0.0) {
+      if (j == minLast) return false;
+      ++j;
+      h0 = h1;
+      g0 = g1;
+      h1 = height(level, i, j + 1);
+      g1 = g0 + gA + c.nZ * (h1 - h0);
+      ++samples;
+    }
+    steps += samples;
+    const double phi = g0 / (g0 - g1);
+    const double dMin = (j + phi) * p + 0.5 * p - cMinHalf;
+    const double dZ = h0 + phi * (h1 - h0) - c.cZ;
+    const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + dZ * c.fwdZ;
+    if (!(zc > 1e-6)) return false;
+    const double yc = dMaj * c.upMaj + dMin * c.upMin + dZ * c.upZ;
+    out.invDepth = 1.0 / zc;
+    out.depth = zc;
+    out.v = k.cyPx - k.fyPx * yc * out.invDepth;
+    out.phi = phi;
+    out.level = level;
+    out.i = i;
+    out.j = j;
+    out.haveColour = false;
+    jPos = j + phi + drift;
+    return true;
+  };
+
+  if (!solve(*prevP)) return q;
+  double vTop = prevP->v;
+  double vq = (q + 0.5) * invS;
+  const float xc2 = static_cast<float>(1.0 + c.xc * c.xc);
+  const double invFy = 1.0 / k.fyPx;
+  int sinceCheck = 0;
+  // Occlusion skipping. The ray of row vTop (the highest terrain seen so far) meets grid line i at
+  // R; a crossing of line i can only be visible above R on L_i, i.e. where the terrain reaches at
+  // least R's height, between R and the ceiling. When the conservative max mip of a coarse cell
+  // (level + 3) covering that stretch for all the cell's grid lines is below R, none of them can
+  // be seen: they are skipped without solving their crossings.
+  double topMin = 0.0, topZ = 0.0;  // the top ray's minor and height change per unit of major
+  bool topValid = false;
+  const auto setTop = [&](double v) {
+    const double yc = (k.cyPx - v) * (1.0 / k.fyPx);
+    const double dMajTop = c.aMaj + yc * c.bMaj;
+    topValid = dMajTop * sx > 1e-12;
+    if (!topValid) return;
+    topMin = (c.aMin + yc * c.bMin) / dMajTop;
+    topZ = (c.aZ + yc * c.bZ) / dMajTop;
+  };
+  const double ceilSlope = -c.nMaj / c.nMin;  // minor of L_i at the ceiling, per unit of major
+  const double ceilOffset = -c.nZ * (f.ceilingQ - c.cZ) / c.nMin;
+  bool lastOccluded = false;
+  bool skippedSincePrev = false;
+  int failedCell = std::numeric_limits<int>::min();
+  std::uint64_t skippedLines = 0;
+  const auto trySkip = [&]() -> bool {
+    const int kLevel = std::min(level + 3, f.levels - 1);
+    const int shiftK = kLevel - level;
+    if (shiftK <= 0 || !topValid) return false;
+    const int ci = i >> shiftK;
+    if (ci == failedCell) return false;
+    const int iFar = sx > 0 ? ((ci + 1) << shiftK) - 1 : (ci << shiftK);
+    const double dMajFar = (iFar + 0.5) * p - 0.5 - c.cMaj;
+    const double zNear = c.cZ + dMaj * topZ;
+    const double zFar = c.cZ + dMajFar * topZ;
+    const double nNear = c.cMin + dMaj * topMin;
+    const double nFar = c.cMin + dMajFar * topMin;
+    const double cNear = c.cMin + dMaj * ceilSlope + ceilOffset;
+    const double cFar = c.cMin + dMajFar * ceilSlope + ceilOffset;
+    const double lo = std::min({nNear, nFar, cNear, cFar});
+    const double hi = std::max({nNear, nFar, cNear, cFar});
+    const double invCell = pow2(-kLevel);
+    const int cj = floorToInt((lo + 0.5) * invCell);
+    failedCell = ci;
+    if (cj != floorToInt((hi + 0.5) * invCell)) return false;
+    // Do not skip past the depth where the march changes level.
+    const double depthFar = dMajFar * c.fwdMaj + (nFar - c.cMin) * c.fwdMin + (zFar - c.cZ) * c.fwdZ;
+    if (depthFar > switchDepth) return false;
+    const int x = kXMajor ? ci : cj;
+    const int y = kXMajor ? cj : ci;
+    if (!windowFor(f, t, window, kLevel, x, y)) return false;
+    const auto l = static_cast<std::size_t>(kLevel);
+    const double maxQ = window.tile[l]->maxHeightQ[((y - window.y0[l]) << f.tileShift) + (x - window.x0[l])];
+    if (!(maxQ < std::min(zNear, zFar))) return false;
+    if (sx > 0 ? iFar > majLast : iFar < majLast) return false;  // near the edge: march normally
+    skippedLines += static_cast<std::uint64_t>(std::abs(iFar - i) + 1);
+    const double dSkip = dMajFar - dMaj;
+    i = iFar;
+    dMaj = dMajFar;
+    base += c.nMaj * dSkip;
+    jPos = (nFar + 0.5) / p - 0.5;
+    skippedSincePrev = true;
+    return true;
+  };
+  setTop(vTop);
+
+  for (;;) {
+    // Next grid line: on an even step past the level's depth, the coarser level's line (half a
+    // step ahead); otherwise the next line of this level.
+    Found& prev = *prevP;
+    Found& cur = *curP;
+    if (prev.depth > switchDepth && (i & 1) == (sx > 0 ? 0 : 1)) {
+      ++level;
+      i >>= 1;
+      enterLevel(level);
+      dMaj = (i + 0.5) * p - 0.5 - c.cMaj;
+      base = c.nMaj * dMaj - c.nMin * c.cMin - c.nZ * c.cZ;
+      jPos = (jPos + 0.5) * 0.5 - 0.5;
+    } else {
+      i += sx;
+      dMaj += dMajStep;
+      base += baseStep;
+    }
+    if (lastOccluded && trySkip()) continue;
+    if (!solve(cur)) {
+      t.steps += steps;
+      return q;
+    }
+    lastOccluded = !(cur.v < vTop);
+    if (!lastOccluded && skippedSincePrev) {
+      // The crossing before this one was skipped: solve it now, it bounds the rows to fill.
+      const int iHere = i;
+      const double dMajHere = dMaj, baseHere = base;
+      i -= sx;
+      dMaj -= dMajStep;
+      base -= baseStep;
+      jPos = cur.j + cur.phi - drift;
+      Found before{};
+      if (solve(before)) prev = before;
+      i = iHere;
+      dMaj = dMajHere;
+      base = baseHere;
+      jPos = cur.j + cur.phi + drift;
+    }
+    skippedSincePrev = false;
+    if (cur.v < vTop) {
+      // Sub-rows between the highest crossing so far and this one see the terrain between the two
+      // grid lines: perspective-correct interpolation between the crossings (1/depth is linear in v).
+      const double invDv = 1.0 / (cur.v - prev.v);
+      const double dInvZ = cur.invDepth - prev.invDepth;
+      const double dz = cur.depth - prev.depth;
+      const double invDz = dz != 0.0 ? 1.0 / dz : 0.0;
+      const Rgb& c0 = colourOf(prev);
+      const Rgb& c1 = colourOf(cur);
+      while (vq > cur.v) {
+        const double ts = std::min((vq - prev.v) * invDv, 1.0);
+        const double depth = 1.0 / (prev.invDepth + ts * dInvZ);
+        const auto tw = static_cast<float>(std::clamp((depth - prev.depth) * invDz, 0.0, 1.0));
+        const auto yc = static_cast<float>((k.cyPx - vq) * invFy);
+        const float rangeM = static_cast<float>(depth) * std::sqrt(xc2 + yc * yc);
+        sink.emit(q, f.shading.terrain(mix(c0, c1, tw), rangeM), rangeM);
+        ++t.rays;
+        if (--q < 0) {
+          t.steps += steps;
+          return -1;
+        }
+        vq -= invS;
+      }
+      vTop = cur.v;
+      setTop(vTop);
+    }
+    std::swap(prevP, curP);
+    // Now and then: do all rows left look upwards, already above the highest terrain?
+    if (++sinceCheck >= 32) {
+      sinceCheck = 0;
+      if (vq < c.vHorizon) {
+        const double above = f.ceilingQ - c.cZ;  // the point of this grid line's L_i at the ceiling
+        const double dMin = -(c.nMaj * dMaj + c.nZ * above) / c.nMin;
+        const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + above * c.fwdZ;
+        const double yc = dMaj * c.upMaj + dMin * c.upMin + above * c.upZ;
+        if (zc > 0.0 && k.cyPx - k.fyPx * yc / zc >= vq) {
+          t.steps += steps;
+          return q;
+        }
+      }
+    }
+  }
+}
+
+int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
+               const glm::dvec2& start, int level) noexcept {
+  return c.xMajor ? marchPlaneAxis<true>(f, t, sink, c, q, start, level)
+                  : marchPlaneAxis<false>(f, t, sink, c, q, start, level);
+}
+
+void castColumn(const CasterFrame& f, CasterThread& t, int u) noexcept {
+  const Intrinsics& k = f.geo->intrinsics();
+  const double uc = u + 0.5;
+  const int s = f.supersample;
+  ColumnSink sink{f, u, s, 1.0f / static_cast<float>(s), {}};
+  bool havePrev = false;
+  glm::dvec2 prevHit{0.0};
+  MarchHit hit;
+  RayLine line;
+  // The bottom rays, one by one until one hits (the first by descending the max pyramid).
+  int q = castRowsPerRay(f, t, sink, uc, s * k.heightPx - 1, true, havePrev, prevHit, hit, line);
+  if (q < 0) return;
+
+  const ColumnPlane c = columnPlane(f, uc);
+  const double invS = 1.0 / s;
+  const auto rowV = [invS](int qq) { return (qq + 0.5) * invS; };
+  const double horizonRow = c.vHorizon;
+  q = marchPlane(f, t, sink, c, q, prevHit, hit.at.level);
+  if (q < 0) return;
+  // Beyond the terrain (or above it): rows that look up see the sky; rows that still look down
+  // (over the terrain's edge, where a tilted column may come back over it) are cast one by one.
+  if (rowV(q) < horizonRow) {
+    // Sky: the elevation sine of a ray is its world z over its length; both are linear / quadratic
+    // in the camera-space yc of the row.
+    const CameraAxes& ax = f.geo->axes();
+    const double az = c.xc * ax.right.z + ax.forward.z;
+    for (; q >= 0; --q) {
+      const double yc = (k.cyPx - rowV(q)) / k.fyPx;
+      const float len = rayLength(c.xc, yc);
+      sink.emit(q, f.shading.sky(static_cast<float>(az + yc * ax.up.z) / len), std::numeric_limits<float>::infinity());
+      ++t.rays;
+    }
+    return;
+  }
+  castRowsPerRay(f, t, sink, uc, q, false, havePrev, prevHit, hit, line);
+}
+
+}  // namespace
+
 void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept {
+  for (int u = u0; u < u1; ++u) castColumn(f, t, u);
+}
+
+void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const int s = f.supersample;
   const float scale = 1.0f / static_cast<float>(s);

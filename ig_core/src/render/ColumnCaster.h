@@ -42,6 +42,7 @@ struct CasterFrame {
   double unitsPerM;                   ///< level-0 units per metre (1 / spacing)
   double quantaPerM;                  ///< height quanta per metre
   double ceilingQ;                    ///< highest terrain height, quanta
+  double invLodDepth0M;               ///< 1 / ViewGeometry::lodDepth0M()
   Image* image;                       ///< output pixels (or null)
   float* rangeM;                      ///< output range per pixel (or null)
 };
@@ -74,6 +75,11 @@ struct CastResult {
 
 /// Casts columns [u0, u1) of the frame into its image (and range). RT-safe, allocation-free.
 void castColumns(const CasterFrame& frame, int u0, int u1, CasterThread& thread) noexcept;
+
+/// The same columns cast ray by ray (each ray marched on its own line, starting where the ray
+/// below hit). Slower; kept as the straightforward form of the coherent march and tested against
+/// castColumns. RT-safe, allocation-free.
+void castColumnsPerRay(const CasterFrame& frame, int u0, int u1, CasterThread& thread) noexcept;
 
 /// Casts one ray through continuous frame pixel (u, v) from the camera, with the same march as
 /// the columns (first hit by the max pyramid, then grid-line stepping). RT-safe.

@@ -27,7 +27,7 @@ inline Frame frameShell(const ViewRequest& request, const RenderSettings& settin
   frame.poseTime = request.poseTime;
   frame.frameNumber = request.frameNumber;
   frame.image.resize(layout.frame.widthPx, layout.frame.heightPx,
-                     settings.colourMode == ColourMode::Grey ? PixelFormat::Grey8 : PixelFormat::Rgb8);
+                     settings.colourMode == FrameColour::Grey ? PixelFormat::Grey8 : PixelFormat::Rgb8);
   frame.rangeM.clear();
   if (withRange) {
     frame.rangeM.assign(

@@ -34,7 +34,7 @@ class Shading {
                 static_cast<float>(s.skyZenithRgb.z)},
         mHorizon{static_cast<float>(s.skyHorizonRgb.x), static_cast<float>(s.skyHorizonRgb.y),
                  static_cast<float>(s.skyHorizonRgb.z)},
-        mGrey(s.colourMode == ColourMode::Grey) {
+        mGrey(s.colourMode == FrameColour::Grey) {
     // Haze fraction 1 − exp(−r/R) tabulated over [0, 8R]: a table lookup per pixel instead of exp.
     mHazeOn = s.hazeRangeM > 0.0;
     const double maxRange = mHazeOn ? 8.0 * s.hazeRangeM : 1.0;

@@ -1,0 +1,189 @@
+// The Renderer entry point: frames identical for any thread count, frame metadata, control points,
+// grey output, overlapping frames, and the plane march against the ray-by-ray march.
+#include "../../src/render/ColumnCaster.h"
+#include "RenderTestUtil.h"
+
+#include <ig_core/FrameTimeController.h>
+#include <ig_core/Renderer.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace fieldcast::core::test {
+namespace {
+
+ViewRequest someView(const TerrainView& view, double heading, double pitch, double altitude, double fov = 60.0,
+                     int w = 160, int h = 120) {
+  ViewRequest r;
+  r.pose = poseAbove(view, 500.0, 470.0, altitude, heading, pitch);
+  r.display = Intrinsics::fromHorizontalFov(w, h, radians(fov));
+  return r;
+}
+
+TEST(Renderer, SameImageForOneTwoAndSevenThreads) {
+  const TerrainView& view = hills().view();
+  RenderSettings settings;
+  settings.rangeImage = true;
+  settings.verticalSupersample = 2;
+  Renderer one(view, settings, 1);
+  Renderer two(view, settings, 2);
+  Renderer seven(view, settings, 7);
+  for (const ViewRequest& r :
+       {someView(view, 10, -15, 80), someView(view, 200, -60, 400, 90), someView(view, 290, -2, 25, 40)}) {
+    const Frame a = one.render(r);
+    const Frame b = two.render(r);
+    const Frame c = seven.render(r);
+    EXPECT_TRUE(a.image == b.image);
+    EXPECT_TRUE(a.image == c.image);
+    EXPECT_EQ(a.rangeM, b.rangeM);
+    EXPECT_EQ(a.rangeM, c.rangeM);
+  }
+}
+
+TEST(Renderer, FrameCarriesPoseTimesMarginsAndNineControlPoints) {
+  const TerrainView& view = hills().view();
+  Renderer renderer(view, RenderSettings{}, 2);
+  ViewRequest r = someView(view, 45, -65, 150);
+  r.pose.rollRad = radians(15);
+  r.poseTime = TimePoint{Nanoseconds{123456789}};
+  r.frameNumber = 42;
+  const Frame f = renderer.render(r);
+  EXPECT_EQ(f.frameNumber, 42u);
+  EXPECT_EQ(f.poseTime, r.poseTime);
+  EXPECT_EQ(f.pose.rollRad, 0.0);  // rendered without roll; the warp applies it
+  EXPECT_EQ(f.pose.headingRad, r.pose.headingRad);
+  EXPECT_GE(f.renderEnd, f.renderStart);
+  EXPECT_EQ(f.displayWidthPx(), 160);
+  EXPECT_EQ(f.displayHeightPx(), 120);
+  EXPECT_GT(f.margin.x, 16);  // 10% plus the growth for 15° of roll
+  EXPECT_DOUBLE_EQ(f.intrinsics.fxPx, r.display.fxPx);
+  EXPECT_EQ(f.image.widthPx(), f.intrinsics.widthPx);
+  EXPECT_FALSE(f.hasRange());
+  ASSERT_EQ(f.controlPoints.size(), 9u);
+  for (const ControlPoint& cp : f.controlPoints) {
+    EXPECT_EQ(cp.kind, ControlPointKind::Surface) << "control pixel " << cp.framePx.x << "," << cp.framePx.y << " sees "
+                                                  << cp.world.x << "," << cp.world.y << "," << cp.world.z;
+    if (cp.kind != ControlPointKind::Surface) continue;
+    // The recorded point projects back onto its control pixel.
+    const auto px = projectPoint(f.pose, f.intrinsics, cp.world);
+    ASSERT_TRUE(px.has_value());
+    EXPECT_NEAR(px->x, cp.framePx.x, 1e-3);
+    EXPECT_NEAR(px->y, cp.framePx.y, 1e-3);
+  }
+}
+
+TEST(Renderer, ControlPointsThatSeeTheSkyRecordTheirDirection) {
+  const TerrainView& view = hills().view();
+  Renderer renderer(view, RenderSettings{}, 1);
+  const Frame f = renderer.render(someView(view, 0, 10, 50));  // looking up
+  int sky = 0;
+  for (const ControlPoint& cp : f.controlPoints) {
+    if (cp.kind != ControlPointKind::Sky) continue;
+    ++sky;
+    EXPECT_NEAR(glm::length(cp.world), 1.0, 1e-9);
+    const auto px = projectDirection(f.pose, f.intrinsics, cp.world);
+    ASSERT_TRUE(px.has_value());
+    EXPECT_NEAR(px->x, cp.framePx.x, 1e-6);
+    EXPECT_NEAR(px->y, cp.framePx.y, 1e-6);
+  }
+  EXPECT_GE(sky, 3);
+}
+
+TEST(Renderer, GreyFramesAreTheLumaOfColourFrames) {
+  const TerrainView& view = hills().view();
+  RenderSettings colour;
+  RenderSettings grey;
+  grey.colourMode = FrameColour::Grey;
+  Renderer a(view, colour, 2);
+  Renderer b(view, grey, 2);
+  const ViewRequest r = someView(view, 120, -25, 200);
+  const Frame fc = a.render(r);
+  const Frame fg = b.render(r);
+  ASSERT_EQ(fg.image.format(), PixelFormat::Grey8);
+  for (int y = 0; y < fc.image.heightPx(); y += 7) {
+    for (int x = 0; x < fc.image.widthPx(); x += 5) {
+      const std::uint8_t* p = fc.image.row(y) + 3 * x;
+      const double luma = 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
+      EXPECT_NEAR(fg.image.row(y)[x], luma, 1.5);
+    }
+  }
+}
+
+TEST(Renderer, OverlappingFramesComeOutInOrderAndIdentical) {
+  const TerrainView& view = hills().view();
+  Renderer renderer(view, RenderSettings{}, 2);
+  const ViewRequest a = someView(view, 30, -30, 120);
+  const ViewRequest b = someView(view, 250, -10, 60);
+  const Frame alone = renderer.render(b);
+  // Three frames in flight: workers roll from one into the next with no barrier.
+  auto t1 = renderer.submit(a);
+  auto t2 = renderer.submit(b);
+  auto t3 = renderer.submit(a);
+  const Frame f1 = renderer.finish(std::move(t1));
+  const Frame f2 = renderer.finish(std::move(t2));
+  const Frame f3 = renderer.finish(std::move(t3));
+  EXPECT_TRUE(f2.image == alone.image);
+  EXPECT_TRUE(f1.image == f3.image);
+}
+
+TEST(Renderer, PlaneMarchAgreesWithRayByRayMarch) {
+  // castColumns (one crossing per grid line, exact for tilted columns) against castColumnsPerRay
+  // (each ray on its own line): the two coherent marches must see the same voxels.
+  const TerrainView& view = hills().view();
+  RenderSettings settings;
+  settings.rangeImage = true;
+  const std::uint16_t ceiling = terrainCeilingQ(view);
+  int total = 0;
+  int same = 0;
+  for (const ViewRequest& r : {someView(view, 10, -15, 80), someView(view, 200, -75, 400, 90),
+                               someView(view, 290, -3, 25, 40), someView(view, 135, -40, 1500, 70)}) {
+    const FrameLayout l = layoutFrame(r.display, 0.1, 0.0);
+    const ViewGeometry geo(r.pose, l.frame, view.geometry(), settings.quality);
+    Frame plane;
+    plane.pose = r.pose;
+    plane.intrinsics = l.frame;
+    plane.image.resize(l.frame.widthPx, l.frame.heightPx, PixelFormat::Rgb8);
+    plane.rangeM.assign(static_cast<std::size_t>(l.frame.widthPx * l.frame.heightPx), 0.0f);
+    Frame perRay = plane;
+    CasterThread t;
+    castColumns(CasterFrame(view, geo, settings, ceiling, &plane.image, plane.rangeM.data()), 0, l.frame.widthPx, t);
+    castColumnsPerRay(CasterFrame(view, geo, settings, ceiling, &perRay.image, perRay.rangeM.data()), 0,
+                      l.frame.widthPx, t);
+    const HitAgreement a = compareHits(plane, perRay, view.geometry(), settings.quality);
+    total += a.pixels;
+    same += a.same;
+    EXPECT_GE(a.fraction(), 0.995);
+  }
+  EXPECT_GE(static_cast<double>(same) / total, 0.999);
+}
+
+TEST(FrameTimeController, HoldsTheTargetWithoutHunting) {
+  // A render whose time falls with the knob: t = 2 ms + 18 ms / quality².
+  FrameTimeControllerConfig config;
+  config.target = fromSeconds(0.008);
+  FrameTimeController controller(config, 1.0);
+  const auto cost = [](double q) { return fromSeconds(0.002 + 0.018 / (q * q)); };
+  double q = 1.0;
+  for (int frame = 0; frame < 60; ++frame) q = controller.update(cost(q));
+  const double settled = q;
+  EXPECT_LE(toSeconds(cost(q)), 0.008 * 1.02);
+  EXPECT_GE(toSeconds(cost(q)), 0.008 * 0.6);
+  // Held: another 100 frames move the knob by less than a few percent.
+  for (int frame = 0; frame < 100; ++frame) q = controller.update(cost(q));
+  EXPECT_NEAR(q, settled, settled * 0.06);
+  // The view gets cheaper (pilot looks down): the knob refines again.
+  const auto cheap = [](double k) { return fromSeconds(0.001 + 0.004 / (k * k)); };
+  for (int frame = 0; frame < 200; ++frame) q = controller.update(cheap(q));
+  EXPECT_LT(q, settled);
+  EXPECT_LE(toSeconds(cheap(q)), 0.008);
+}
+
+TEST(FrameTimeController, DisabledWithoutTarget) {
+  FrameTimeController controller(FrameTimeControllerConfig{}, 1.5);
+  EXPECT_EQ(controller.update(fromSeconds(1.0)), 1.5);
+}
+
+}  // namespace
+}  // namespace fieldcast::core::test
