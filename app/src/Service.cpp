@@ -136,7 +136,7 @@ struct Service::Parts {
       settings.quality = config.render.quality;
       settings.marginFraction = config.render.marginFraction;
       settings.rangeImage = config.render.rangeImage || config.warp.kind == WarpChoice::Range3d;
-      settings.colourMode = config.render.grey ? core::ColourMode::Grey : core::ColourMode::Rgb;
+      settings.colourMode = config.render.grey ? core::FrameColour::Grey : core::FrameColour::Rgb;
       core::Renderer renderer(terrain->view(), settings, config.render.threads);
       RenderPacing pacing;
       pacing.maxRateHz = config.render.maxRateHz;
