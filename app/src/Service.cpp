@@ -8,8 +8,7 @@
 
 #include <ig_core/OpenTerrain.h>
 #include <ig_core/Renderer.h>
-#include <io_bridge/EvdevSource.h>
-#include <io_bridge/InputRecording.h>
+#include <io_bridge/InputSources.h>
 #include <io_bridge/StickInput.h>
 #include <io_bridge/StickProfile.h>
 #include <motion/FlightModel.h>
@@ -62,25 +61,14 @@ std::unique_ptr<io::StickInput> openStick(const InputConfig& config, Clock& cloc
   if (!config.profile.empty()) profile = io::loadStickProfile(config.profile);
   io::StickInputOptions options;
   options.recordPath = config.record;
+  options.reconnect = !io::isReplaySpec(config.stick);  // a recording plays once
   io::StickInput::SourceFactory factory;
-  const std::string replayPrefix = "replay:";
-  if (config.stick.rfind(replayPrefix, 0) == 0) {
-    // A recorded flight replayed in real time, once (repeatable latency runs).
-    const std::filesystem::path path = config.stick.substr(replayPrefix.size());
-    auto recording = std::make_shared<io::InputRecording>(io::readInputRecording(path));
-    factory = [recording, &clock] {
-      return std::make_unique<io::ReplaySource>(*recording, io::ReplayPacing::RealTime, clock);
-    };
-    options.reconnect = false;
-  } else {
-    // Fail now with the device's reason rather than fly on a missing stick.
-    const std::string device = config.stick;
-    try {
-      io::EvdevSource probe(device);
-    } catch (const std::exception& e) {
-      throw std::runtime_error("input.stick: " + std::string(e.what()));
-    }
-    factory = [device] { return std::make_unique<io::EvdevSource>(device); };
+  try {
+    factory = io::makeSourceFactory(config.stick, clock);
+    // Open it once now: a stick that is not there is a start-up error, not a silent neutral stick.
+    factory();
+  } catch (const std::exception& e) {
+    throw std::runtime_error("input.stick: " + std::string(e.what()));
   }
   return std::make_unique<io::StickInput>(std::move(factory), std::move(profile), options, clock);
 }

@@ -110,6 +110,7 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
       c.sinks.rtp.address = t.string("address", "127.0.0.1");
       c.sinks.rtp.port = static_cast<int>(t.integer("port", 5004, 1, 65535));
       c.sinks.rtp.mtu = static_cast<int>(t.integer("mtu", 1400, 576, 9000));
+      c.sinks.rtp.sdpPath = t.path("sdp", "");
       t.finish();
     }
     {

@@ -79,6 +79,7 @@ struct RtpOutput {
   std::string address = "127.0.0.1";
   int port = 5004;
   int mtu = 1400;
+  std::filesystem::path sdpPath;  ///< SDP file describing the stream for receivers; empty: none
 };
 struct ImageOutput {
   bool enabled = false;

@@ -68,7 +68,8 @@ io::StreamFormat streamFormatOf(const ServiceConfig& config) {
 Sinks makeSinks(const ServiceConfig& config, const io::StreamFormat& format,
                 std::function<void(int code, io::WindowKey key)> onKey) {
   Sinks result;
-  result.hub = std::make_unique<io::SinkHub>(format, io::SinkHubOptions{8});
+  // Four fields of slack per sink absorb a stall of 60 ms; the pool holds depth × sinks + 1 fields.
+  result.hub = std::make_unique<io::SinkHub>(format, io::SinkHubOptions{4});
   io::SinkHub* hub = result.hub.get();
   const SinksConfig& sinks = config.sinks;
   if (sinks.y4m.enabled) {
@@ -81,6 +82,7 @@ Sinks makeSinks(const ServiceConfig& config, const io::StreamFormat& format,
     options.address = sinks.rtp.address;
     options.port = sinks.rtp.port;
     options.mtuBytes = sinks.rtp.mtu;
+    options.sdpPath = sinks.rtp.sdpPath;  // what a receiver (ffplay, GStreamer) opens
     hub->add(std::make_unique<io::RtpVideoSink>(options));
   }
   if (sinks.images.enabled) {
@@ -101,7 +103,8 @@ Sinks makeSinks(const ServiceConfig& config, const io::StreamFormat& format,
     auto line = std::make_unique<io::GpiodPulseLine>(sinks.gpioPulse.chip, static_cast<unsigned>(sinks.gpioPulse.line));
     io::GpioPulseOptions options;
     options.width = fromSeconds(sinks.gpioPulse.widthUs * 1e-6);
-    hub->add(std::make_unique<io::GpioPulseSink>(std::move(line), options));
+    // The pulse edges are the rig's field timing: its worker runs at real-time priority.
+    hub->add(std::make_unique<io::GpioPulseSink>(std::move(line), options), io::SinkWorkerOptions{60});
   }
   if (sinks.window.enabled) {
     if (const std::string problem = io::WindowSink::displayProblem(); !problem.empty()) {
