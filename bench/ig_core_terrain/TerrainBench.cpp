@@ -123,14 +123,14 @@ void BM_TileDecodeOnly(benchmark::State& state) {
   const TerrainGeometry& g = reader.geometry();
   TileBuffers source;
   reader.readTile(0, 5, 7, source);
-  const std::vector<std::byte> compressed = encodeTile(source, g.tileShift, reader.layout().colourMode, 3);
+  const std::vector<std::byte> compressed = encodeTile(source, g.tileShift, reader.layout().voxelColour, 3);
   TileIndexEntry entry = reader.entry(0, 5, 7);
   entry.compressedBytes = static_cast<std::uint32_t>(compressed.size());
   TileBuffers tile;
   std::vector<double> us;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    decodeTile(compressed, entry, g.tileShift, reader.layout().colourMode, tile, "bench");
+    decodeTile(compressed, entry, g.tileShift, reader.layout().voxelColour, tile, "bench");
     us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
   }
   state.counters["p50_us"] = percentile(us, 0.5);

@@ -53,7 +53,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (std::size_t k = 0; k < std::min<std::size_t>(index.size(), 4); ++k) {
       try {
         decodeTile(bytes.subspan(index[k].offset, index[k].compressedBytes), index[k], layout.geometry.tileShift,
-                   layout.colourMode, tile, "fuzz tile");
+                   layout.voxelColour, tile, "fuzz tile");
       } catch (const TerrainDatabaseError&) {
       }
     }

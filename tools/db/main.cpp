@@ -93,7 +93,7 @@ int runBuild(const BuildArgs& a) {
   }
   BuildOptions options;
   options.tileShift = a.tileShift;
-  options.colourMode = a.grey ? ColourMode::Grey : ColourMode::Rgba;
+  options.voxelColour = a.grey ? VoxelColour::Grey : VoxelColour::Rgba;
   options.threads = a.threads;
   options.zstdLevel = a.zstdLevel;
   options.progress = console.callback();
@@ -115,14 +115,14 @@ int runInfo(const std::string& path) {
   std::printf("  origin      voxel (0,0) centre at x %.3f, y %.3f m\n", g.originM.x, g.originM.y);
   std::printf("  heights     z = %.3f + %.4f * q  (range %.1f .. %.1f m)\n", g.heightBaseM, g.heightStepM,
               g.heightBaseM, g.heightM(65535));
-  std::printf("  colour      %s\n", l.colourMode == ColourMode::Rgba ? "RGBA" : "grey");
+  std::printf("  colour      %s\n", l.voxelColour == VoxelColour::Rgba ? "RGBA" : "grey");
   std::printf("  tiles       %d x %d voxels, %llu tiles over %d levels\n", g.tileSizeVox(), g.tileSizeVox(),
               static_cast<unsigned long long>(l.tileCount), g.levels);
   for (int level = 0; level < g.levels; ++level) {
     std::printf("    level %2d  %6d x %-6d voxels  %4d x %-4d tiles\n", level, g.levelWidthVox(level),
                 g.levelHeightVox(level), g.tilesX(level), g.tilesY(level));
   }
-  const double raw = static_cast<double>(l.tileCount) * static_cast<double>(rawTileBytes(g.tileShift, l.colourMode));
+  const double raw = static_cast<double>(l.tileCount) * static_cast<double>(rawTileBytes(g.tileShift, l.voxelColour));
   std::printf("  size        %.1f MiB on disk, %.1f MiB of tiles uncompressed (%.2fx)\n",
               static_cast<double>(l.fileBytes) / 1048576.0, raw / 1048576.0,
               raw / static_cast<double>(reader.compressedBytes()));
