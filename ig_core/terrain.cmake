@@ -20,7 +20,8 @@ list(APPEND FIELDCAST_CORE_TEST_SOURCES
   tests/TerrainDatabaseTest.cpp
   tests/BuiltinTerrainTest.cpp
   tests/TileCacheTest.cpp
-  tests/ElevationImportTest.cpp)
+  tests/ElevationImportTest.cpp
+  tests/ProceduralColourTest.cpp)
 
 # libFuzzer target for the database header/index reader and tile decoder: built with the project
 # compiler when that is clang, or with clang++-14 beside a gcc build when FIELDCAST_FUZZ=ON. The

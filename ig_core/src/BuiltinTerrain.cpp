@@ -366,6 +366,16 @@ std::filesystem::path ensureBuiltinDatabase(const std::filesystem::path& cacheDi
   options.threads = threads;
   options.progress = report;
   writeTerrainDatabase(grid, path, options);
+  // Databases of older generator versions will never be asked for again: free their disk space.
+  // (A process still reading one keeps it open; unlinking does not disturb it.)
+  const std::string current = "builtin-g" + std::to_string(kBuiltinGeneratorVersion) + "-";
+  for (const auto& entry : std::filesystem::directory_iterator(cacheDir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("builtin-g", 0) == 0 && name.rfind(current, 0) != 0 && entry.path().extension() == ".fctdb") {
+      spdlog::info("removing {} (an older built-in terrain generator)", entry.path().string());
+      std::filesystem::remove(entry.path(), ec);
+    }
+  }
   return path;
 }
 

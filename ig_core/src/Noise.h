@@ -31,18 +31,13 @@ inline float gradientNoise(float x, float y, std::uint32_t seed) noexcept {
   const int iy = static_cast<int>(fy0);
   const float dx = x - fx0;
   const float dy = y - fy0;
-  // Dot product of the offset with one of eight gradients chosen by the hash.
+  // Dot product of the offset with one of eight gradients chosen by the hash (a table, not a
+  // switch: the hash is random, so a branch per corner would mispredict half the time).
+  static constexpr float kGx[8] = {1.0f, -1.0f, 0.0f, 0.0f, 0.70710678f, 0.70710678f, -0.70710678f, -0.70710678f};
+  static constexpr float kGy[8] = {0.0f, 0.0f, 1.0f, -1.0f, 0.70710678f, -0.70710678f, 0.70710678f, -0.70710678f};
   const auto corner = [seed](int cx, int cy, float ox, float oy) noexcept {
-    switch (hashLattice(cx, cy, seed) & 7u) {
-      case 0: return ox;
-      case 1: return -ox;
-      case 2: return oy;
-      case 3: return -oy;
-      case 4: return 0.70710678f * (ox + oy);
-      case 5: return 0.70710678f * (ox - oy);
-      case 6: return 0.70710678f * (-ox + oy);
-      default: return 0.70710678f * (-ox - oy);
-    }
+    const std::uint32_t g = hashLattice(cx, cy, seed) & 7u;
+    return kGx[g] * ox + kGy[g] * oy;
   };
   const float n00 = corner(ix, iy, dx, dy);
   const float n10 = corner(ix + 1, iy, dx - 1.0f, dy);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 
 namespace fieldcast::core {
 
@@ -16,7 +17,12 @@ ConsoleProgress::ConsoleProgress(std::string job)
 ConsoleProgress::~ConsoleProgress() {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
   if (mTerminal && mDrawn) std::fputs("\n", stderr);
-  if (!mTerminal) spdlog::info("{}: done in {:.1f} s", mJob, seconds);
+  // Destroyed while an exception unwinds: the job failed (its error is reported by the catcher).
+  if (std::uncaught_exceptions() > 0) {
+    spdlog::info("{}: stopped after {:.1f} s", mJob, seconds);
+  } else if (!mTerminal) {
+    spdlog::info("{}: done in {:.1f} s", mJob, seconds);
+  }
 }
 
 void ConsoleProgress::report(std::string_view stage, double fraction) {

@@ -99,11 +99,15 @@ TEST(BuiltinTerrain, CacheDirFollowsTheEnvironment) {
 
 TEST(BuiltinTerrain, GeneratedOnceThenReusedAndRebuiltWhenCorrupt) {
   ScratchDir dir;
+  testing::writeFile(dir / "builtin-g0-512-2000mm-seed1.fctdb", {'o', 'l', 'd'});  // an older generator's
+  testing::writeFile(dir / "mine.fctdb", {'k', 'e', 'e', 'p'});
   int progressCalls = 0;
   const ProgressFn progress = [&](std::string_view, double) { ++progressCalls; };
   const std::filesystem::path path = ensureBuiltinDatabase(dir.path(), smallSpec(), progress, 2);
   EXPECT_EQ(path, builtinDatabasePath(dir.path(), smallSpec()));
   EXPECT_GT(progressCalls, 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "builtin-g0-512-2000mm-seed1.fctdb"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "mine.fctdb"));
   const auto written = std::filesystem::last_write_time(path);
 
   progressCalls = 0;
