@@ -645,13 +645,31 @@ struct ColumnSink {
   float scale;
   Rgb sum;
   float range = std::numeric_limits<float>::infinity();
+  std::uint8_t* pixels = nullptr;  // this column's pixel in row 0
+  std::size_t rowBytes = 0;
+  float* ranges = nullptr;  // this column's range in row 0
+  std::size_t rowFloats = 0;
+
+  ColumnSink(const CasterFrame& frame, int column, int subRows) noexcept
+      : f(frame), u(column), s(subRows), scale(1.0f / static_cast<float>(subRows)) {
+    if (f.image != nullptr) {
+      rowBytes = f.image->strideBytes();
+      pixels = f.image->bytes().data() + static_cast<std::size_t>(u * f.shading.bytesPerPixel());
+    }
+    if (f.rangeM != nullptr) {
+      rowFloats = static_cast<std::size_t>(f.geo->intrinsics().widthPx);
+      ranges = f.rangeM + u;
+    }
+  }
+
+  void put(int v, const Rgb& c, float rangeM, float k) const noexcept {
+    if (pixels != nullptr) f.shading.storePixel(pixels + static_cast<std::size_t>(v) * rowBytes, c, k);
+    if (ranges != nullptr) ranges[static_cast<std::size_t>(v) * rowFloats] = rangeM;
+  }
 
   void emit(int q, const Rgb& c, float rangeM) noexcept {
     if (s == 1) {
-      if (f.image != nullptr) f.shading.store(f.image->row(q), u, c, 1.0f);
-      if (f.rangeM != nullptr) {
-        f.rangeM[static_cast<std::size_t>(q) * static_cast<std::size_t>(f.geo->intrinsics().widthPx) + u] = rangeM;
-      }
+      put(q, c, rangeM, 1.0f);
       return;
     }
     sum.r += c.r;
@@ -660,11 +678,7 @@ struct ColumnSink {
     const int sub = q % s;
     if (sub == s / 2) range = rangeM;
     if (sub != 0) return;
-    const int v = q / s;
-    if (f.image != nullptr) f.shading.store(f.image->row(v), u, sum, scale);
-    if (f.rangeM != nullptr) {
-      f.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(f.geo->intrinsics().widthPx) + u] = range;
-    }
+    put(q / s, sum, range, scale);
     sum = Rgb{};
     range = std::numeric_limits<float>::infinity();
   }
@@ -1013,7 +1027,7 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const double uc = u + 0.5;
   const int s = f.supersample;
-  ColumnSink sink{f, u, s, 1.0f / static_cast<float>(s), {}};
+  ColumnSink sink(f, u, s);
   bool havePrev = false;
   glm::dvec2 prevHit{0.0};
   MarchHit hit;
