@@ -168,6 +168,11 @@ int run(int argc, char** argv) {
               outPath.c_str(), outW, outH, frame.displayWidthPx(), frame.displayHeightPx(), frame.margin.x,
               frame.margin.y, ms, repeat, renderer.threads(),
               static_cast<double>(stats.steps) / static_cast<double>(stats.pixels));
+  if (cache) {
+    const core::TileCacheStats st = cache->stats();
+    std::printf("terrain: %llu tiles resident, %llu samples answered by a coarser level (tile not resident)\n",
+                static_cast<unsigned long long>(st.residentTiles), static_cast<unsigned long long>(st.viewMisses));
+  }
   if (!rangePath.empty()) {
     std::vector<float> range;
     for (int y = y0; y < y0 + outH; ++y) {

@@ -973,7 +973,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       jPos = cur.j + cur.phi + drift;
     }
     skippedSincePrev = false;
-    if (cur.v < vTop) {
+    if (cur.v < vTop && vq > cur.v) {
+      // (A crossing that raises the top by less than a row fills nothing and needs no colour.)
       // Sub-rows between the highest crossing so far and this one see the terrain between the two
       // grid lines: perspective-correct interpolation between the crossings (1/depth is linear in v).
       const double invDv = 1.0 / (cur.v - prev.v);
@@ -996,6 +997,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         }
         vq -= invS;
       }
+    }
+    if (cur.v < vTop) {
       vTop = cur.v;
       setTop(vTop);
     }
