@@ -617,7 +617,7 @@ const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
   x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
   x.haveColour = true;
   if (!f.blend || l + 1 >= f.levels) return x.colour;
-  const double blend = std::clamp(x.depth * f.invLodDepth0M * pow2(1 - l) - 1.0, 0.0, 1.0);
+  const double blend = std::clamp(4.0 * x.depth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
   if (blend <= 0.0) return x.colour;
   const double p = pow2(l);
   const double mMaj = (x.i + 0.5) * p - 0.5;
