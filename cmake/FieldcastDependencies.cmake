@@ -9,6 +9,8 @@ find_package(tomlplusplus CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
 find_package(spdlog CONFIG REQUIRED)
 find_package(zstd CONFIG REQUIRED)
+# libtiff (libtiff-dev): GeoTIFF georeferencing tags, which OpenImageIO 2.4 does not expose (ig_core terrain import).
+find_package(TIFF REQUIRED)
 find_package(nlohmann_json 3 CONFIG REQUIRED)
 
 find_package(PkgConfig REQUIRED)

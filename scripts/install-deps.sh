@@ -14,6 +14,7 @@ build_packages=(
   libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libzstd-dev libxxhash-dev
+  libtiff-dev  # GeoTIFF tags for terrain import (ig_core)
   nlohmann-json3-dev  # the JSON run summary
 )
 interop_packages=(
@@ -21,6 +22,7 @@ interop_packages=(
   gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
   tshark
   clang-14 libclang-rt-14-dev
+  gdal-bin  # GDAL-written GeoTIFFs for the terrain import interop test (ig_core)
   # io_bridge sinks: the live-window test runs against a virtual X server
   xvfb xauth
 )

@@ -21,7 +21,7 @@ build() {  # build <dir> [cmake args...]
 
 if [[ "$mode" == "--soak" ]]; then
   build build
-  ctest --test-dir build -L soak --output-on-failure
+  ctest --test-dir build -L soak --output-on-failure --verbose | grep -E "^[0-9]+: soak|tests passed|Failed|Passed"
   exit 0
 fi
 

@@ -32,6 +32,7 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   if (tick.missedBefore > 0) counters.fieldsMissed.fetch_add(tick.missedBefore, std::memory_order_relaxed);
   mMetrics.record(Measure::FieldJitter, Nanoseconds{std::abs((start - tick.wakeTime).count())});
 
+  if (mBeforeField) mBeforeField(tick);
   // Take the newest complete frame; keep the one we have if nothing newer arrived.
   mFrames.update();
   const Frame& frame = mFrames.hasTaken() ? mFrames.front() : mNoFrame;

@@ -16,6 +16,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 
 namespace fieldcast::app {
 
@@ -37,6 +38,11 @@ class FieldLoop {
   /// Makes one field for `tick` and publishes it (the body of run(); exposed for virtual-time tests).
   void emit(const warp::FieldTick& tick) noexcept;
 
+  /// Called at the start of every field, before the pose is asked for (the stick flight model
+  /// steps here). Must be RT-safe. Set before run().
+  using BeforeField = std::function<void(const warp::FieldTick&)>;
+  void setBeforeField(BeforeField hook) { mBeforeField = std::move(hook); }
+
  private:
   warp::FieldClock& mClock;
   const Clock& mTime;
@@ -46,6 +52,7 @@ class FieldLoop {
   io::SinkHub& mSinks;
   ServiceMetrics& mMetrics;
   PendingInput* mPendingInput;
+  BeforeField mBeforeField;
   Field mField;    // reused for every field: allocated once at construction
   Frame mNoFrame;  // the empty frame warped (to black) before the first frame arrives
   std::uint64_t mLastFallbacks = 0;

@@ -30,7 +30,8 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
     ConfigReader t = top.table("terrain");
     c.terrain.source = t.string("source", "builtin");
     if (c.terrain.source != "builtin") c.terrain.databasePath = t.path("source", "");
-    c.terrain.cacheDir = t.path("cache_dir", "~/.cache/fieldcast");
+    // Empty: $FIELDCAST_CACHE_DIR, else $XDG_CACHE_HOME/fieldcast, else ~/.cache/fieldcast.
+    if (!t.string("cache_dir", "").empty()) c.terrain.cacheDir = t.path("cache_dir", "");
     c.terrain.builtinSizeVoxels = static_cast<int>(t.integer("builtin_size", 8192, 256, 65536));
     if ((c.terrain.builtinSizeVoxels & (c.terrain.builtinSizeVoxels - 1)) != 0) {
       t.fail("builtin_size", "expected a power of two");

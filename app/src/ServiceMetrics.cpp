@@ -38,6 +38,7 @@ std::string ServiceMetrics::intervalLine(TimePoint now) {
     s[m] = mScratch.summary();
     mTotal[m].merge(mScratch);
   }
+  mLastRenderHz = static_cast<double>(frames - mLastFrames) / seconds;
   char line[512];
   std::snprintf(
       line, sizeof line, "render %.1f Hz | fields %llu missed %llu | margin px %llu | warp %s/%s ms",

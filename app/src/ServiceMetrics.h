@@ -54,6 +54,10 @@ class ServiceMetrics {
 
   ServiceCounters counters;  ///< any thread
 
+  /// Starts the run's clock at `start` (the first field), so figures per second count the run,
+  /// not the start-up. Call before the threads record.
+  void startAt(TimePoint start) noexcept { mStart = mLast = start; }
+
   /// Records a duration. Any thread; wait-free, RT-safe.
   void record(Measure m, Nanoseconds d) noexcept { mInterval[static_cast<int>(m)].record(d); }
 
@@ -61,6 +65,9 @@ class ServiceMetrics {
   /// p50/p99, frame age, stick latency when any), then folds the interval into the totals.
   /// Call from one thread (the metrics/main thread).
   std::string intervalLine(TimePoint now);
+
+  /// Render rate of the last interval reported by intervalLine(), Hz.
+  double lastRenderHz() const noexcept { return mLastRenderHz; }
 
   /// The run so far (drains the open interval first). Call from the thread that calls intervalLine.
   ServiceFigures figures(TimePoint now);
@@ -75,6 +82,7 @@ class ServiceMetrics {
   std::uint64_t mLastFields = 0;
   std::uint64_t mLastMissed = 0;
   std::uint64_t mLastMargin = 0;
+  double mLastRenderHz = 0.0;
 };
 
 /// The figures as JSON (seconds, counts), with `extra` fields merged at the top level.

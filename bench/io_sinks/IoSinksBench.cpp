@@ -24,6 +24,7 @@
 #include <cstring>
 #include <filesystem>
 #include <thread>
+#include <vector>
 
 namespace fieldcast::io {
 namespace {
@@ -94,7 +95,7 @@ void BM_CopyField(benchmark::State& state) {
 }
 BENCHMARK(BM_CopyField)->Arg(0)->Arg(1);
 
-// The field thread's cost: SinkHub::publish to one sink, with a free slot each time (the worker
+// The field thread's cost: SinkHub::publish to 1 or 4 sinks, with a free slot each time (the worker
 // is let catch up outside the timed region), i.e. one field copy plus the hand-over.
 class CountingSink final : public FieldSink {
  public:
@@ -110,23 +111,28 @@ class CountingSink final : public FieldSink {
 void BM_HubPublish(benchmark::State& state) {
   const StreamFormat f = formatFor(state.range(0));
   SinkHub hub(f, SinkHubOptions{4});
-  auto sink = std::make_unique<CountingSink>();
-  CountingSink* counter = sink.get();
-  hub.add(std::move(sink));
+  std::vector<CountingSink*> counters;
+  for (std::int64_t i = 0; i < state.range(1); ++i) {
+    auto sink = std::make_unique<CountingSink>();
+    counters.push_back(sink.get());
+    hub.add(std::move(sink));
+  }
   hub.start();
   const Field fields[2] = {fieldFor(f, 0), fieldFor(f, 1)};
   std::uint64_t k = 0;
   for (auto _ : state) {
     hub.publish(fields[k++ % 2]);
     state.PauseTiming();
-    while (counter->consumed.load(std::memory_order_acquire) < k) std::this_thread::yield();
+    for (CountingSink* c : counters) {
+      while (c->consumed.load(std::memory_order_acquire) < k) std::this_thread::yield();
+    }
     state.ResumeTiming();
   }
   hub.stop();
   label(state, f, fields[0].image.bytes().size());
   state.counters["dropped"] = static_cast<double>(hub.droppedTotal());
 }
-BENCHMARK(BM_HubPublish)->Arg(0)->Arg(1);
+BENCHMARK(BM_HubPublish)->ArgsProduct({{0, 1}, {1, 4}});  // one sink, four sinks
 
 void BM_Y4m(benchmark::State& state) {
   const StreamFormat f = formatFor(state.range(0));

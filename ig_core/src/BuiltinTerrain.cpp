@@ -1,7 +1,8 @@
 // The built-in terrain generator. The large forms (coast, plains, fold mountains, the Long Ridge,
 // the island, the river valley) are analytic functions of the normalised position evaluated on a
 // grid 4 voxels apart and interpolated with Catmull-Rom splines (C¹, so hillshade shows no grid);
-// fine detail (three noise octaves of 7–40 m) and the river channel are added per voxel.
+// fine detail (a 40 m noise octave on the spline grid, 17 m and 7.3 m octaves per voxel) and the
+// river channel are added per voxel.
 #include <ig_core/BuiltinTerrain.h>
 
 #include <ig_core/TerrainDatabase.h>
@@ -33,10 +34,10 @@ constexpr double kHeightStepM = 0.05;
 constexpr int kCoarseStride = 4;
 
 // Long Ridge: a crest line between two points (normalised coordinates) standing out of the foothills.
-constexpr glm::dvec2 kRidgeWest{0.07, 0.58};
-constexpr glm::dvec2 kRidgeEast{0.40, 0.69};
+constexpr glm::dvec2 kRidgeWest{0.05, 0.35};
+constexpr glm::dvec2 kRidgeEast{0.40, 0.47};
 constexpr double kRidgeHalfWidth = 0.022;
-constexpr double kRidgeHeightM = 560.0;
+constexpr double kRidgeHeightM = 620.0;
 constexpr glm::dvec2 kIsland{0.30, 0.065};
 constexpr double kIslandRadius = 0.028;
 
@@ -62,6 +63,7 @@ class Shape {
   // Northern edge of the sea at longitude u: a wavy line with a bay in the east and a headland in the west.
   double coastV(double u) const noexcept {
     return 0.15 + 0.03 * detail::fbm(static_cast<float>(u * 5.0), 0.37f, 3, mSeed + 1) +
+           0.012 * detail::fbm(static_cast<float>(u * 40.0), 0.71f, 4, mSeed + 8) +
            0.06 * std::exp(-sq((u - 0.78) / 0.06)) - 0.035 * std::exp(-sq((u - 0.20) / 0.05));
   }
   // The river's centre line: a function of v so it never doubles back; meanders more in the plains.
@@ -94,10 +96,14 @@ class Shape {
     const glm::dvec2 p{u, v};
     const glm::dvec2 seg = kRidgeEast - kRidgeWest;
     const double t = std::clamp(glm::dot(p - kRidgeWest, seg) / glm::dot(seg, seg), 0.0, 1.0);
-    const double dist = glm::length(p - (kRidgeWest + t * seg));
+    // A wobbling outline, a crest that rises and dips, and spurs and gullies down the flanks.
+    const double dist =
+        glm::length(p - (kRidgeWest + t * seg)) + 0.006 * detail::fbm(fu * 30.0f, fv * 30.0f, 3, mSeed + 9);
     const double taper = smoothstep(0.0, 0.12, t) * (1.0 - smoothstep(0.88, 1.0, t));
-    const double ridgeShape = taper * std::exp(-sq(dist / kRidgeHalfWidth)) *
-                              (0.85 + 0.15 * detail::fbm(static_cast<float>(t * 14.0), 0.5f, 2, mSeed + 6));
+    const double profile = std::exp(-std::pow(std::fabs(dist) / kRidgeHalfWidth, 1.4));
+    const double spurs = 0.7 + 0.3 * detail::ridged(fu * 28.0f, fv * 28.0f, 4, mSeed + 10);
+    const double ridgeShape =
+        taper * profile * spurs * (0.75 + 0.25 * detail::fbm(static_cast<float>(t * 8.0), 0.5f, 3, mSeed + 6));
     land += mAmp * kRidgeHeightM * ridgeShape;
     // Sea floor shelving away from the coast, and an island off the western headland.
     const double sea = -3.0 - 70.0 * smoothstep(0.0, 0.10, -d);
@@ -111,7 +117,7 @@ class Shape {
       valley = smoothstep(0.2 * halfWidth, halfWidth, std::fabs(u - riverU(v)));
       h = floorM + (h - floorM) * valley;
     }
-    const double roughness = mAmp * (0.4 + 3.5 * m + 2.0 * ridgeShape) * (0.25 + 0.75 * valley) * landWeight;
+    const double roughness = mAmp * (0.4 + 3.5 * m + 10.0 * ridgeShape) * (0.25 + 0.75 * valley) * landWeight;
     return {h, roughness};
   }
 
@@ -213,7 +219,11 @@ BuiltinHeights generateBuiltinHeights(const BuiltinTerrainSpec& spec, int thread
       for (int ci = 0; ci < coarse; ++ci) {
         const double u = (ci - 1) * kCoarseStride * dx / extent;
         const MacroSample s = shape.macro(u, v);
-        macroH[static_cast<std::size_t>(cj) * coarse + ci] = static_cast<float>(s.heightM);
+        // The 40 m detail octave is smooth enough for the 8 m spline grid: add it here, once.
+        const auto xM = static_cast<float>((ci - 1) * kCoarseStride * dx);
+        const auto yM = static_cast<float>((cj - 1) * kCoarseStride * dx);
+        const double octave40 = 0.55 * s.roughnessM * detail::gradientNoise(xM / 40.0f, yM / 40.0f, shape.seed() + 20);
+        macroH[static_cast<std::size_t>(cj) * coarse + ci] = static_cast<float>(s.heightM + octave40);
         macroRough[static_cast<std::size_t>(cj) * coarse + ci] = static_cast<float>(s.roughnessM);
       }
     }

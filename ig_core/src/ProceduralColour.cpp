@@ -36,6 +36,44 @@ constexpr Rgb kDeep{18, 46, 86};
 constexpr std::array<Rgb, 6> kFields = {Rgb{104, 138, 58}, Rgb{142, 152, 78}, Rgb{88, 118, 48},
                                         Rgb{168, 150, 96}, Rgb{120, 100, 72}, Rgb{96, 128, 64}};
 
+// A smooth noise field sampled every kStride voxels and interpolated bilinearly: the large-scale
+// variations (hundreds of metres) cost one evaluation per kStride² voxels instead of one each.
+class CoarseField {
+ public:
+  static constexpr int kStride = 8;
+  template <typename Fn>
+  CoarseField(int w, int h, double spacingM, int threads, Fn&& noiseAtMetres)
+      : mW(w / kStride + 2), mH(h / kStride + 2), mValues(static_cast<std::size_t>(mW) * mH) {
+    detail::parallelFor(static_cast<std::size_t>(mH), threads, 8, [&](std::size_t begin, std::size_t end) {
+      for (auto cj = static_cast<int>(begin); cj < static_cast<int>(end); ++cj) {
+        for (int ci = 0; ci < mW; ++ci) {
+          mValues[static_cast<std::size_t>(cj) * mW + ci] =
+              noiseAtMetres(static_cast<float>(ci * kStride * spacingM), static_cast<float>(cj * kStride * spacingM));
+        }
+      }
+    });
+  }
+  float at(int i, int j) const noexcept {
+    const int ci = i / kStride, cj = j / kStride;
+    const float tx = static_cast<float>(i % kStride) / kStride;
+    const float ty = static_cast<float>(j % kStride) / kStride;
+    const float* r0 = mValues.data() + static_cast<std::size_t>(cj) * mW + ci;
+    const float* r1 = r0 + mW;
+    return (r0[0] * (1 - tx) + r0[1] * tx) * (1 - ty) + (r1[0] * (1 - tx) + r1[1] * tx) * ty;
+  }
+
+ private:
+  int mW, mH;
+  std::vector<float> mValues;
+};
+
+// atan in degrees for x ≥ 0, within 0.3°: the palette needs slope classes, not exact angles.
+double slopeDegrees(double tangent) noexcept {
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  if (tangent <= 1.0) return kDeg * tangent / (1.0 + 0.28 * tangent * tangent);
+  return kDeg * (std::numbers::pi / 2 - tangent / (tangent * tangent + 0.28));
+}
+
 }  // namespace
 
 std::vector<std::uint32_t> bakeProceduralColour(const TerrainGeometry& geometry, std::span<const std::uint16_t> heightQ,
@@ -58,6 +96,14 @@ std::vector<std::uint32_t> bakeProceduralColour(const TerrainGeometry& geometry,
   const double spacing = geometry.spacingM;
   const std::uint32_t seed = options.seed * 0x9E3779B9u + 0x1234567u;
   std::vector<std::uint32_t> colours(count);
+  const CoarseField patchField(w, h, spacing, options.threads,
+                               [seed](float x, float y) { return detail::fbm(x / 400.0f, y / 400.0f, 3, seed + 7); });
+  const CoarseField jitterX(w, h, spacing, options.threads, [seed](float x, float y) {
+    return detail::gradientNoise(x / 300.0f, y / 300.0f, seed + 11);
+  });
+  const CoarseField jitterY(w, h, spacing, options.threads, [seed](float x, float y) {
+    return detail::gradientNoise(x / 300.0f, y / 300.0f, seed + 12);
+  });
 
   detail::parallelFor(static_cast<std::size_t>(h), options.threads, 16, [&](std::size_t rowBegin, std::size_t rowEnd) {
     for (auto j = static_cast<int>(rowBegin); j < static_cast<int>(rowEnd); ++j) {
@@ -74,8 +120,8 @@ std::vector<std::uint32_t> bakeProceduralColour(const TerrainGeometry& geometry,
             (static_cast<double>(row[std::min(i + 1, w - 1)]) - row[std::max(i - 1, 0)]) * step / (2.0 * spacing);
         const double dzdy = (static_cast<double>(north[i]) - south[i]) * step / (2.0 * spacing);
         const double gradient = std::sqrt(dzdx * dzdx + dzdy * dzdy);
-        const double slopeDeg = std::atan(gradient) * 180.0 / std::numbers::pi;
-        const float patch = detail::fbm(xM / 400.0f, yM / 400.0f, 3, seed + 7);  // large-scale variation
+        const double slopeDeg = slopeDegrees(gradient);
+        const float patch = patchField.at(i, j);  // large-scale variation
         const int depth = waterDepthM.empty()
                               ? (zM <= options.seaLevelM ? 1 + static_cast<int>(options.seaLevelM - zM) : 0)
                               : waterDepthM[k];
@@ -85,16 +131,16 @@ std::vector<std::uint32_t> bakeProceduralColour(const TerrainGeometry& geometry,
           c = mix(kShallow, kDeep, std::sqrt(std::min(depth, 40) / 40.0));
         } else {
           // Lowland fields: a patchwork of rectangles about 60–120 m, jittered.
-          const float fx = xM / 90.0f + 0.3f * detail::gradientNoise(xM / 300.0f, yM / 300.0f, seed + 11);
-          const float fy = yM / 70.0f + 0.3f * detail::gradientNoise(xM / 300.0f, yM / 300.0f, seed + 12);
+          const float fx = xM / 90.0f + 0.3f * jitterX.at(i, j);
+          const float fy = yM / 70.0f + 0.3f * jitterY.at(i, j);
           const std::uint32_t cell =
               detail::hashLattice(static_cast<int>(std::floor(fx)), static_cast<int>(std::floor(fy)), seed + 13);
           Rgb land = kFields[cell % kFields.size()];
           // Forest on slopes and at mid elevation, with a ragged edge from noise.
           const double forestEdge = 0.5 + 0.5 * patch;
           const double forest =
-              detail::smoothstep(0.3, 0.6,
-                                 forestEdge + 0.02 * slopeDeg + detail::smoothstep(80.0, 400.0, zM) * 0.5 -
+              detail::smoothstep(0.55, 0.75,
+                                 forestEdge + 0.015 * slopeDeg + 0.35 * detail::smoothstep(60.0, 400.0, zM) -
                                      detail::smoothstep(1100.0, 1400.0, zM));
           land = mix(land, kForest, forest);
           land = mix(land, kMeadow, detail::smoothstep(1150.0, 1400.0, zM + 120.0 * patch) * (1.0 - forest * 0.5));

@@ -44,7 +44,7 @@ BuildReport writeTerrainDatabase(const TerrainGrid& grid, const std::filesystem:
   layout.geometry.tileShift = options.tileShift;
   layout.geometry.levels = 1;
   layout.geometry.levels = layout.geometry.maxLevels();
-  layout.colourMode = options.colourMode;
+  layout.voxelColour = options.voxelColour;
   const TerrainGeometry& g = layout.geometry;
   if (g.widthVox < 1 || g.heightVox < 1 || g.widthVox > kMaxDatabaseSideVox || g.heightVox > kMaxDatabaseSideVox ||
       options.tileShift < kMinTileShift || options.tileShift > kMaxTileShift) {
@@ -79,7 +79,7 @@ BuildReport writeTerrainDatabase(const TerrainGrid& grid, const std::filesystem:
         const TileRef& t = tiles[first + k];
         cutTile(pyramid[static_cast<std::size_t>(t.level)], g.tileShift, t.tx, t.ty, buffers.heightQ,
                 buffers.maxHeightQ, buffers.colourRgba);
-        compressed[k] = encodeTile(buffers, g.tileShift, layout.colourMode, options.zstdLevel);
+        compressed[k] = encodeTile(buffers, g.tileShift, layout.voxelColour, options.zstdLevel);
       }
     });
     for (std::size_t k = 0; k < count; ++k) {
@@ -93,7 +93,7 @@ BuildReport writeTerrainDatabase(const TerrainGrid& grid, const std::filesystem:
   BuildReport report;
   report.geometry = g;
   report.tileCount = tiles.size();
-  report.rawBytes = tiles.size() * rawTileBytes(g.tileShift, layout.colourMode);
+  report.rawBytes = tiles.size() * rawTileBytes(g.tileShift, layout.voxelColour);
   report.fileBytes = writer.commit();
   return report;
 }

@@ -118,9 +118,9 @@ std::uint64_t tileIndexPosition(const TerrainGeometry& geometry, int level, int 
          static_cast<std::uint64_t>(tx);
 }
 
-std::size_t rawTileBytes(int tileShift, ColourMode mode) noexcept {
+std::size_t rawTileBytes(int tileShift, VoxelColour mode) noexcept {
   const std::size_t n = std::size_t{1} << (2 * tileShift);
-  return n * (2 + 2 + (mode == ColourMode::Rgba ? 4 : 1));
+  return n * (2 + 2 + (mode == VoxelColour::Rgba ? 4 : 1));
 }
 
 DatabaseLayout parseDatabaseHeader(std::span<const std::byte> header, std::uint64_t actualFileBytes,
@@ -178,9 +178,9 @@ DatabaseLayout parseDatabaseHeader(std::span<const std::byte> header, std::uint6
                        std::to_string(g.maxLevels()) + ")");
   }
   g.levels = static_cast<int>(levels);
-  const auto colourMode = load<std::uint32_t>(header, kOffColourMode);
-  if (colourMode > 1) fail(fileName, "unknown colour mode " + std::to_string(colourMode));
-  layout.colourMode = static_cast<ColourMode>(colourMode);
+  const auto voxelColour = load<std::uint32_t>(header, kOffColourMode);
+  if (voxelColour > 1) fail(fileName, "unknown colour mode " + std::to_string(voxelColour));
+  layout.voxelColour = static_cast<VoxelColour>(voxelColour);
   if (load<std::uint32_t>(header, kOffTileEncoding) != kTileEncodingDeltaZstd) {
     fail(fileName, "unknown tile encoding " + std::to_string(load<std::uint32_t>(header, kOffTileEncoding)));
   }
@@ -211,7 +211,7 @@ std::vector<TileIndexEntry> parseTileIndex(std::span<const std::byte> index, con
     fail(fileName, "tile index is " + std::to_string(index.size()) + " bytes, expected " + std::to_string(indexBytes));
   }
   const std::uint64_t dataStart = kDatabaseHeaderBytes + indexBytes;
-  const std::size_t maxCompressed = ZSTD_compressBound(rawTileBytes(layout.geometry.tileShift, layout.colourMode));
+  const std::size_t maxCompressed = ZSTD_compressBound(rawTileBytes(layout.geometry.tileShift, layout.voxelColour));
   std::vector<TileIndexEntry> entries(static_cast<std::size_t>(layout.tileCount));
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const std::span<const std::byte> raw = index.subspan(k * kTileIndexEntryBytes, kTileIndexEntryBytes);
@@ -256,7 +256,7 @@ std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout, std
   store<double>(h, kOffHeightStep, g.heightStepM);
   store<std::uint32_t>(h, kOffTileShift, static_cast<std::uint32_t>(g.tileShift));
   store<std::uint32_t>(h, kOffLevels, static_cast<std::uint32_t>(g.levels));
-  store<std::uint32_t>(h, kOffColourMode, static_cast<std::uint32_t>(layout.colourMode));
+  store<std::uint32_t>(h, kOffColourMode, static_cast<std::uint32_t>(layout.voxelColour));
   store<std::uint32_t>(h, kOffTileEncoding, kTileEncodingDeltaZstd);
   store<std::uint64_t>(h, kOffTileCount, layout.tileCount);
   store<std::uint64_t>(h, kOffIndexOffset, kDatabaseHeaderBytes);
@@ -266,7 +266,7 @@ std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout, std
   return header;
 }
 
-std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, ColourMode mode, int zstdLevel) {
+std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, VoxelColour mode, int zstdLevel) {
   const int side = 1 << tileShift;
   const std::size_t n = std::size_t{1} << (2 * tileShift);
   std::vector<std::byte> raw(rawTileBytes(tileShift, mode));
@@ -277,7 +277,7 @@ std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, Colour
   deltaEncodeRows(heights, side);
   deltaEncodeRows(maxima, side);
   auto* planes = reinterpret_cast<std::uint8_t*>(maxima + n);
-  if (mode == ColourMode::Rgba) {
+  if (mode == VoxelColour::Rgba) {
     for (int c = 0; c < 4; ++c) {
       std::uint8_t* plane = planes + static_cast<std::size_t>(c) * n;
       for (std::size_t k = 0; k < n; ++k) plane[k] = static_cast<std::uint8_t>(tile.colourRgba[k] >> (8 * c));
@@ -294,7 +294,7 @@ std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, Colour
   return compressed;
 }
 
-void decodeTile(std::span<const std::byte> compressed, const TileIndexEntry& entry, int tileShift, ColourMode mode,
+void decodeTile(std::span<const std::byte> compressed, const TileIndexEntry& entry, int tileShift, VoxelColour mode,
                 TileBuffers& out, const std::string& what) {
   if (compressed.size() != entry.compressedBytes) {
     fail(what,
@@ -323,7 +323,7 @@ void decodeTile(std::span<const std::byte> compressed, const TileIndexEntry& ent
   std::memcpy(out.heightQ.data(), heights, n * 2);
   std::memcpy(out.maxHeightQ.data(), maxima, n * 2);
   auto* planes = reinterpret_cast<std::uint8_t*>(maxima + n);
-  if (mode == ColourMode::Rgba) {
+  if (mode == VoxelColour::Rgba) {
     for (int c = 0; c < 4; ++c) deltaDecodeRows(planes + static_cast<std::size_t>(c) * n, side);
     for (std::size_t k = 0; k < n; ++k) {
       out.colourRgba[k] = std::uint32_t{planes[k]} | (std::uint32_t{planes[n + k]} << 8) |
@@ -409,7 +409,7 @@ void DatabaseReader::readTile(int level, int tx, int ty, TileBuffers& out) const
   thread_local std::vector<std::byte> compressed;
   compressed.resize(e.compressedBytes);
   readExactly(mFd, e.offset, compressed, what.str());
-  decodeTile(compressed, e, mLayout.geometry.tileShift, mLayout.colourMode, out, what.str());
+  decodeTile(compressed, e, mLayout.geometry.tileShift, mLayout.voxelColour, out, what.str());
 }
 
 // ---------------------------------------------------------------------------------------------

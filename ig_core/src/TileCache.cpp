@@ -370,8 +370,7 @@ void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, 
       points.push_back(ahead + offset);
     }
   }
-  std::vector<glm::dvec2> hull;
-  hull.reserve(points.size() + 1);
+  std::vector<glm::dvec2>& hull = mFootprintScratch;
   convexHull(points, hull);
 
   for (int level = 0; level < mPinnedFromLevel; ++level) {

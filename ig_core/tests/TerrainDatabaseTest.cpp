@@ -29,10 +29,10 @@ void expectDatabaseError(Fn&& fn, const std::vector<std::string>& fragments) {
   }
 }
 
-BuildOptions smallTiles(ColourMode mode = ColourMode::Rgba) {
+BuildOptions smallTiles(VoxelColour mode = VoxelColour::Rgba) {
   BuildOptions options;
   options.tileShift = 4;
-  options.colourMode = mode;
+  options.voxelColour = mode;
   options.threads = 2;
   return options;
 }
@@ -74,9 +74,9 @@ TEST(TerrainDatabase, GreyModeStoresLuma) {
   ScratchDir dir;
   TerrainGrid grid = testing::randomTerrainGrid(20, 20, 2);
   grid.colourRgba.assign(grid.colourRgba.size(), packRgba(200, 100, 50));
-  writeTerrainDatabase(grid, dir / "g.fctdb", smallTiles(ColourMode::Grey));
+  writeTerrainDatabase(grid, dir / "g.fctdb", smallTiles(VoxelColour::Grey));
   const DatabaseReader reader(dir / "g.fctdb");
-  EXPECT_EQ(reader.layout().colourMode, ColourMode::Grey);
+  EXPECT_EQ(reader.layout().voxelColour, VoxelColour::Grey);
   TileBuffers tile;
   reader.readTile(0, 0, 0, tile);
   const std::uint32_t y = (77u * 200 + 150u * 100 + 29u * 50 + 128u) >> 8;

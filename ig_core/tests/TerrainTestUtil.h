@@ -61,8 +61,10 @@ inline TerrainGrid randomTerrainGrid(int w, int h, std::uint32_t seed) {
 
 /// Reads a whole file.
 inline std::vector<char> readFile(const std::filesystem::path& path) {
+  std::vector<char> bytes(static_cast<std::size_t>(std::filesystem::file_size(path)));
   std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  return bytes;
 }
 
 /// Writes a whole file.

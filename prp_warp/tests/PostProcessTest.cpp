@@ -40,6 +40,17 @@ TEST(ConvertPixels, Bt601VideoRangeUyvyOfReferenceColours) {
   EXPECT_EQ(out.row(0)[0], 128);
 }
 
+TEST(ConvertPixels, UyvyStaysInVideoRangeForEveryExtremeColour) {
+  Image out(2, 1, PixelFormat::Uyvy422);
+  for (int c = 0; c < 64; ++c) {
+    const auto level = [&](int bit) { return static_cast<std::uint8_t>((c >> bit) & 1 ? 255 : 0); };
+    ASSERT_TRUE(convertPixels(rgbPair({level(0), level(1), level(2)}, {level(3), level(4), level(5)}), out));
+    const std::uint8_t* p = out.row(0);
+    for (int i : {1, 3}) EXPECT_TRUE(p[i] >= 16 && p[i] <= 235) << c;
+    for (int i : {0, 2}) EXPECT_TRUE(p[i] >= 16 && p[i] <= 240) << c;
+  }
+}
+
 TEST(ConvertPixels, GreyAndRgbConversions) {
   Image grey(2, 1, PixelFormat::Grey8);
   ASSERT_TRUE(convertPixels(rgbPair({255, 0, 0}, {10, 200, 30}), grey));

@@ -140,7 +140,7 @@ int descriptor(const std::string& path) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int runTool(int argc, char** argv) {
   CLI::App app{"fieldcast-stick: list, show, record and replay control sticks"};
   app.require_subcommand(1);
   std::string source, file, profile;
@@ -178,4 +178,15 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return runTool(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fieldcast-stick: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "fieldcast-stick: unexpected error\n");
+  }
+  return 1;
 }

@@ -29,7 +29,7 @@ struct BuiltinTerrainSpec {
 };
 
 /// Bumped whenever the generator's output changes, so stale caches are not reused.
-inline constexpr int kBuiltinGeneratorVersion = 1;
+inline constexpr int kBuiltinGeneratorVersion = 2;
 
 /// A named place of the built-in terrain, for scripting flights.
 struct BuiltinLandmark {

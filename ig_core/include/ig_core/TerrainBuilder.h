@@ -35,7 +35,7 @@ std::uint16_t quantiseHeight(double heightM, const HeightQuantisation& q) noexce
 /// Options of a database build.
 struct BuildOptions {
   int tileShift = 8;  ///< tiles of 256² voxels
-  ColourMode colourMode = ColourMode::Rgba;
+  VoxelColour voxelColour = VoxelColour::Rgba;
   int zstdLevel = 3;    ///< zstd's default: fast and about as small as level 9 here
   int threads = 0;      ///< 0: every core
   ProgressFn progress;  ///< stages "pyramid", "tiles"

@@ -27,7 +27,7 @@ class TerrainDatabaseError : public std::runtime_error {
 };
 
 /// How colours are stored: four channels, or one grey channel (expanded to RGBA when loaded).
-enum class ColourMode : std::uint8_t { Rgba = 0, Grey = 1 };
+enum class VoxelColour : std::uint8_t { Rgba = 0, Grey = 1 };
 
 /// "FCTERRDB": the first eight bytes of every database.
 inline constexpr char kDatabaseMagic[8] = {'F', 'C', 'T', 'E', 'R', 'R', 'D', 'B'};
@@ -46,7 +46,7 @@ inline constexpr int kMaxTileShift = 11;
 /// What the header says, after validation.
 struct DatabaseLayout {
   TerrainGeometry geometry;  ///< levels and tile shift included
-  ColourMode colourMode = ColourMode::Rgba;
+  VoxelColour voxelColour = VoxelColour::Rgba;
   std::uint64_t tileCount = 0;  ///< all tiles of all levels
   std::uint64_t fileBytes = 0;  ///< the length the header promises
 };
@@ -73,7 +73,7 @@ std::uint64_t totalTileCount(const TerrainGeometry& geometry) noexcept;
 /// Position of tile (level, tx, ty) in the index: level by level, rows north, tiles east.
 std::uint64_t tileIndexPosition(const TerrainGeometry& geometry, int level, int tx, int ty) noexcept;
 /// Bytes of one uncompressed tile in a database of this colour mode.
-std::size_t rawTileBytes(int tileShift, ColourMode mode) noexcept;
+std::size_t rawTileBytes(int tileShift, VoxelColour mode) noexcept;
 
 /// Parses and validates the 128-byte header of `fileName` whose real length is `actualFileBytes`.
 /// Throws TerrainDatabaseError naming the file and the field that is wrong.
@@ -88,10 +88,10 @@ std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout, std
 std::vector<std::byte> serializeTileIndex(std::span<const TileIndexEntry> entries);
 
 /// Compresses one tile (delta-coded planes, zstd at `zstdLevel`). Thread-safe.
-std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, ColourMode mode, int zstdLevel);
+std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, VoxelColour mode, int zstdLevel);
 /// Checks the checksum and decodes one compressed tile into `out` (resized). `what` names the
 /// tile in errors ("terrain.fctdb: tile L0 (3, 4)"). Throws TerrainDatabaseError. Thread-safe.
-void decodeTile(std::span<const std::byte> compressed, const TileIndexEntry& entry, int tileShift, ColourMode mode,
+void decodeTile(std::span<const std::byte> compressed, const TileIndexEntry& entry, int tileShift, VoxelColour mode,
                 TileBuffers& out, const std::string& what);
 
 /// An open database: header and index validated, tiles read on demand with pread (thread-safe).

@@ -202,8 +202,9 @@ class TileCache {
   std::uint64_t mGeneration = 0;
   bool mStop = false;
   bool mBusy = false;
-  std::vector<TileKey> mScratch;         // prefetch thread only
-  std::vector<glm::dvec2> mHullScratch;  // prefetch thread only
+  std::vector<TileKey> mScratch;              // prefetch thread only
+  std::vector<glm::dvec2> mHullScratch;       // prefetch thread only: footprint points
+  std::vector<glm::dvec2> mFootprintScratch;  // prefetch thread only: their convex hull
 
   // Counters.
   std::atomic<std::uint64_t> mResidentTiles{0};

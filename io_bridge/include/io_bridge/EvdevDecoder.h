@@ -67,6 +67,7 @@ class EvdevDecoder {
   void apply(std::uint16_t type, std::uint16_t code, std::int32_t value, std::int64_t tNs,
              std::vector<InputEvent>& out);
   void resync(std::int64_t tNs, std::vector<InputEvent>& out, bool everything);
+  void endFrame(std::int64_t tNs, std::size_t before, bool forceHat, std::vector<InputEvent>& out);
 
   EvdevStateQuery* mResync;
   bool mDropping = false;
@@ -74,6 +75,8 @@ class EvdevDecoder {
   std::vector<EvdevCodeValue> mQueried;
   std::array<std::int32_t, ABS_CNT> mAbs{};
   std::bitset<KEY_CNT> mKeys;
+  std::int32_t mHat = kHatCentred;  // last hat direction emitted
+  bool mHasHat = false;             // the device reports HAT0X/HAT0Y (known after a state query)
   std::uint64_t mDropped = 0;
   std::uint64_t mFrames = 0;
 };

@@ -54,6 +54,10 @@ struct GpioLineConfig {
   std::string consumer = "fieldcast";
 };
 
+/// Parses "gpiochip0:17", optionally followed by ":active_low" and one of ":pull_up", ":pull_down",
+/// ":bias_off" (in any order). Throws std::runtime_error naming the text and what was expected.
+GpioLineConfig parseGpioLineSpec(const std::string& spec);
+
 /// Requests both-edge events on a line through libgpiod v1. Throws std::runtime_error naming the
 /// chip, the line and the reason.
 std::unique_ptr<GpioEdgeLine> openGpiodEdgeLine(const GpioLineConfig& config);

@@ -7,6 +7,7 @@
 #include <io_bridge/HidReportDescriptor.h>
 #include <io_bridge/InputEvent.h>
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -96,6 +97,7 @@ class HidInputTranslator {
   std::vector<std::int32_t> mLast;             // last emitted value per control
   std::vector<bool> mSeen;                     // control reported at least once
   std::vector<std::uint8_t> mTouched;
+  std::array<std::vector<int>, 256> mArrayControls;  // per report ID: controls selected through arrays
 };
 
 }  // namespace fieldcast::io

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ std::vector<HidrawDeviceInfo> listHidrawDevices();
 class HidrawSource final : public InputSource {
  public:
   explicit HidrawSource(const std::string& path);
+  /// Reads reports from `fd` (taken over; closed on destruction) with the given descriptor: the
+  /// seam tests use with a SOCK_SEQPACKET socket, which keeps one report per read() as hidraw does.
+  HidrawSource(int fd, std::span<const std::uint8_t> descriptor, std::string name);
   ~HidrawSource() override;
   HidrawSource(const HidrawSource&) = delete;
   HidrawSource& operator=(const HidrawSource&) = delete;
@@ -48,6 +52,8 @@ class HidrawSource final : public InputSource {
   DeviceDescription mDescription;
   InputSourceStats mStats;
   std::vector<std::uint8_t> mBuffer;
+
+  void setUp(std::span<const std::uint8_t> descriptor);  // parse, size the buffer, describe
 };
 
 }  // namespace fieldcast::io

@@ -18,6 +18,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <istream>
 #include <span>
 #include <string>
 #include <vector>
@@ -48,6 +49,8 @@ struct InputRecording {
 
 /// Reads a recording. Throws std::runtime_error naming "file:line: what was expected".
 InputRecording readInputRecording(const std::filesystem::path& path);
+/// Parses a recording from a stream; `origin` names it in errors. Throws as readInputRecording.
+InputRecording parseInputRecording(std::istream& in, const std::string& origin);
 
 /// How a replay is paced.
 enum class ReplayPacing : std::uint8_t {

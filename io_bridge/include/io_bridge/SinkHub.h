@@ -1,8 +1,8 @@
 #pragma once
-// The fan-out from the field thread to the sinks. publish() copies the field into a free slot of
-// each sink's bounded queue and wakes that sink's worker; it never waits, never allocates and
-// never fails. A sink whose queue is full loses that field (counted); a sink that ends (broken
-// pipe) is logged once and skipped from then on, and the service carries on.
+// The fan-out from the field thread to the sinks. publish() copies the field once into a free
+// slot of a preallocated pool, queues that slot on each sink's bounded queue and wakes that sink's
+// worker; it never waits, never allocates and never fails. A sink whose queue is full loses that field (counted); a
+// sink that ends (broken pipe) is logged once and skipped from then on, and the service carries on.
 
 #include <io_bridge/FieldSink.h>
 #include <io_bridge/StreamFormat.h>
@@ -25,6 +25,7 @@ struct SinkFigures {
   std::uint64_t rejected = 0;      ///< fields that did not match the stream format
   std::uint64_t maxConsumeNs = 0;  ///< longest consume() call
   std::uint64_t totalConsumeNs = 0;
+  bool realtime = false;  ///< its worker runs SCHED_FIFO (asked for and granted)
   bool ended = false;     ///< the sink has stopped for good
   std::string endReason;  ///< why, when ended
 };
@@ -32,6 +33,14 @@ struct SinkFigures {
 /// Queue depth and other knobs of a SinkHub.
 struct SinkHubOptions {
   int queueDepth = 3;  ///< fields each sink may have waiting (1–64); more absorbs longer stalls
+};
+
+/// How one sink's worker runs.
+struct SinkWorkerOptions {
+  /// SCHED_FIFO priority (1–99) for the worker, e.g. for the GPIO pulse whose edges must be on
+  /// time; 0 keeps the normal scheduler. A refusal (no CAP_SYS_NICE / rtprio limit) is logged
+  /// once and the sink runs anyway.
+  int realtimePriority = 0;
 };
 
 /// Owns the sinks and one worker thread per sink.
@@ -43,13 +52,14 @@ class SinkHub {
   SinkHub(const SinkHub&) = delete;
   SinkHub& operator=(const SinkHub&) = delete;
 
-  /// Adds a sink before start(). Preallocates its queue slots (full-raster fields). Not RT-safe.
-  void add(std::unique_ptr<FieldSink> sink);
-  /// Starts one worker per sink and waits until every sink has opened. If any open() throws, all
+  /// Adds a sink before start(). Not RT-safe.
+  void add(std::unique_ptr<FieldSink> sink, SinkWorkerOptions worker = {});
+  /// Preallocates the field pool (queueDepth × sinks + 1 full-size fields), starts one worker
+  /// per sink and waits until every sink has opened. If any open() throws, all
   /// workers are stopped and std::runtime_error names each sink that failed and why.
   void start();
   /// Offers a field to every live sink. Field thread only. RT-safe: no lock, no allocation, no
-  /// wait; costs one copy of the field per sink.
+  /// wait; costs one copy of the field, whatever the number of sinks.
   void publish(const Field& field) noexcept;
   /// Lets every sink finish the fields already queued, closes them and joins the workers.
   /// Idempotent.
@@ -65,9 +75,13 @@ class SinkHub {
 
  private:
   struct Lane;
+  struct Pool;
+  void allocatePool();
   StreamFormat mFormat;
   SinkHubOptions mOptions;
   std::vector<std::unique_ptr<Lane>> mLanes;
+  std::unique_ptr<Pool> mPool;
+  std::vector<std::uint8_t> mTakes;  // per publish: which lanes take the field (sized at start)
   bool mRunning = false;
 };
 

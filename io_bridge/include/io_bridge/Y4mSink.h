@@ -42,6 +42,8 @@ class Y4mSink final : public FieldSink {
   /// Frames written so far, and frames written with one field missing (its rows keep the
   /// previous field of that parity).
   std::uint64_t framesWritten() const noexcept;
+  /// Frames written again in place of frames whose fields never came (missed by the field thread).
+  std::uint64_t framesRepeated() const noexcept;
   std::uint64_t incompleteFrames() const noexcept;
 
  private:

@@ -1,6 +1,8 @@
 // Both-edge event lines through libgpiod v1 (the API of Debian 12's libgpiod 1.6).
 #include <io_bridge/GpioInput.h>
 
+#include "input/SystemError.h"
+
 #include <gpiod.h>
 
 #include <algorithm>
@@ -18,10 +20,10 @@ class GpiodEdgeLine final : public GpioEdgeLine {
  public:
   explicit GpiodEdgeLine(const GpioLineConfig& c) : mName(c.chip + ":" + std::to_string(c.offset)) {
     mChip = gpiod_chip_open_lookup(c.chip.c_str());
-    if (mChip == nullptr) throw std::runtime_error("GPIO chip \"" + c.chip + "\": " + std::strerror(errno));
+    if (mChip == nullptr) throw std::runtime_error("GPIO chip \"" + c.chip + "\": " + errnoMessage(errno));
     mLine = gpiod_chip_get_line(mChip, c.offset);
     if (mLine == nullptr) {
-      const std::string why = std::strerror(errno);
+      const std::string why = errnoMessage(errno);
       gpiod_chip_close(mChip);
       throw std::runtime_error("GPIO " + mName + ": no such line (" + why + ")");
     }
@@ -33,7 +35,7 @@ class GpiodEdgeLine final : public GpioEdgeLine {
       case GpioBias::PullDown: flags |= GPIOD_LINE_REQUEST_FLAG_BIAS_PULL_DOWN; break;
     }
     if (gpiod_line_request_both_edges_events_flags(mLine, c.consumer.c_str(), flags) != 0) {
-      const std::string why = std::strerror(errno);
+      const std::string why = errnoMessage(errno);
       const char* holder = gpiod_line_consumer(mLine);
       gpiod_chip_close(mChip);
       throw std::runtime_error("GPIO " + mName + ": edge events refused (" + why + ")" +

@@ -5,7 +5,8 @@ set(_gpio "${CMAKE_CURRENT_LIST_DIR}")
 target_sources(fieldcast_io PRIVATE
   ${_gpio}/ExternalSync.cpp
   ${_gpio}/GpioInputs.cpp
-  ${_gpio}/GpiodEdgeLine.cpp)
+  ${_gpio}/GpiodEdgeLine.cpp
+  ${_gpio}/GpioLineSpec.cpp)
 target_link_libraries(fieldcast_io PRIVATE PkgConfig::libgpiod spdlog::spdlog)
 
 if(FIELDCAST_BUILD_TESTS)

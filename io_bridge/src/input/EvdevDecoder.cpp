@@ -61,14 +61,8 @@ std::int64_t timeOf(const input_event& ev) noexcept {
 void EvdevDecoder::apply(std::uint16_t type, std::uint16_t code, std::int32_t value, std::int64_t tNs,
                          std::vector<InputEvent>& out) {
   if (type == EV_ABS && code < ABS_CNT) {
-    if (code == ABS_HAT0X || code == ABS_HAT0Y) {
-      const std::int32_t before = hatFromAxes(mAbs[ABS_HAT0X], mAbs[ABS_HAT0Y]);
-      mAbs[code] = value;
-      const std::int32_t after = hatFromAxes(mAbs[ABS_HAT0X], mAbs[ABS_HAT0Y]);
-      if (after != before) out.push_back(InputEvent{tNs, usages::kHatSwitch, after, InputEventType::Value});
-      return;
-    }
     mAbs[code] = value;
+    if (code == ABS_HAT0X || code == ABS_HAT0Y) return;  // one hat event per frame, in endFrame()
     out.push_back(InputEvent{tNs, usageOfAbs(code), value, InputEventType::Value});
   } else if (type == EV_KEY && code < KEY_CNT) {
     const Usage u = usageOfKey(code);
@@ -82,6 +76,7 @@ void EvdevDecoder::resync(std::int64_t tNs, std::vector<InputEvent>& out, bool e
   mQueried.clear();
   if (mResync == nullptr || !mResync->currentState(mQueried)) return;
   for (const EvdevCodeValue& s : mQueried) {
+    if (s.type == EV_ABS && (s.code == ABS_HAT0X || s.code == ABS_HAT0Y)) mHasHat = true;
     if (s.type == EV_ABS && s.code < ABS_CNT) {
       if (everything || mAbs[s.code] != s.value) apply(EV_ABS, s.code, s.value, tNs, out);
     } else if (s.type == EV_KEY && s.code < KEY_CNT) {
@@ -90,13 +85,20 @@ void EvdevDecoder::resync(std::int64_t tNs, std::vector<InputEvent>& out, bool e
   }
 }
 
-void EvdevDecoder::queryNow(std::int64_t tNs, std::vector<InputEvent>& out) {
-  const std::size_t before = out.size();
-  resync(tNs, out, true);
+void EvdevDecoder::endFrame(std::int64_t tNs, std::size_t before, bool forceHat, std::vector<InputEvent>& out) {
+  const std::int32_t hat = hatFromAxes(mAbs[ABS_HAT0X], mAbs[ABS_HAT0Y]);
+  if (hat != mHat || forceHat) out.push_back(InputEvent{tNs, usages::kHatSwitch, hat, InputEventType::Value});
+  mHat = hat;
   if (out.size() != before) {
     out.push_back(InputEvent{tNs, 0, 0, InputEventType::Sync});
     ++mFrames;
   }
+}
+
+void EvdevDecoder::queryNow(std::int64_t tNs, std::vector<InputEvent>& out) {
+  const std::size_t before = out.size();
+  resync(tNs, out, true);
+  endFrame(tNs, before, mHasHat, out);
 }
 
 void EvdevDecoder::feed(const input_event& ev, std::vector<InputEvent>& out) {
@@ -120,10 +122,7 @@ void EvdevDecoder::feed(const input_event& ev, std::vector<InputEvent>& out) {
     for (const input_event& e : mPending) apply(e.type, e.code, e.value, tNs, out);
   }
   mPending.clear();
-  if (out.size() != before) {
-    out.push_back(InputEvent{tNs, 0, 0, InputEventType::Sync});
-    ++mFrames;
-  }
+  endFrame(tNs, before, false, out);
 }
 
 ReadResult EvdevStreamReader::read(std::vector<InputEvent>& out, Nanoseconds timeout) {

@@ -1,5 +1,7 @@
 #include <io_bridge/EvdevSource.h>
 
+#include "input/SystemError.h"
+
 #include <libevdev/libevdev.h>
 
 #include <fcntl.h>
@@ -39,12 +41,12 @@ Evdev openEvdev(const std::string& path, std::string& why) {
   Evdev e;
   e.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (e.fd < 0) {
-    why = std::strerror(errno);
+    why = errnoMessage(errno);
     return e;
   }
   const int rc = libevdev_new_from_fd(e.fd, &e.dev);
   if (rc < 0) {
-    why = std::string("not an evdev device: ") + std::strerror(-rc);
+    why = std::string("not an evdev device: ") + errnoMessage(-rc);
     ::close(e.fd);
     e.fd = -1;
     e.dev = nullptr;

@@ -3,6 +3,7 @@
 #include <io_bridge/HidReportDecoder.h>
 
 #include <algorithm>
+#include <unordered_map>
 
 namespace fieldcast::io {
 
@@ -104,10 +105,16 @@ HidDecodeResult HidReportDecoder::decode(std::span<const std::uint8_t> report) n
 
 HidInputTranslator::HidInputTranslator(HidReportDescriptor descriptor) : mDecoder(std::move(descriptor)) {
   const HidReportDescriptor& d = mDecoder.descriptor();
+  // Hash lookups while building: a hostile descriptor may declare tens of thousands of usages.
+  std::unordered_map<Usage, int> index;
   for (const HidField& f : d.fields) {
     if (f.type != HidReportType::Input || f.isConstant()) continue;
     for (const Usage u : f.usages) {
-      if (u == 0 || controlIndex(u) >= 0) continue;
+      if (u == 0) continue;
+      const auto [it, added] = index.emplace(u, static_cast<int>(mControls.size()));
+      // Array selections of each report, for releasing what a report no longer selects.
+      if (!f.isVariable()) mArrayControls[f.reportId].push_back(it->second);
+      if (!added) continue;
       ControlInfo c;
       c.usage = u;
       c.kind = kindOfUsage(u);
@@ -125,6 +132,10 @@ HidInputTranslator::HidInputTranslator(HidReportDescriptor descriptor) : mDecode
       mControls.push_back(c);
     }
   }
+  for (std::vector<int>& list : mArrayControls) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
   for (std::size_t i = 0; i < mControls.size(); ++i) mSorted.emplace_back(mControls[i].usage, static_cast<int>(i));
   std::sort(mSorted.begin(), mSorted.end());
   mLast.assign(mControls.size(), 0);
@@ -133,12 +144,6 @@ HidInputTranslator::HidInputTranslator(HidReportDescriptor descriptor) : mDecode
 }
 
 int HidInputTranslator::controlIndex(Usage usage) const noexcept {
-  if (mSorted.size() != mControls.size()) {  // while the control list is being built
-    for (std::size_t i = 0; i < mControls.size(); ++i) {
-      if (mControls[i].usage == usage) return static_cast<int>(i);
-    }
-    return -1;
-  }
   const auto it = std::lower_bound(mSorted.begin(), mSorted.end(), std::pair<Usage, int>{usage, -1});
   return it != mSorted.end() && it->first == usage ? it->second : -1;
 }
@@ -171,18 +176,10 @@ HidDecodeResult HidInputTranslator::translate(std::span<const std::uint8_t> repo
     mLast[i] = value;
     out.push_back(InputEvent{tNs, v.usage, value, InputEventType::Value});
   }
-  // Array selections absent from this report are released (only controls of this report's arrays).
-  for (std::size_t i = 0; i < mControls.size(); ++i) {
+  // Array selections of this report that it no longer selects are released.
+  for (const int ci : mArrayControls[r.reportId]) {
+    const auto i = static_cast<std::size_t>(ci);
     if (mTouched[i] || !mSeen[i] || mLast[i] == 0) continue;
-    bool inThisReport = false;
-    for (const HidField& f : mDecoder.descriptor().fields) {
-      if (f.type == HidReportType::Input && !f.isVariable() && f.reportId == r.reportId &&
-          std::find(f.usages.begin(), f.usages.end(), mControls[i].usage) != f.usages.end()) {
-        inThisReport = true;
-        break;
-      }
-    }
-    if (!inThisReport) continue;
     mLast[i] = 0;
     out.push_back(InputEvent{tNs, mControls[i].usage, 0, InputEventType::Value});
   }

@@ -87,10 +87,16 @@ class Parser {
       }
       std::uint32_t udata = 0;
       for (std::size_t i = 0; i < size; ++i) udata |= std::uint32_t{mBytes[pos + i]} << (8 * i);
+      // Two's complement of the item's own width.
       std::int32_t sdata = 0;
       switch (size) {
-        case 1: sdata = static_cast<std::int8_t>(udata); break;
-        case 2: sdata = static_cast<std::int16_t>(udata); break;
+        case 1:
+          sdata = (udata & 0x80u) != 0 ? static_cast<std::int32_t>(udata) - 0x100 : static_cast<std::int32_t>(udata);
+          break;
+        case 2:
+          sdata =
+              (udata & 0x8000u) != 0 ? static_cast<std::int32_t>(udata) - 0x10000 : static_cast<std::int32_t>(udata);
+          break;
         case 4: sdata = static_cast<std::int32_t>(udata); break;
         default: break;
       }
@@ -99,9 +105,9 @@ class Parser {
       const auto type = static_cast<ItemType>((prefix >> 2) & 0x3u);
       const std::uint8_t tag = prefix >> 4;
       switch (type) {
-        case ItemType::Main: main(tag, udata); break;
-        case ItemType::Global: global(tag, udata, sdata, size); break;
-        case ItemType::Local: local(tag, udata, size); break;
+        case ItemType::Main: mainItem(tag, udata); break;
+        case ItemType::Global: globalItem(tag, udata, sdata, size); break;
+        case ItemType::Local: localItem(tag, udata, size); break;
         case ItemType::Reserved: throw HidDescriptorError(start, "reserved item type in prefix " + hex(prefix));
       }
     }
@@ -121,7 +127,7 @@ class Parser {
 
   [[noreturn]] void fail(const std::string& reason) const { throw HidDescriptorError(mItemOffset, reason); }
 
-  void global(std::uint8_t tag, std::uint32_t udata, std::int32_t sdata, std::size_t size) {
+  void globalItem(std::uint8_t tag, std::uint32_t udata, std::int32_t sdata, std::size_t size) {
     Globals& g = mGlobals;
     switch (tag) {
       case 0x0:
@@ -182,7 +188,7 @@ class Parser {
     }
   }
 
-  void local(std::uint8_t tag, std::uint32_t udata, std::size_t size) {
+  void localItem(std::uint8_t tag, std::uint32_t udata, std::size_t size) {
     switch (tag) {
       case 0x0: addUsage(udata, size); break;
       case 0x1:
@@ -248,7 +254,7 @@ class Parser {
     return 0;
   }
 
-  void main(std::uint8_t tag, std::uint32_t udata) {
+  void mainItem(std::uint8_t tag, std::uint32_t udata) {
     if (mLocals.delimiterDepth > 0) fail("main item inside an open Delimiter");
     if (mLocals.haveUsageMin) fail("Usage Minimum without a Usage Maximum");
     concatenateLastUsagePage();
@@ -391,7 +397,13 @@ std::vector<std::uint8_t> readHidDescriptorFile(const std::string& path) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != w.size() || v > 0xFF) throw std::runtime_error(path + ": \"" + w + "\" is not a hex byte");
+    if (used != w.size() || v > 0xFF) {
+      std::string what = path;
+      what += ": \"";
+      what += w;
+      what += "\" is not a hex byte";
+      throw std::runtime_error(what);
+    }
     out.push_back(static_cast<std::uint8_t>(v));
   }
   return out;

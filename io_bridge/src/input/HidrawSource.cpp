@@ -1,5 +1,7 @@
 #include <io_bridge/HidrawSource.h>
 
+#include "input/SystemError.h"
+
 #include <fcntl.h>
 #include <linux/hidraw.h>
 #include <poll.h>
@@ -45,27 +47,19 @@ std::vector<HidrawDeviceInfo> listHidrawDevices() {
 
 HidrawSource::HidrawSource(const std::string& path) : mPath(path) {
   mFd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (mFd < 0) throw std::runtime_error("hidraw " + path + ": " + std::strerror(errno));
+  if (mFd < 0) throw std::runtime_error("hidraw " + path + ": " + errnoMessage(errno));
   try {
     int size = 0;
     if (::ioctl(mFd, HIDIOCGRDESCSIZE, &size) < 0) {
-      throw std::runtime_error("hidraw " + path + ": not a hidraw device (HIDIOCGRDESCSIZE: " + std::strerror(errno) +
+      throw std::runtime_error("hidraw " + path + ": not a hidraw device (HIDIOCGRDESCSIZE: " + errnoMessage(errno) +
                                ")");
     }
     hidraw_report_descriptor desc{};
     desc.size = static_cast<std::uint32_t>(std::clamp(size, 0, HID_MAX_DESCRIPTOR_SIZE));
     if (::ioctl(mFd, HIDIOCGRDESC, &desc) < 0) {
-      throw std::runtime_error("hidraw " + path + ": HIDIOCGRDESC: " + std::strerror(errno));
+      throw std::runtime_error("hidraw " + path + ": HIDIOCGRDESC: " + errnoMessage(errno));
     }
-    mDescriptorBytes.assign(desc.value, desc.value + desc.size);
-    HidReportDescriptor parsed;
-    try {
-      parsed = parseHidReportDescriptor(mDescriptorBytes);
-    } catch (const HidDescriptorError& e) {
-      throw std::runtime_error("hidraw " + path + ": " + e.what());
-    }
-    mBuffer.resize(std::max<std::size_t>(parsed.maxInputReportBytes(), 64) + 64);
-    mTranslator = std::make_unique<HidInputTranslator>(std::move(parsed));
+    setUp(std::span<const std::uint8_t>(desc.value, desc.size));
     hidraw_devinfo info{};
     if (::ioctl(mFd, HIDIOCGRAWINFO, &info) == 0) {
       mDescription.vendorId = static_cast<std::uint16_t>(info.vendor);
@@ -73,13 +67,36 @@ HidrawSource::HidrawSource(const std::string& path) : mPath(path) {
     }
     mDescription.name = rawName(mFd);
     if (mDescription.name.empty()) mDescription.name = path;
-    mDescription.transport = InputTransport::Hidraw;
-    mDescription.controls = mTranslator->controls();
-    if (mDescription.controls.empty())
-      throw std::runtime_error("hidraw " + path + ": the descriptor declares no input controls");
   } catch (...) {
     ::close(mFd);
     throw;
+  }
+}
+
+HidrawSource::HidrawSource(int fd, std::span<const std::uint8_t> descriptor, std::string name) : mFd(fd), mPath(name) {
+  try {
+    setUp(descriptor);
+  } catch (...) {
+    ::close(mFd);
+    throw;
+  }
+  mDescription.name = std::move(name);
+}
+
+void HidrawSource::setUp(std::span<const std::uint8_t> descriptor) {
+  mDescriptorBytes.assign(descriptor.begin(), descriptor.end());
+  HidReportDescriptor parsed;
+  try {
+    parsed = parseHidReportDescriptor(mDescriptorBytes);
+  } catch (const HidDescriptorError& e) {
+    throw std::runtime_error("hidraw " + mPath + ": " + e.what());
+  }
+  mBuffer.resize(std::max<std::size_t>(parsed.maxInputReportBytes(), 64) + 64);
+  mTranslator = std::make_unique<HidInputTranslator>(std::move(parsed));
+  mDescription.transport = InputTransport::Hidraw;
+  mDescription.controls = mTranslator->controls();
+  if (mDescription.controls.empty()) {
+    throw std::runtime_error("hidraw " + mPath + ": the descriptor declares no input controls");
   }
 }
 

@@ -80,12 +80,16 @@ std::vector<std::string_view> split(std::string_view line, std::size_t maxParts)
 InputRecording readInputRecording(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path.string() + ": cannot read the input recording");
+  return parseInputRecording(in, path.string());
+}
+
+InputRecording parseInputRecording(std::istream& in, const std::string& origin) {
   InputRecording rec;
   std::string line;
   std::size_t lineNo = 0;
   bool header = false;
   auto fail = [&](const std::string& what) {
-    throw std::runtime_error(path.string() + ":" + std::to_string(lineNo) + ": " + what);
+    throw std::runtime_error(origin + ":" + std::to_string(lineNo) + ": " + what);
   };
   while (std::getline(in, line)) {
     ++lineNo;
@@ -148,7 +152,7 @@ InputRecording readInputRecording(const std::filesystem::path& path) {
       fail("unknown record \"" + std::string(tag) + "\" (expected device, control, v, s, lost or found)");
     }
   }
-  if (!header) throw std::runtime_error(path.string() + ": empty file, expected \"fieldcast-input 1\"");
+  if (!header) throw std::runtime_error(origin + ": empty file, expected \"fieldcast-input 1\"");
   return rec;
 }
 

@@ -33,39 +33,52 @@ if(FIELDCAST_BUILD_TESTS)
 endif()
 
 # libFuzzer target for the HID parser: built with the project compiler when that is clang, or with
-# clang++-14 beside a gcc build when FIELDCAST_FUZZ=ON. The `fuzz` test runs it briefly and is
-# skipped (with the reason) when it was not built.
-option(FIELDCAST_FUZZ "Build the libFuzzer targets (needs clang++; with gcc, clang++-14 builds them)" OFF)
-if(FIELDCAST_BUILD_TESTS)
-  set(_fuzz_sources ${_input}/InputEvent.cpp ${_input}/HidReportDescriptor.cpp ${_input}/HidReportDecoder.cpp
-                    ${_input_tests}/HidDescriptorFuzz.cpp)
-  set(_fuzz_bin "${CMAKE_CURRENT_BINARY_DIR}/fuzz/hid_descriptor_fuzzer")
-  set(_fuzz_reason "")
-  if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
-    add_executable(fieldcast_fuzz_hid_descriptor ${_fuzz_sources})
-    target_include_directories(fieldcast_fuzz_hid_descriptor PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/include)
-    target_compile_options(fieldcast_fuzz_hid_descriptor PRIVATE -fsanitize=fuzzer,address,undefined -g)
-    target_link_options(fieldcast_fuzz_hid_descriptor PRIVATE -fsanitize=fuzzer,address,undefined)
-    set_target_properties(fieldcast_fuzz_hid_descriptor PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/fuzz
-                                                             OUTPUT_NAME hid_descriptor_fuzzer)
+# clang++-14 beside a gcc build when FIELDCAST_FUZZ=ON (the default when clang++ is installed). The
+# `fuzz` test runs it briefly and is skipped (with the reason) when it was not built.
+find_program(FIELDCAST_CLANGXX NAMES clang++-14 clang++ DOC "clang++ for the libFuzzer targets")
+if(FIELDCAST_CLANGXX OR CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  set(_fuzz_default ON)
+else()
+  set(_fuzz_default OFF)
+endif()
+option(FIELDCAST_FUZZ "Build the libFuzzer targets (needs clang++; with gcc, clang++-14 builds them)" ${_fuzz_default})
+# fieldcast_input_fuzzer(<name> <sources...>): a libFuzzer executable fuzz/<name> and a `fuzz` test
+# that runs it for 15 s (seeded corpus in the build tree), or skips with the reason.
+function(fieldcast_input_fuzzer name)
+  set(_sources ${ARGN})
+  set(_bin "${CMAKE_CURRENT_BINARY_DIR}/fuzz/${name}")
+  set(_reason "")
+  set(_includes -I${PROJECT_SOURCE_DIR}/io_bridge/include -I${PROJECT_SOURCE_DIR}/types/include)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "Clang" AND FIELDCAST_FUZZ)
+    add_executable(fieldcast_${name} ${_sources})
+    target_include_directories(fieldcast_${name} PRIVATE ${PROJECT_SOURCE_DIR}/io_bridge/include
+                                                         ${PROJECT_SOURCE_DIR}/types/include)
+    target_compile_options(fieldcast_${name} PRIVATE -fsanitize=fuzzer,address,undefined -g)
+    target_link_options(fieldcast_${name} PRIVATE -fsanitize=fuzzer,address,undefined)
+    set_target_properties(fieldcast_${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/fuzz
+                                                       OUTPUT_NAME ${name})
+  elseif(NOT FIELDCAST_CLANGXX)
+    set(_reason "clang++ not found (install clang-14 libclang-rt-14-dev: scripts/install-deps.sh --interop)")
+  elseif(NOT FIELDCAST_FUZZ)
+    set(_reason "fuzzer not built: configure with -DFIELDCAST_FUZZ=ON (or build with clang)")
   else()
-    find_program(FIELDCAST_CLANGXX NAMES clang++-14 clang++ DOC "clang++ for the libFuzzer targets")
-    if(NOT FIELDCAST_CLANGXX)
-      set(_fuzz_reason "clang++ not found (install clang-14 libclang-rt-14-dev: scripts/install-deps.sh --interop)")
-    elseif(NOT FIELDCAST_FUZZ)
-      set(_fuzz_reason "fuzzer not built: configure with -DFIELDCAST_FUZZ=ON (or build with clang)")
-    else()
-      add_custom_command(OUTPUT ${_fuzz_bin}
-        COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/fuzz
-        COMMAND ${FIELDCAST_CLANGXX} -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined
-                -I${CMAKE_CURRENT_SOURCE_DIR}/include ${_fuzz_sources} -o ${_fuzz_bin}
-        DEPENDS ${_fuzz_sources} ${_input_tests}/RealDescriptors.h
-        COMMENT "Building the HID descriptor fuzzer with ${FIELDCAST_CLANGXX}")
-      add_custom_target(fieldcast_fuzz_hid_descriptor ALL DEPENDS ${_fuzz_bin})
-    endif()
+    add_custom_command(OUTPUT ${_bin}
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/fuzz
+      COMMAND ${FIELDCAST_CLANGXX} -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined ${_includes}
+              ${_sources} -o ${_bin}
+      DEPENDS ${_sources} ${PROJECT_SOURCE_DIR}/io_bridge/tests/input/RealDescriptors.h
+      COMMENT "Building the ${name} with ${FIELDCAST_CLANGXX}")
+    add_custom_target(fieldcast_${name} ALL DEPENDS ${_bin})
   endif()
-  add_test(NAME io.input.fuzz_hid_descriptor
-    COMMAND ${_input_tests}/run_fuzzer.sh ${_fuzz_bin} ${CMAKE_CURRENT_BINARY_DIR}/fuzz_hid_corpus "${_fuzz_reason}"
-            -runs=500000 -max_total_time=20 -seed=1 -max_len=2048)
-  set_tests_properties(io.input.fuzz_hid_descriptor PROPERTIES LABELS "fuzz;io;input" SKIP_RETURN_CODE 77)
+  add_test(NAME io.input.${name}
+    COMMAND ${PROJECT_SOURCE_DIR}/io_bridge/tests/input/run_fuzzer.sh ${_bin} ${CMAKE_CURRENT_BINARY_DIR}/${name}_corpus
+            "${_reason}" -runs=500000 -max_total_time=15 -seed=1 -max_len=2048)
+  set_tests_properties(io.input.${name} PROPERTIES LABELS "fuzz;io;input" SKIP_RETURN_CODE 77)
+endfunction()
+
+if(FIELDCAST_BUILD_TESTS)
+  fieldcast_input_fuzzer(hid_descriptor_fuzzer ${_input}/InputEvent.cpp ${_input}/HidReportDescriptor.cpp
+                         ${_input}/HidReportDecoder.cpp ${_input_tests}/HidDescriptorFuzz.cpp)
+  fieldcast_input_fuzzer(input_recording_fuzzer ${_input}/InputEvent.cpp ${_input}/InputRecording.cpp
+                         ${PROJECT_SOURCE_DIR}/types/src/Time.cpp ${_input_tests}/InputRecordingFuzz.cpp)
 endif()

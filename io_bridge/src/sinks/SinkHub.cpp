@@ -1,6 +1,9 @@
-// SinkHub: one single-producer/single-consumer ring of preallocated fields per sink. The field
-// thread owns `head`, the sink's worker owns `tail`; a slot is the producer's again only once the
-// worker has advanced `tail` past it, so no field is ever overwritten while a sink reads it.
+// SinkHub: one pool of preallocated fields shared by all sinks, and per sink a single-producer/
+// single-consumer ring of slot indices. publish() copies the field once into a free pool slot,
+// sets the slot's reference count to the number of sinks that take it, and pushes its index to
+// each of them; each worker drops its reference when done. A slot is reused only at count zero
+// (acquire, paired with the workers' release), so no field is overwritten while a sink reads it.
+// The pool has depth × sinks + 1 slots: even with every ring full there is always a free slot.
 
 #include <io_bridge/SinkHub.h>
 
@@ -11,6 +14,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <csignal>
+#include <cstring>
 #include <mutex>
 #include <semaphore>
 #include <sstream>
@@ -36,10 +40,19 @@ void blockSigpipeInThisThread() noexcept {
 
 }  // namespace
 
+struct SinkHub::Pool {
+  std::vector<Field> fields;                 // preallocated to the largest field
+  std::vector<std::atomic<int>> references;  // sinks still to finish with each field
+  std::size_t next = 0;                      // where the search for a free slot starts
+};
+
 struct SinkHub::Lane {
   std::unique_ptr<FieldSink> sink;
   std::string name;
-  std::vector<Field> slots;                        // preallocated to the largest field
+  Pool* pool = nullptr;
+  SinkWorkerOptions workerOptions;
+  std::atomic<bool> realtime{false};
+  std::vector<std::uint32_t> ring;                 // pool slot indices, queueDepth of them
   alignas(64) std::atomic<std::uint64_t> head{0};  // next slot the field thread fills
   alignas(64) std::atomic<std::uint64_t> tail{0};  // next slot the worker consumes
   std::counting_semaphore<(1 << 30)> wake{0};
@@ -81,6 +94,19 @@ void SinkHub::Lane::endWith(const std::string& reason) {
 
 void SinkHub::Lane::run(const StreamFormat& format) {
   blockSigpipeInThisThread();
+  if (workerOptions.realtimePriority > 0) {
+    sched_param param{};
+    param.sched_priority = workerOptions.realtimePriority;
+    const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    if (rc == 0) {
+      realtime.store(true, std::memory_order_relaxed);
+    } else {
+      spdlog::warn(
+          "sink '{}': real-time priority {} refused ({}); it runs at normal priority (grant CAP_SYS_NICE "
+          "or an rtprio limit for tighter timing)",
+          name, workerOptions.realtimePriority, std::strerror(rc));
+    }
+  }
   try {
     sink->open(format);
   } catch (const std::exception& e) {
@@ -98,12 +124,13 @@ void SinkHub::Lane::run(const StreamFormat& format) {
 
   std::uint64_t reportedDrops = 0;
   TimePoint lastDropReport{};
-  const auto depth = static_cast<std::uint64_t>(slots.size());
+  const auto depth = static_cast<std::uint64_t>(ring.size());
   for (;;) {
     wake.acquire();
     std::uint64_t t = tail.load(std::memory_order_relaxed);
     while (t != head.load(std::memory_order_acquire)) {
-      const Field& field = slots[t % depth];
+      const std::uint32_t slot = ring[t % depth];
+      const Field& field = pool->fields[slot];
       if (!ended.load(std::memory_order_relaxed)) {
         const TimePoint begin = MonotonicClock::now();
         SinkStatus status = SinkStatus::Ended;
@@ -119,6 +146,7 @@ void SinkHub::Lane::run(const StreamFormat& format) {
         consumed.fetch_add(1, std::memory_order_relaxed);
         if (status == SinkStatus::Ended) endWith(failure.empty() ? sink->endReason() : failure);
       }
+      pool->references[slot].fetch_sub(1, std::memory_order_release);  // the field may be reused
       tail.store(++t, std::memory_order_release);
     }
     // Report queue-full drops from here, never from the field thread; at most once a second.
@@ -150,23 +178,39 @@ SinkHub::SinkHub(StreamFormat format, SinkHubOptions options) : mFormat(format),
 
 SinkHub::~SinkHub() { stop(); }
 
-void SinkHub::add(std::unique_ptr<FieldSink> sink) {
+void SinkHub::add(std::unique_ptr<FieldSink> sink, SinkWorkerOptions worker) {
   if (mRunning) throw std::logic_error("SinkHub::add: sinks must be added before start()");
   if (!sink) throw std::invalid_argument("SinkHub::add: null sink");
   auto lane = std::make_unique<Lane>();
   lane->name = sink->name();
   lane->sink = std::move(sink);
-  lane->slots.resize(static_cast<std::size_t>(mOptions.queueDepth));
-  const FieldParity largest = mFormat.scan == ScanMode::Progressive ? FieldParity::Progressive : FieldParity::Top;
-  for (Field& slot : lane->slots) {
-    // Full-size images now, so that publish() copies into capacity that is already there.
-    slot.image = Image(mFormat.widthPx, mFormat.fieldRows(largest), mFormat.pixelFormat);
+  lane->ring.assign(static_cast<std::size_t>(mOptions.queueDepth), 0);
+  if (worker.realtimePriority < 0 || worker.realtimePriority > 99) {
+    throw std::invalid_argument("SinkHub::add: real-time priority must be 0..99, got " +
+                                std::to_string(worker.realtimePriority));
   }
+  lane->workerOptions = worker;
   mLanes.push_back(std::move(lane));
+}
+
+void SinkHub::allocatePool() {
+  // Every ring full still leaves one slot free for the next publish().
+  const std::size_t slots = static_cast<std::size_t>(mOptions.queueDepth) * mLanes.size() + 1;
+  mPool = std::make_unique<Pool>();
+  mPool->fields.resize(slots);
+  mPool->references = std::vector<std::atomic<int>>(slots);
+  const FieldParity largest = mFormat.scan == ScanMode::Progressive ? FieldParity::Progressive : FieldParity::Top;
+  for (Field& field : mPool->fields) {
+    // Full-size images now, so that publish() copies into capacity that is already there.
+    field.image = Image(mFormat.widthPx, mFormat.fieldRows(largest), mFormat.pixelFormat);
+  }
+  for (auto& lane : mLanes) lane->pool = mPool.get();
 }
 
 void SinkHub::start() {
   if (mRunning) return;
+  allocatePool();
+  mTakes.assign(mLanes.size(), 0);
   for (auto& lane : mLanes) {
     Lane* l = lane.get();
     l->worker = std::thread([l, this] { l->run(mFormat); });
@@ -185,23 +229,41 @@ void SinkHub::start() {
 }
 
 void SinkHub::publish(const Field& field) noexcept {
+  if (!mPool) return;
   const bool fits = mFormat.accepts(field);
-  for (auto& lanePtr : mLanes) {
-    Lane& lane = *lanePtr;
+  // Which sinks take this field: live, matching, with room in their ring
+  std::uint32_t takers = 0;
+  for (std::size_t i = 0; i < mLanes.size(); ++i) {
+    Lane& lane = *mLanes[i];
+    mTakes[i] = 0;
     if (lane.ended.load(std::memory_order_relaxed)) continue;
     lane.published.fetch_add(1, std::memory_order_relaxed);
     if (!fits) {
       lane.rejected.fetch_add(1, std::memory_order_relaxed);
-      continue;
-    }
-    const std::uint64_t h = lane.head.load(std::memory_order_relaxed);
-    if (h - lane.tail.load(std::memory_order_acquire) >= lane.slots.size()) {
+    } else if (lane.head.load(std::memory_order_relaxed) - lane.tail.load(std::memory_order_acquire) >=
+               lane.ring.size()) {
       lane.droppedFull.fetch_add(1, std::memory_order_relaxed);
-      continue;
+    } else {
+      mTakes[i] = 1;
+      ++takers;
     }
-    // Copy-assignment reuses the slot's preallocated image (same or smaller size): no allocation.
-    lane.slots[h % lane.slots.size()] = field;
-    lane.head.store(h + 1, std::memory_order_release);
+  }
+  if (takers == 0) return;
+  // A free slot: no sink holds it any more (acquire pairs with the workers' release)
+  Pool& pool = *mPool;
+  const std::size_t n = pool.fields.size();
+  std::size_t slot = pool.next;
+  while (pool.references[slot].load(std::memory_order_acquire) != 0) slot = (slot + 1) % n;  // one always is
+  pool.next = (slot + 1) % n;
+  // Copy-assignment reuses the slot's preallocated image (same or smaller size): no allocation.
+  pool.fields[slot] = field;
+  pool.references[slot].store(static_cast<int>(takers), std::memory_order_relaxed);
+  for (std::size_t i = 0; i < mLanes.size(); ++i) {
+    if (!mTakes[i]) continue;
+    Lane& lane = *mLanes[i];
+    const std::uint64_t h = lane.head.load(std::memory_order_relaxed);
+    lane.ring[h % lane.ring.size()] = static_cast<std::uint32_t>(slot);
+    lane.head.store(h + 1, std::memory_order_release);  // publishes the field and its count
     lane.wake.release();
   }
 }
@@ -229,6 +291,7 @@ std::vector<SinkFigures> SinkHub::figures() const {
     f.rejected = lane->rejected.load(std::memory_order_relaxed);
     f.maxConsumeNs = lane->maxConsumeNs.load(std::memory_order_relaxed);
     f.totalConsumeNs = lane->totalConsumeNs.load(std::memory_order_relaxed);
+    f.realtime = lane->realtime.load(std::memory_order_relaxed);
     f.ended = lane->ended.load(std::memory_order_acquire);
     if (f.ended) {
       std::lock_guard lock(lane->reasonMutex);

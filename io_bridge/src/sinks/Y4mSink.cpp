@@ -24,8 +24,11 @@ struct Y4mSink::State {
   std::vector<std::uint8_t> cb422, cr422;  // 4:2:2 chroma of the full frame, frame row order
   std::vector<std::uint8_t> cbOut, crOut;  // 4:2:0 planes (unused for 4:2:2)
   std::vector<std::uint8_t> uyvyRow;
-  std::int64_t pendingFrame = -1;  // frame index whose fields are being collected
-  int pendingFields = 0;           // bit 0: first field in, bit 1: second field in
+  std::int64_t pendingFrame = -1;         // frame index whose fields are being collected
+  int pendingFields = 0;                  // bit 0: first field in, bit 1: second field in
+  std::int64_t pendingFrameWritten = -1;  // index of the frame the stored rows belong to
+  std::int64_t nextFrame = 0;             // index of the next frame the file needs
+  std::uint64_t repeated = 0;             // frames repeated to fill missed ones
   std::uint64_t frames = 0;
   std::uint64_t incomplete = 0;
   std::string endReason;
@@ -128,20 +131,31 @@ bool Y4mSink::State::writeFrame() {
 
 SinkStatus Y4mSink::consume(const Field& field) {
   State& st = *mState;
-  if (st.format.scan == ScanMode::Progressive) {
-    st.storeRows(field);
-    st.pendingFields = 3;
-    return st.writeFrame() ? SinkStatus::Ok : SinkStatus::Ended;
-  }
-  // Field k belongs to frame k / 2; the first field of each frame has the even number.
-  const auto frame = static_cast<std::int64_t>(field.fieldNumber / 2);
+  const bool progressive = st.format.scan == ScanMode::Progressive;
+  // Field k belongs to frame k / 2 (interlaced; the first field of each frame has the even number).
+  const auto frame = static_cast<std::int64_t>(progressive ? field.fieldNumber : field.fieldNumber / 2);
   if (st.pendingFrame >= 0 && frame != st.pendingFrame) {
     if (!st.writeFrame()) return SinkStatus::Ended;  // its partner field never came
+    st.nextFrame = st.pendingFrameWritten + 1;
+  }
+  // A Y4M file has no timestamps: frames the field thread missed entirely are filled by
+  // repeating the last picture, so the video keeps time with the schedule.
+  while (st.frames > 0 && st.nextFrame < frame) {
+    st.pendingFields = 3;
+    if (!st.writeFrame()) return SinkStatus::Ended;
+    ++st.repeated;
+    ++st.nextFrame;
   }
   st.pendingFrame = frame;
   st.storeRows(field);
-  st.pendingFields |= (field.fieldNumber % 2 == 0) ? 1 : 2;
-  if (st.pendingFields == 3 && !st.writeFrame()) return SinkStatus::Ended;
+  st.pendingFields |= progressive ? 3 : (field.fieldNumber % 2 == 0) ? 1 : 2;
+  if (st.pendingFields == 3) {
+    st.pendingFrameWritten = frame;
+    if (!st.writeFrame()) return SinkStatus::Ended;
+    st.nextFrame = frame + 1;
+  } else {
+    st.pendingFrameWritten = frame;
+  }
   return SinkStatus::Ok;
 }
 
@@ -153,6 +167,7 @@ void Y4mSink::close() {
 
 std::string Y4mSink::endReason() const { return mState ? mState->endReason : std::string{}; }
 std::uint64_t Y4mSink::framesWritten() const noexcept { return mState ? mState->frames : 0; }
+std::uint64_t Y4mSink::framesRepeated() const noexcept { return mState ? mState->repeated : 0; }
 std::uint64_t Y4mSink::incompleteFrames() const noexcept { return mState ? mState->incomplete : 0; }
 
 }  // namespace fieldcast::io

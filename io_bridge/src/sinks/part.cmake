@@ -53,3 +53,25 @@ if(FIELDCAST_BUILD_TESTS)
     LIBRARIES fieldcast::io
     LABELS "hw;io")
 endif()
+
+# libFuzzer target for the shm ring header a reader validates (clang only: the gcc build skips
+# it). `ctest -L fuzz` runs it for 20 s.
+if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  # The code under test is compiled into the fuzzer itself, so libFuzzer sees its coverage.
+  add_executable(fieldcast_fuzz_shm_ring_header
+    ${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/ShmRingHeaderFuzz.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/ShmRing.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/StreamFormat.cpp)
+  target_include_directories(fieldcast_fuzz_shm_ring_header PRIVATE ${PROJECT_SOURCE_DIR}/io_bridge/include)
+  target_compile_options(fieldcast_fuzz_shm_ring_header PRIVATE -fsanitize=fuzzer,address,undefined)
+  target_link_libraries(fieldcast_fuzz_shm_ring_header PRIVATE fieldcast::types -fsanitize=fuzzer,address,undefined)
+  if(FIELDCAST_BUILD_TESTS)
+    # New inputs go to a corpus in the build tree; the seed (a valid ring) stays read-only.
+    set(_corpus "${CMAKE_BINARY_DIR}/fuzz_corpus/shm_ring_header")
+    file(MAKE_DIRECTORY "${_corpus}")
+    add_test(NAME io_sinks_fuzz_shm_ring_header
+      COMMAND fieldcast_fuzz_shm_ring_header -max_total_time=20 -rss_limit_mb=1024 "${_corpus}"
+              "${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/seeds")
+    set_tests_properties(io_sinks_fuzz_shm_ring_header PROPERTIES LABELS "fuzz;io")
+  endif()
+endif()

@@ -107,6 +107,31 @@ TEST(ExternalSync, MissingPulsesGlitchesAndOutages) {
   EXPECT_FALSE(est.estimate().locked);
 }
 
+TEST(GpioLineSpec, ParsesChipOffsetAndFlags) {
+  const GpioLineConfig c = parseGpioLineSpec("gpiochip1:17:active_low:pull_up");
+  EXPECT_EQ(c.chip, "gpiochip1");
+  EXPECT_EQ(c.offset, 17u);
+  EXPECT_TRUE(c.activeLow);
+  EXPECT_EQ(c.bias, GpioBias::PullUp);
+  EXPECT_EQ(parseGpioLineSpec("/dev/gpiochip0:3").bias, GpioBias::AsIs);
+  auto errorOf = [](const char* s) {
+    try {
+      (void)parseGpioLineSpec(s);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(errorOf("gpiochip0"),
+            "GPIO line \"gpiochip0\": expected chip:offset[:active_low][:pull_up|:pull_down|:bias_off]");
+  EXPECT_EQ(errorOf("gpiochip0:x"), "GPIO line \"gpiochip0:x\": line offset \"x\" is not a number");
+  EXPECT_EQ(errorOf("gpiochip0:1:pullup"),
+            "GPIO line \"gpiochip0:1:pullup\": unknown flag \"pullup\" (expected active_low, pull_up, pull_down or "
+            "bias_off)");
+  EXPECT_EQ(errorOf("gpiochip0:1:pull_up:pull_down"),
+            "GPIO line \"gpiochip0:1:pull_up:pull_down\": more than one bias flag");
+}
+
 TEST(GpiodBackend, RefusesAnAbsentChipWithTheReason) {
   try {
     (void)openGpiodEdgeLine(GpioLineConfig{"fieldcast-no-such-chip", 3, false, GpioBias::AsIs, "fieldcast-test"});

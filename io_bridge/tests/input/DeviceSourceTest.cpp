@@ -11,9 +11,13 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
+#include <map>
 
 namespace fieldcast::io {
 namespace {
@@ -104,6 +108,38 @@ TEST(UsbHidSource, SurvivesUnplugAndReplug) {
   EXPECT_EQ(input.stats().connects, 2u);
   EXPECT_EQ(input.latest().health, InputHealth::Live);
   EXPECT_DOUBLE_EQ(input.latest().roll, -1.0);
+}
+
+TEST(HidrawSource, OneReportPerReadThroughASeqpacketSocket) {
+  // SOCK_SEQPACKET keeps message boundaries: each read() returns one report, as hidraw does.
+  int fds[2];
+  ASSERT_EQ(::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_NONBLOCK | SOCK_CLOEXEC, 0, fds), 0);
+  HidrawSource source(fds[0], testdata::kAsusGamepad, "Asus gamepad");
+  EXPECT_EQ(source.description().transport, InputTransport::Hidraw);
+  auto send = [&](std::vector<std::uint8_t> r) {
+    ASSERT_EQ(::write(fds[1], r.data(), r.size()), static_cast<ssize_t>(r.size()));
+  };
+  send({0x01, 0x01, 0x20, 0x00, 0xff, 0x80, 0x80, 0x00, 0x00});  // button 1, hat East, X 0, Y 255
+  send({0x01, 0x01});                                            // short: refused, counted
+  send({0x01, 0x00, 0x80, 0x00, 0xff, 0x80, 0x80, 0x00, 0x00});  // button 1 released, hat centred (8)
+  std::vector<InputEvent> out;
+  const std::int64_t before = MonotonicClock::now().time_since_epoch().count();
+  EXPECT_EQ(source.read(out, 10ms), ReadResult::Events);
+  EXPECT_EQ(source.stats().rejectedReports, 1u);
+  std::map<Usage, std::vector<std::int32_t>> seen;
+  int syncs = 0;
+  for (const InputEvent& e : out) {
+    EXPECT_GE(e.tNs, before);  // stamped on CLOCK_MONOTONIC when read
+    if (e.type == InputEventType::Sync) ++syncs;
+    if (e.type == InputEventType::Value) seen[e.usage].push_back(e.value);
+  }
+  EXPECT_EQ(syncs, 2);
+  EXPECT_EQ(seen[button(1)], (std::vector<std::int32_t>{1, 0}));
+  EXPECT_EQ(seen[kHatSwitch], (std::vector<std::int32_t>{2, kHatCentred}));
+  EXPECT_EQ(seen[kY], (std::vector<std::int32_t>{255}));
+  ::close(fds[1]);  // the device goes away
+  out.clear();
+  EXPECT_EQ(source.read(out, 10ms), ReadResult::Lost);
 }
 
 TEST(UsbSelector, ParsesVendorProduct) {

@@ -88,19 +88,21 @@ TEST(EvdevDecoder, ButtonsAndHatsAsHidUsages) {
   pipe.write({ev(1, 0, EV_KEY, BTN_TRIGGER, 1), ev(1, 0, EV_KEY, BTN_TRIGGER_HAPPY1, 1), ev(1, 0, EV_KEY, BTN_EAST, 1),
               ev(1, 0, EV_KEY, KEY_A, 1), ev(1, 0, EV_ABS, ABS_HAT0Y, -1), ev(1, 0, EV_SYN, SYN_REPORT, 0),
               ev(1, 10, EV_ABS, ABS_HAT0X, 1), ev(1, 10, EV_SYN, SYN_REPORT, 0), ev(1, 20, EV_KEY, BTN_TRIGGER, 2),
-              ev(1, 20, EV_SYN, SYN_REPORT, 0)});  // autorepeat: ignored
+              ev(1, 20, EV_SYN, SYN_REPORT, 0),  // autorepeat: ignored
+              ev(1, 30, EV_ABS, ABS_HAT0X, -1), ev(1, 30, EV_ABS, ABS_HAT0Y, 1), ev(1, 30, EV_SYN, SYN_REPORT, 0)});
   const auto out = readAll(reader);
   std::vector<InputEvent> values;
   for (const auto& e : out) {
     if (e.type == InputEventType::Value) values.push_back(e);
   }
-  ASSERT_EQ(values.size(), 5u);
+  ASSERT_EQ(values.size(), 6u);
   EXPECT_EQ(values[0].usage, usages::button(1));
   EXPECT_EQ(values[1].usage, usages::button(17));
   EXPECT_EQ(values[2].usage, usages::button(2));  // BTN_EAST is gamepad button 2
   EXPECT_EQ(values[3].usage, usages::kHatSwitch);
   EXPECT_EQ(values[3].value, 0);  // up
   EXPECT_EQ(values[4].value, 1);  // up-right
+  EXPECT_EQ(values[5].value, 5);  // down-left: one hat event for a frame that moved both axes
   EXPECT_EQ(hatFromAxes(-1, 1), 5);
   EXPECT_EQ(hatFromAxes(0, 0), kHatCentred);
 }

@@ -257,6 +257,23 @@ TEST(HidDescriptor, SignedFieldsAndPushPop) {
   EXPECT_EQ(v.at(kZ), 31);
 }
 
+TEST(HidDescriptor, ArraySelectionsPressAndRelease) {
+  // A panel reporting up to two pressed buttons out of eight as an array (like a keyboard).
+  const std::uint8_t desc[] = {0x05, 0x01, 0x09, 0x04, 0xa1, 0x01, 0x05, 0x09, 0x19, 0x01, 0x29, 0x08,
+                               0x15, 0x01, 0x25, 0x08, 0x75, 0x08, 0x95, 0x02, 0x81, 0x00, 0xc0};
+  HidInputTranslator t(parseHidReportDescriptor(desc));
+  EXPECT_EQ(t.controls().size(), 8u);
+  EXPECT_EQ(t.controls()[2].kind, ControlKind::Button);
+  auto e = eventsOf(t, std::vector<std::uint8_t>{3, 0});  // 0 is outside 1..8: no selection
+  EXPECT_EQ(e, (std::map<Usage, std::int32_t>{{button(3), 1}}));
+  e = eventsOf(t, std::vector<std::uint8_t>{3, 5});
+  EXPECT_EQ(e, (std::map<Usage, std::int32_t>{{button(5), 1}}));
+  e = eventsOf(t, std::vector<std::uint8_t>{5, 0});
+  EXPECT_EQ(e, (std::map<Usage, std::int32_t>{{button(3), 0}}));
+  e = eventsOf(t, std::vector<std::uint8_t>{0, 0});
+  EXPECT_EQ(e, (std::map<Usage, std::int32_t>{{button(5), 0}}));
+}
+
 TEST(HidDescriptor, ExtractMatchesBitByBitReference) {
   // The reference: assemble the value one bit at a time.
   std::vector<std::uint8_t> data(16);

@@ -5,11 +5,29 @@
 
 #include <gtest/gtest.h>
 
+#include <pthread.h>
+#include <sched.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <condition_variable>
+#include <cstdlib>
 #include <mutex>
+#include <new>
 #include <thread>
+
+// Counts heap allocations made by the thread that sets gCountAllocations (the "field thread").
+namespace {
+thread_local bool gCountAllocations = false;
+std::atomic<int> gAllocations{0};
+}  // namespace
+void* operator new(std::size_t bytes) {
+  if (gCountAllocations) gAllocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(bytes ? bytes : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace fieldcast::io {
 namespace {
@@ -25,14 +43,16 @@ struct GateState {
   int entered = 0;  // consume() calls begun
   std::vector<std::uint64_t> seen;
   std::vector<std::uint8_t> firstBytes;
+  int corrupted = 0;  // fields whose bytes changed under the sink while it held them
   bool closed = false;
 };
 
 class GateSink final : public FieldSink {
  public:
-  explicit GateSink(std::shared_ptr<GateState> s) : mS(std::move(s)) {}
-  std::string name() const override { return "gate"; }
-  void open(const StreamFormat&) override {}
+  explicit GateSink(std::shared_ptr<GateState> s, std::string name = "gate")
+      : mS(std::move(s)), mName(std::move(name)) {}
+  std::string name() const override { return mName; }
+  void open(const StreamFormat& format) override { mFormat = format; }
   SinkStatus consume(const Field& field) override {
     std::unique_lock lock(mS->m);
     ++mS->entered;
@@ -40,6 +60,7 @@ class GateSink final : public FieldSink {
     mS->cv.wait(lock, [&] { return mS->open; });
     mS->seen.push_back(field.fieldNumber);
     mS->firstBytes.push_back(field.image.bytes()[0]);
+    if (!(field.image == makeField(mFormat, field.fieldNumber).image)) ++mS->corrupted;
     return SinkStatus::Ok;
   }
   void close() override {
@@ -49,6 +70,8 @@ class GateSink final : public FieldSink {
 
  private:
   std::shared_ptr<GateState> mS;
+  std::string mName;
+  StreamFormat mFormat;
 };
 
 class FailingOpenSink final : public FieldSink {
@@ -96,6 +119,91 @@ TEST(SinkHub, SlowSinkNeverBlocksPublishAndDropsAreCounted) {
   }
 }
 
+// One copy per publish is shared by all sinks: a stuck sink holding its fields must neither
+// starve a fast sink of slots nor see its held fields overwritten.
+TEST(SinkHub, AStuckSinkNeitherStarvesNorCorrupts) {
+  const StreamFormat format = testFormat(64, 16);
+  auto stuck = std::make_shared<GateState>();
+  auto fast = std::make_shared<GateState>();
+  fast->open = true;
+  SinkHub hub(format, SinkHubOptions{3});
+  hub.add(std::make_unique<GateSink>(stuck, "stuck"));
+  hub.add(std::make_unique<GateSink>(fast, "fast"));
+  hub.start();
+  for (std::uint64_t k = 0; k < 50; ++k) {
+    hub.publish(makeField(format, k));
+    // let the fast sink finish each field, so none of its fields is dropped
+    while (hub.figures()[1].consumed < k + 1) std::this_thread::yield();
+  }
+  {
+    std::lock_guard lock(stuck->m);
+    stuck->open = true;
+  }
+  stuck->cv.notify_all();
+  hub.stop();
+  const auto figures = hub.figures();
+  EXPECT_EQ(figures[1].consumed, 50u);
+  EXPECT_EQ(figures[1].droppedFull, 0u);
+  EXPECT_EQ(figures[0].consumed, 3u);  // fields 0, 1, 2 held the whole time
+  EXPECT_EQ(stuck->corrupted, 0);
+  EXPECT_EQ(fast->corrupted, 0);
+}
+
+TEST(SinkHub, PublishNeverAllocates) {
+  const StreamFormat format = testFormat(720, 486);
+  auto slow = std::make_shared<GateState>();  // stuck: its queue fills, so drops happen too
+  auto fast = std::make_shared<GateState>();
+  fast->open = true;
+  SinkHub hub(format);
+  hub.add(std::make_unique<GateSink>(slow, "slow"));
+  hub.add(std::make_unique<GateSink>(fast, "fast"));
+  hub.start();
+  std::vector<Field> fields;
+  for (std::uint64_t k = 0; k < 8; ++k) fields.push_back(makeField(format, k));
+  Field wrong = makeField(testFormat(64, 16), 0);
+  gAllocations = 0;
+  gCountAllocations = true;
+  for (int i = 0; i < 200; ++i) hub.publish(fields[static_cast<std::size_t>(i) % fields.size()]);
+  hub.publish(wrong);
+  gCountAllocations = false;
+  EXPECT_EQ(gAllocations.load(), 0);
+  {
+    std::lock_guard lock(slow->m);
+    slow->open = true;
+  }
+  slow->cv.notify_all();
+  hub.stop();
+}
+
+// Records the scheduling policy its worker runs under.
+class PolicySink final : public FieldSink {
+ public:
+  explicit PolicySink(int* policy) : mPolicy(policy) {}
+  std::string name() const override { return "policy"; }
+  void open(const StreamFormat&) override {
+    sched_param p{};
+    pthread_getschedparam(pthread_self(), mPolicy, &p);
+  }
+  SinkStatus consume(const Field&) override { return SinkStatus::Ok; }
+  void close() override {}
+
+ private:
+  int* mPolicy;
+};
+
+TEST(SinkHub, RealtimeWorkerWhenGrantedAndSaysSo) {
+  int policy = -1;
+  SinkHub hub(testFormat(64, 16));
+  hub.add(std::make_unique<PolicySink>(&policy), SinkWorkerOptions{10});
+  hub.start();  // runs whether or not the system grants SCHED_FIFO
+  const bool realtime = hub.figures()[0].realtime;
+  hub.stop();
+  EXPECT_EQ(policy == SCHED_FIFO, realtime);
+  EXPECT_THROW(hub.add(std::make_unique<PolicySink>(&policy), SinkWorkerOptions{120}), std::logic_error);
+  SinkHub other(testFormat(64, 16));
+  EXPECT_THROW(other.add(std::make_unique<PolicySink>(&policy), SinkWorkerOptions{120}), std::invalid_argument);
+}
+
 TEST(SinkHub, WrongFieldsAreRejectedNotQueued) {
   const StreamFormat format = testFormat(64, 16);
   auto state = std::make_shared<GateState>();
@@ -138,7 +246,8 @@ TEST(SinkHub, BrokenPipeEndsThatSinkOnly) {
   ::close(fds[0]);  // the consumer goes away
   for (std::uint64_t k = 0; k < 40; ++k) {
     hub.publish(makeField(format, k));
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    // wait for the healthy sink, so that none of its fields is dropped on a loaded machine
+    while (hub.figures()[1].consumed < k + 1) std::this_thread::yield();
   }
   hub.stop();
   ::close(fds[1]);

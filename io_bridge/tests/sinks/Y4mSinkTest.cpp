@@ -116,6 +116,41 @@ TEST(Y4mSink, ALostFieldStillWritesItsFrame) {
   std::filesystem::remove(path);
 }
 
+// Bytes of the stream header line, newline included.
+std::uintmax_t headerBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::getline(in, line);
+  return line.size() + 1;
+}
+
+TEST(Y4mSink, WholeMissedFramesAreRepeatedSoTheFileKeepsTime) {
+  const StreamFormat f = testFormat(16, 6);
+  const auto path = tempPath("gap.y4m");
+  Y4mSink sink({path, Y4mChroma::C422});
+  sink.open(f);
+  for (std::uint64_t k : {0u, 1u, 6u, 7u}) sink.consume(makeField(f, k));  // frames 1 and 2 missed
+  sink.close();
+  EXPECT_EQ(sink.framesWritten(), 4u);
+  EXPECT_EQ(sink.framesRepeated(), 2u);
+  EXPECT_EQ(sink.incompleteFrames(), 0u);
+  // Each frame is "FRAME\n" + 16×6 luma + 2 × 8×6 chroma.
+  EXPECT_EQ(std::filesystem::file_size(path), headerBytes(path) + 4 * (6 + 16 * 6 * 2));
+  std::filesystem::remove(path);
+}
+
+TEST(Y4mSink, ProgressiveGapsAreFilledToo) {
+  const StreamFormat f = testFormat(16, 6, ScanMode::Progressive);
+  const auto path = tempPath("gap_p.y4m");
+  Y4mSink sink({path, Y4mChroma::C420});
+  sink.open(f);
+  for (std::uint64_t k : {3u, 4u, 7u}) sink.consume(makeField(f, k));  // starts late: no fill before 3
+  sink.close();
+  EXPECT_EQ(sink.framesWritten(), 5u);
+  EXPECT_EQ(sink.framesRepeated(), 2u);
+  std::filesystem::remove(path);
+}
+
 TEST(Y4mSink, UnwritableFolderIsAClearError) {
   Y4mSink sink({"/nonexistent-dir/out.y4m", Y4mChroma::C420});
   try {

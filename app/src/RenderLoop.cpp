@@ -1,0 +1,97 @@
+#include "RenderLoop.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <thread>
+
+namespace fieldcast::app {
+
+RenderLoop::RenderLoop(core::Renderer& renderer, const motion::MotionSource& motion, const Intrinsics& display,
+                       warp::FrameHandover& frames, ServiceMetrics& metrics, const RenderPacing& pacing,
+                       core::TileCache* tiles)
+    : mRenderer(renderer),
+      mMotion(motion),
+      mDisplay(display),
+      mFrames(frames),
+      mMetrics(metrics),
+      mPacing(pacing),
+      mTiles(tiles),
+      mController(pacing.controller, pacing.initialQuality),
+      mQuality(pacing.initialQuality) {
+  mRenderer.setQuality(pacing.initialQuality);
+}
+
+RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
+  // Render for the instant the frame will be ready: the warp then extrapolates over the shortest
+  // possible interval (frame → field), which is where the quadratic is most exact.
+  const TimePoint poseTime = now + mExpectedLatency;
+  core::ViewRequest request;
+  request.pose = mMotion.poseAt(poseTime);
+  request.poseTime = poseTime;
+  request.display = mDisplay;
+  request.frameNumber = mNextFrameNumber++;
+  InFlight frame;
+  if (mTiles != nullptr) {
+    const Pose ahead = mMotion.poseAt(poseTime + std::chrono::milliseconds(100));
+    mTiles->prefetch(request.pose, (ahead.positionM - request.pose.positionM) * 10.0, mDisplay);
+    frame.lease = mTiles->lease();
+  }
+  frame.ticket = mRenderer.submit(request);
+  return frame;
+}
+
+void RenderLoop::finish(InFlight& frame) {
+  core::RenderStats stats;
+  Frame done = mRenderer.finish(std::move(frame.ticket), &stats);
+  frame.lease.release();
+  publish(std::move(done), stats);
+}
+
+void RenderLoop::publish(Frame&& frame, const core::RenderStats&) {
+  const Nanoseconds took = frame.renderEnd - frame.renderStart;
+  mMetrics.record(Measure::RenderTime, took);
+  // Smooth the submit → ready latency (renderStart is the submit; with frames overlapping it
+  // exceeds the frame's own work).
+  mExpectedLatency = Nanoseconds{(mExpectedLatency.count() * 7 + std::max<std::int64_t>(took.count(), 0)) / 8};
+  mFrames.back() = std::move(frame);
+  mFrames.publish();
+  mPublished.fetch_add(1, std::memory_order_release);
+  mMetrics.counters.framesRendered.fetch_add(1, std::memory_order_relaxed);
+  if (mPacing.controller.target.count() > 0) {
+    const double q = mController.update(took);
+    mRenderer.setQuality(q);
+    mQuality.store(q, std::memory_order_relaxed);
+  }
+}
+
+bool RenderLoop::run(std::atomic<bool>& stop) noexcept {
+  try {
+    const Nanoseconds minInterval = mPacing.maxRateHz > 0 ? fromSeconds(1.0 / mPacing.maxRateHz) : Nanoseconds{0};
+    SystemClock clock;
+    TimePoint nextStart = clock.now();
+    // Two frames in flight: while the loop waits for one, the workers already cast the next.
+    InFlight inFlight;
+    while (!stop.load(std::memory_order_acquire)) {
+      if (minInterval.count() > 0) {
+        clock.sleepUntil(nextStart);
+        nextStart = std::max(nextStart + minInterval, clock.now() - minInterval);
+      }
+      InFlight next = submitNext(clock.now());
+      if (inFlight.ticket) finish(inFlight);
+      inFlight = std::move(next);
+      // A capped IG hands each frame over as soon as it is ready, not one frame later.
+      if (minInterval.count() > 0) finish(inFlight);
+    }
+    if (inFlight.ticket) mRenderer.finish(std::move(inFlight.ticket));
+    return true;
+  } catch (const std::exception& e) {
+    spdlog::critical("render thread: {}", e.what());
+  } catch (...) {
+    spdlog::critical("render thread: unknown exception");
+  }
+  stop.store(true, std::memory_order_release);
+  return false;
+}
+
+}  // namespace fieldcast::app

@@ -1,0 +1,63 @@
+// libFuzzer target for the terrain database reader: the input is a whole database file. Inputs of
+// even length get their checksums repaired first, so the fuzzer gets past them into the header
+// field checks, the index bounds and the tile decoder; odd lengths exercise the checksums.
+#include <ig_core/TerrainDatabase.h>
+
+#include <xxhash.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace {
+
+using namespace fieldcast::core;
+
+void repairChecksums(std::vector<std::byte>& file) {
+  if (file.size() < kDatabaseHeaderBytes) return;
+  std::uint64_t tileCount = 0;
+  std::memcpy(&tileCount, file.data() + 80, 8);
+  const std::uint64_t room = (file.size() - kDatabaseHeaderBytes) / kTileIndexEntryBytes;
+  const std::uint64_t entries = std::min(tileCount, room);
+  for (std::uint64_t k = 0; k < entries; ++k) {
+    std::byte* e = file.data() + kDatabaseHeaderBytes + k * kTileIndexEntryBytes;
+    std::uint64_t offset = 0;
+    std::uint32_t bytes = 0;
+    std::memcpy(&offset, e, 8);
+    std::memcpy(&bytes, e + 8, 4);
+    if (offset <= file.size() && bytes <= file.size() - offset) {
+      const std::uint64_t sum = XXH3_64bits(file.data() + offset, bytes);
+      std::memcpy(e + 16, &sum, 8);
+    }
+  }
+  const std::uint64_t indexSum = XXH3_64bits(file.data() + kDatabaseHeaderBytes, entries * kTileIndexEntryBytes);
+  std::memcpy(file.data() + 96, &indexSum, 8);
+  const std::uint64_t headerSum = XXH3_64bits(file.data(), 120);
+  std::memcpy(file.data() + 120, &headerSum, 8);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  std::vector<std::byte> file(size);
+  if (size > 0) std::memcpy(file.data(), data, size);
+  if (size % 2 == 0) repairChecksums(file);
+  const std::span<const std::byte> bytes(file);
+  try {
+    const DatabaseLayout layout = parseDatabaseHeader(bytes.first(std::min(size, kDatabaseHeaderBytes)), size, "fuzz");
+    const std::vector<TileIndexEntry> index =
+        parseTileIndex(bytes.subspan(kDatabaseHeaderBytes, layout.tileCount * kTileIndexEntryBytes), layout, "fuzz");
+    TileBuffers tile;
+    for (std::size_t k = 0; k < std::min<std::size_t>(index.size(), 4); ++k) {
+      try {
+        decodeTile(bytes.subspan(index[k].offset, index[k].compressedBytes), index[k], layout.geometry.tileShift,
+                   layout.voxelColour, tile, "fuzz tile");
+      } catch (const TerrainDatabaseError&) {
+      }
+    }
+  } catch (const TerrainDatabaseError&) {
+  }
+  return 0;
+}

@@ -1,0 +1,297 @@
+// fieldcast-db: the terrain database tool.
+//   fieldcast-db build --builtin [--size N --seed S --spacing M] -o out.fctdb
+//   fieldcast-db build --dem elevation.tif [--ortho photo.jpg] -o out.fctdb
+//   fieldcast-db info db.fctdb          header, levels, sizes, compression
+//   fieldcast-db verify db.fctdb        reads and checks every tile; exit 1 on any failure
+//   fieldcast-db preview db.fctdb -o level.png [--level L] [--shaded]
+//   fieldcast-db landmarks [--size N --seed S --spacing M]
+#include <ig_core/BuiltinTerrain.h>
+#include <ig_core/ElevationImport.h>
+#include <ig_core/TerrainBuilder.h>
+#include <ig_core/TerrainDatabase.h>
+
+#include <OpenImageIO/imageio.h>
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace fieldcast::core;
+
+struct BuildArgs {
+  bool builtin = false;
+  std::string dem;
+  std::string ortho;
+  std::string output;
+  int size = 8192;
+  double spacing = 2.0;
+  std::uint64_t seed = 1;
+  int tileShift = 8;
+  bool grey = false;
+  int threads = 0;
+  int zstdLevel = 3;
+  double sunAzimuth = 315.0;
+  double sunElevation = 40.0;
+  double demSpacing = 0.0;
+  std::string nodata;
+  std::string rawSize;
+  std::string rawType = "int16";
+  double verticalScale = 1.0;
+  double verticalOffset = 0.0;
+};
+
+double seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+int runBuild(const BuildArgs& a) {
+  const auto start = std::chrono::steady_clock::now();
+  ConsoleProgress console(a.builtin ? "built-in terrain" : a.dem);
+  ProceduralColourOptions colour;
+  colour.sunAzimuthDeg = a.sunAzimuth;
+  colour.sunElevationDeg = a.sunElevation;
+  colour.output = a.grey ? ColourOutput::Grey : ColourOutput::Colour;
+  colour.threads = a.threads;
+  TerrainGrid grid;
+  if (a.builtin) {
+    BuiltinTerrainSpec spec;
+    spec.sizeVox = a.size;
+    spec.spacingM = a.spacing;
+    spec.seed = a.seed;
+    grid = generateBuiltinTerrain(spec, colour, console.callback());
+  } else {
+    ImportOptions import;
+    import.spacingM = a.demSpacing;
+    if (!a.nodata.empty()) import.nodata = std::stod(a.nodata);
+    if (!a.rawSize.empty()) {
+      if (std::sscanf(a.rawSize.c_str(), "%dx%d", &import.rawWidth, &import.rawHeight) != 2) {
+        throw std::invalid_argument("--raw-size: expected WxH, got " + a.rawSize);
+      }
+    }
+    import.rawType = a.rawType;
+    import.verticalScaleM = a.verticalScale;
+    import.verticalOffsetM = a.verticalOffset;
+    const ElevationGrid dem = importElevation(a.dem, import);
+    std::printf("%s: %dx%d voxels, spacing %.3f m, origin (%.1f, %.1f), heights %.2f .. %.2f m, %zu nodata filled\n",
+                a.dem.c_str(), dem.widthVox, dem.heightVox, dem.spacingM, dem.originM.x, dem.originM.y, dem.minM,
+                dem.maxM, dem.nodataFilled);
+    grid = quantiseElevation(dem);
+    if (!a.ortho.empty()) {
+      OrthophotoPlacement placement;
+      grid.colourRgba = drapeOrthophoto(a.ortho, grid.geometry, placement, colour.output, 0xFF808080u, a.threads);
+    } else {
+      grid.colourRgba = bakeProceduralColour(grid.geometry, grid.heightQ, {}, colour);
+    }
+  }
+  BuildOptions options;
+  options.tileShift = a.tileShift;
+  options.voxelColour = a.grey ? VoxelColour::Grey : VoxelColour::Rgba;
+  options.threads = a.threads;
+  options.zstdLevel = a.zstdLevel;
+  options.progress = console.callback();
+  const BuildReport report = writeTerrainDatabase(grid, a.output, options);
+  std::printf("%s: %dx%d voxels, %d levels, %llu tiles, %.1f MiB (%.2fx smaller than raw) in %.1f s\n",
+              a.output.c_str(), report.geometry.widthVox, report.geometry.heightVox, report.geometry.levels,
+              static_cast<unsigned long long>(report.tileCount), static_cast<double>(report.fileBytes) / 1048576.0,
+              static_cast<double>(report.rawBytes) / static_cast<double>(report.fileBytes), seconds(start));
+  return 0;
+}
+
+int runInfo(const std::string& path) {
+  const DatabaseReader reader(path);
+  const DatabaseLayout& l = reader.layout();
+  const TerrainGeometry& g = l.geometry;
+  std::printf("%s: Fieldcast terrain database, version %u\n", path.c_str(), kDatabaseVersion);
+  std::printf("  grid        %d x %d voxels, spacing %.3f m (%.1f x %.1f km)\n", g.widthVox, g.heightVox, g.spacingM,
+              g.widthVox * g.spacingM / 1000.0, g.heightVox * g.spacingM / 1000.0);
+  std::printf("  origin      voxel (0,0) centre at x %.3f, y %.3f m\n", g.originM.x, g.originM.y);
+  std::printf("  heights     z = %.3f + %.4f * q  (range %.1f .. %.1f m)\n", g.heightBaseM, g.heightStepM,
+              g.heightBaseM, g.heightM(65535));
+  std::printf("  colour      %s\n", l.voxelColour == VoxelColour::Rgba ? "RGBA" : "grey");
+  std::printf("  tiles       %d x %d voxels, %llu tiles over %d levels\n", g.tileSizeVox(), g.tileSizeVox(),
+              static_cast<unsigned long long>(l.tileCount), g.levels);
+  for (int level = 0; level < g.levels; ++level) {
+    std::printf("    level %2d  %6d x %-6d voxels  %4d x %-4d tiles\n", level, g.levelWidthVox(level),
+                g.levelHeightVox(level), g.tilesX(level), g.tilesY(level));
+  }
+  const double raw = static_cast<double>(l.tileCount) * static_cast<double>(rawTileBytes(g.tileShift, l.voxelColour));
+  std::printf("  size        %.1f MiB on disk, %.1f MiB of tiles uncompressed (%.2fx)\n",
+              static_cast<double>(l.fileBytes) / 1048576.0, raw / 1048576.0,
+              raw / static_cast<double>(reader.compressedBytes()));
+  return 0;
+}
+
+int runVerify(const std::string& path) {
+  const auto start = std::chrono::steady_clock::now();
+  const DatabaseReader reader(path);
+  const TerrainGeometry& g = reader.geometry();
+  TileBuffers tile;
+  std::uint64_t bad = 0, good = 0;
+  for (int level = 0; level < g.levels; ++level) {
+    for (int ty = 0; ty < g.tilesY(level); ++ty) {
+      for (int tx = 0; tx < g.tilesX(level); ++tx) {
+        try {
+          reader.readTile(level, tx, ty, tile);
+          ++good;
+        } catch (const TerrainDatabaseError& e) {
+          std::fprintf(stderr, "%s\n", e.what());
+          ++bad;
+        }
+      }
+    }
+  }
+  std::printf("%s: %llu tiles good, %llu bad (%.1f s)\n", path.c_str(), static_cast<unsigned long long>(good),
+              static_cast<unsigned long long>(bad), seconds(start));
+  return bad == 0 ? 0 : 1;
+}
+
+int runPreview(const std::string& path, const std::string& output, int level, bool heights) {
+  const DatabaseReader reader(path);
+  const TerrainGeometry& g = reader.geometry();
+  if (level < 0) {
+    level = 0;
+    while (level < g.levels - 1 && std::max(g.levelWidthVox(level), g.levelHeightVox(level)) > 2048) ++level;
+  }
+  if (level >= g.levels)
+    throw std::invalid_argument("--level: the database has levels 0.." + std::to_string(g.levels - 1));
+  const int w = g.levelWidthVox(level);
+  const int h = g.levelHeightVox(level);
+  const int side = g.tileSizeVox();
+  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
+  TileBuffers tile;
+  for (int ty = 0; ty < g.tilesY(level); ++ty) {
+    for (int tx = 0; tx < g.tilesX(level); ++tx) {
+      reader.readTile(level, tx, ty, tile);
+      for (int y = 0; y < side; ++y) {
+        const int j = ty * side + y;
+        if (j >= h) break;
+        for (int x = 0; x < side; ++x) {
+          const int i = tx * side + x;
+          if (i >= w) break;
+          const std::size_t k = static_cast<std::size_t>(y) * side + x;
+          // Image rows run top (north) to bottom; grid rows run south to north.
+          std::uint8_t* p = pixels.data() + (static_cast<std::size_t>(h - 1 - j) * w + i) * 3;
+          if (heights) {
+            const auto v = static_cast<std::uint8_t>(tile.heightQ[k] >> 8);
+            p[0] = p[1] = p[2] = v;
+          } else {
+            p[0] = static_cast<std::uint8_t>(tile.colourRgba[k]);
+            p[1] = static_cast<std::uint8_t>(tile.colourRgba[k] >> 8);
+            p[2] = static_cast<std::uint8_t>(tile.colourRgba[k] >> 16);
+          }
+        }
+      }
+    }
+  }
+  auto out = OIIO::ImageOutput::create(output);
+  if (!out) throw std::runtime_error(output + ": cannot write this image format: " + OIIO::geterror());
+  const OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+  if (!out->open(output, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
+    throw std::runtime_error(output + ": " + out->geterror());
+  }
+  std::printf("%s: level %d, %d x %d pixels (north up)\n", output.c_str(), level, w, h);
+  return 0;
+}
+
+int runLandmarks(int size, double spacing, std::uint64_t seed) {
+  BuiltinTerrainSpec spec;
+  spec.sizeVox = size;
+  spec.spacingM = spacing;
+  spec.seed = seed;
+  std::printf("built-in terrain %dx%d at %.2f m, seed %llu: x east 0..%.0f m, y north 0..%.0f m\n", size, size, spacing,
+              static_cast<unsigned long long>(seed), (size - 1) * spacing, (size - 1) * spacing);
+  std::printf("%-18s %9s %9s %8s  %s\n", "name", "x m", "y m", "ground m", "what");
+  for (const BuiltinLandmark& m : builtinLandmarks(spec)) {
+    std::printf("%-18s %9.0f %9.0f %8.0f  %s\n", m.name.c_str(), m.positionM.x, m.positionM.y, m.groundM,
+                m.description.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"fieldcast-db: build, inspect, verify and preview Fieldcast terrain databases"};
+  app.require_subcommand(1);
+
+  BuildArgs build;
+  CLI::App* buildCmd =
+      app.add_subcommand("build", "build a database from a DEM (+ orthophoto) or the built-in terrain");
+  auto* builtinOpt = buildCmd->add_flag("--builtin", build.builtin, "the built-in terrain");
+  auto* demOpt = buildCmd->add_option(
+      "--dem", build.dem, "elevation: GeoTIFF/TIFF, 16-bit PNG, ESRI ASCII grid (.asc), raw grid (.raw/.bin)");
+  builtinOpt->excludes(demOpt);
+  buildCmd->add_option("--ortho", build.ortho, "orthophoto draped over the DEM (any image OpenImageIO reads)")
+      ->needs(demOpt);
+  buildCmd->add_option("-o,--output", build.output, "database to write")->required();
+  buildCmd->add_option("--size", build.size, "built-in: voxels per side")->capture_default_str();
+  buildCmd->add_option("--spacing", build.spacing, "built-in: voxel spacing in metres")->capture_default_str();
+  buildCmd->add_option("--seed", build.seed, "built-in: seed")->capture_default_str();
+  buildCmd->add_option("--dem-spacing", build.demSpacing, "DEM voxel spacing in metres when the file does not say");
+  buildCmd->add_option("--nodata", build.nodata, "DEM nodata value when the file does not say");
+  buildCmd->add_option("--raw-size", build.rawSize, "raw DEM without sidecar: WxH");
+  buildCmd->add_option("--raw-type", build.rawType, "raw DEM without sidecar: int16, uint16 or float32")
+      ->capture_default_str();
+  buildCmd->add_option("--vertical-scale", build.verticalScale, "DEM: metres per sample count")->capture_default_str();
+  buildCmd->add_option("--vertical-offset", build.verticalOffset, "DEM: metres at sample 0")->capture_default_str();
+  buildCmd->add_option("--tile-shift", build.tileShift, "tiles of 2^shift voxels a side")
+      ->check(CLI::Range(kMinTileShift, kMaxTileShift))
+      ->capture_default_str();
+  buildCmd->add_flag("--grey", build.grey, "grey-level database");
+  buildCmd->add_option("--threads", build.threads, "worker threads (0: every core)")->capture_default_str();
+  buildCmd->add_option("--zstd-level", build.zstdLevel, "zstd compression level")->capture_default_str();
+  buildCmd->add_option("--sun-azimuth", build.sunAzimuth, "procedural colour: sun azimuth, degrees from north")
+      ->capture_default_str();
+  buildCmd->add_option("--sun-elevation", build.sunElevation, "procedural colour: sun elevation, degrees")
+      ->capture_default_str();
+
+  std::string infoPath;
+  CLI::App* infoCmd = app.add_subcommand("info", "print a database's header and levels");
+  infoCmd->add_option("database", infoPath)->required();
+
+  std::string verifyPath;
+  CLI::App* verifyCmd = app.add_subcommand("verify", "read and check every tile");
+  verifyCmd->add_option("database", verifyPath)->required();
+
+  std::string previewPath, previewOut;
+  int previewLevel = -1;
+  bool previewHeights = false;
+  CLI::App* previewCmd = app.add_subcommand("preview", "write one level as an image (north up)");
+  previewCmd->add_option("database", previewPath)->required();
+  previewCmd->add_option("-o,--output", previewOut, "image to write (PNG, JPEG, TIFF, ...)")->required();
+  previewCmd->add_option("--level", previewLevel, "level (default: the finest at most 2048 wide)");
+  previewCmd->add_flag("--heights", previewHeights, "grey heights instead of colour");
+
+  int lmSize = 8192;
+  double lmSpacing = 2.0;
+  std::uint64_t lmSeed = 1;
+  CLI::App* landmarksCmd =
+      app.add_subcommand("landmarks", "where the built-in terrain's features are, in world metres");
+  landmarksCmd->add_option("--size", lmSize)->capture_default_str();
+  landmarksCmd->add_option("--spacing", lmSpacing)->capture_default_str();
+  landmarksCmd->add_option("--seed", lmSeed)->capture_default_str();
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (buildCmd->parsed()) {
+      if (!build.builtin && build.dem.empty()) throw std::invalid_argument("build: give --builtin or --dem FILE");
+      return runBuild(build);
+    }
+    if (infoCmd->parsed()) return runInfo(infoPath);
+    if (verifyCmd->parsed()) return runVerify(verifyPath);
+    if (previewCmd->parsed()) return runPreview(previewPath, previewOut, previewLevel, previewHeights);
+    if (landmarksCmd->parsed()) return runLandmarks(lmSize, lmSpacing, lmSeed);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fieldcast-db: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
