@@ -629,10 +629,25 @@ const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
   const auto fx = static_cast<float>(ux - x0);
   const auto fy = static_cast<float>(uy - y0);
   const int up = l + 1;
-  const Rgb lo =
-      mix(unpackRgb(windowColour(f, t, w, up, x0, y0)), unpackRgb(windowColour(f, t, w, up, x0 + 1, y0)), fx);
-  const Rgb hi =
-      mix(unpackRgb(windowColour(f, t, w, up, x0, y0 + 1)), unpackRgb(windowColour(f, t, w, up, x0 + 1, y0 + 1)), fx);
+  std::uint32_t q00, q10, q01, q11;
+  const int mask = f.tileMask;
+  if ((x0 & mask) != mask && (y0 & mask) != mask && windowFor(f, t, w, up, x0, y0)) {
+    // The 2×2 block lies in one tile: four loads.
+    const auto lv = static_cast<std::size_t>(up);
+    const std::uint32_t* p00 = w.tile[lv]->colourRgba + (((y0 - w.y0[lv]) << f.tileShift) + (x0 - w.x0[lv]));
+    const std::ptrdiff_t row = std::ptrdiff_t{1} << f.tileShift;
+    q00 = p00[0];
+    q10 = p00[1];
+    q01 = p00[row];
+    q11 = p00[row + 1];
+  } else {
+    q00 = windowColour(f, t, w, up, x0, y0);
+    q10 = windowColour(f, t, w, up, x0 + 1, y0);
+    q01 = windowColour(f, t, w, up, x0, y0 + 1);
+    q11 = windowColour(f, t, w, up, x0 + 1, y0 + 1);
+  }
+  const Rgb lo = mix(unpackRgb(q00), unpackRgb(q10), fx);
+  const Rgb hi = mix(unpackRgb(q01), unpackRgb(q11), fx);
   x.colour = mix(x.colour, mix(lo, hi, fy), static_cast<float>(blend));
   return x.colour;
 }
