@@ -14,6 +14,7 @@
 #include <OpenImageIO/imageio.h>
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -71,6 +72,7 @@ int run(int argc, char** argv) {
   core::RenderSettings settings;
   bool grey = false;
   int threads = 0;
+  int repeat = 1;
   app.add_option("--pose", poseText, "x,y,z,heading,pitch,roll: metres east, north, up; degrees")->required();
   app.add_flag("--agl", agl, "z is the height above the ground under (x, y), not above datum");
   app.add_option("--fov", fovDeg, "horizontal field of view of the display window, degrees")
@@ -88,6 +90,8 @@ int run(int argc, char** argv) {
   app.add_option("--haze", settings.hazeRangeM, "range (m) where haze covers 63%; 0 = none")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--threads", threads, "render workers (0: one per core)");
+  app.add_option("--repeat", repeat, "render the frame this many times and report the median time")
+      ->check(CLI::Range(1, 100000));
   app.add_option("--db", db, "terrain: 'builtin', a database path, or 'synthetic' (procedural test hills)");
   app.add_option("--cache-dir", cacheDir, "cache folder of the built-in terrain (default: ~/.cache/fieldcast)");
   app.add_option("--terrain-size", terrainSize,
@@ -138,9 +142,15 @@ int run(int argc, char** argv) {
   core::RenderStats stats;
   core::FrameLease lease;
   if (cache) lease = cache->lease();  // tiles stay alive while the frame reads them
-  const Frame frame = renderer.render(request, &stats);
+  Frame frame;
+  std::vector<double> times;
+  for (int n = 0; n < repeat; ++n) {
+    frame = renderer.render(request, &stats, std::move(frame));
+    times.push_back(std::chrono::duration<double, std::milli>(frame.renderEnd - frame.renderStart).count());
+  }
   lease.release();
-  const double ms = std::chrono::duration<double, std::milli>(frame.renderEnd - frame.renderStart).count();
+  std::sort(times.begin(), times.end());
+  const double ms = times[times.size() / 2];
 
   const int channels = grey ? 1 : 3;
   const int x0 = displayOnly ? frame.margin.x : 0;
@@ -154,9 +164,15 @@ int run(int argc, char** argv) {
     pixels.insert(pixels.end(), row, row + outW * channels);
   }
   writeImage(outPath, outW, outH, channels, OIIO::TypeDesc::UINT8, pixels.data());
-  std::printf("wrote %s: %dx%d (display %dx%d, margin %d,%d), %.2f ms on %d threads, %.2f steps/px\n", outPath.c_str(),
-              outW, outH, frame.displayWidthPx(), frame.displayHeightPx(), frame.margin.x, frame.margin.y, ms,
-              renderer.threads(), static_cast<double>(stats.steps) / static_cast<double>(stats.pixels));
+  std::printf("wrote %s: %dx%d (display %dx%d, margin %d,%d), %.2f ms (median of %d) on %d threads, %.2f steps/px\n",
+              outPath.c_str(), outW, outH, frame.displayWidthPx(), frame.displayHeightPx(), frame.margin.x,
+              frame.margin.y, ms, repeat, renderer.threads(),
+              static_cast<double>(stats.steps) / static_cast<double>(stats.pixels));
+  if (cache) {
+    const core::TileCacheStats st = cache->stats();
+    std::printf("terrain: %llu tiles resident, %llu samples answered by a coarser level (tile not resident)\n",
+                static_cast<unsigned long long>(st.residentTiles), static_cast<unsigned long long>(st.viewMisses));
+  }
   if (!rangePath.empty()) {
     std::vector<float> range;
     for (int y = y0; y < y0 + outH; ++y) {

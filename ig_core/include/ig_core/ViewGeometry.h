@@ -38,7 +38,8 @@ class ViewGeometry {
   /// least `quality` pixels, clamped to the pyramid. RT-safe.
   int lodLevel(double depthM) const noexcept;
   /// Weight (0..1) of level `level`+1's colour blended into level `level`'s at depth `depthM`:
-  /// 0 just after the march switched to `level`, 1 where it switches to `level`+1. RT-safe.
+  /// 0 over the near half of the level's depth range, rising linearly to 1 where the march
+  /// switches to `level`+1. RT-safe.
   double levelBlend(double depthM, int level) const noexcept;
 
  private:

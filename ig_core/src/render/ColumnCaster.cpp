@@ -617,7 +617,7 @@ const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
   x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
   x.haveColour = true;
   if (!f.blend || l + 1 >= f.levels) return x.colour;
-  const double blend = std::clamp(x.depth * f.invLodDepth0M * pow2(1 - l) - 1.0, 0.0, 1.0);
+  const double blend = std::clamp(4.0 * x.depth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
   if (blend <= 0.0) return x.colour;
   const double p = pow2(l);
   const double mMaj = (x.i + 0.5) * p - 0.5;
@@ -629,10 +629,25 @@ const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
   const auto fx = static_cast<float>(ux - x0);
   const auto fy = static_cast<float>(uy - y0);
   const int up = l + 1;
-  const Rgb lo =
-      mix(unpackRgb(windowColour(f, t, w, up, x0, y0)), unpackRgb(windowColour(f, t, w, up, x0 + 1, y0)), fx);
-  const Rgb hi =
-      mix(unpackRgb(windowColour(f, t, w, up, x0, y0 + 1)), unpackRgb(windowColour(f, t, w, up, x0 + 1, y0 + 1)), fx);
+  std::uint32_t q00, q10, q01, q11;
+  const int mask = f.tileMask;
+  if ((x0 & mask) != mask && (y0 & mask) != mask && windowFor(f, t, w, up, x0, y0)) {
+    // The 2×2 block lies in one tile: four loads.
+    const auto lv = static_cast<std::size_t>(up);
+    const std::uint32_t* p00 = w.tile[lv]->colourRgba + (((y0 - w.y0[lv]) << f.tileShift) + (x0 - w.x0[lv]));
+    const std::ptrdiff_t row = std::ptrdiff_t{1} << f.tileShift;
+    q00 = p00[0];
+    q10 = p00[1];
+    q01 = p00[row];
+    q11 = p00[row + 1];
+  } else {
+    q00 = windowColour(f, t, w, up, x0, y0);
+    q10 = windowColour(f, t, w, up, x0 + 1, y0);
+    q01 = windowColour(f, t, w, up, x0, y0 + 1);
+    q11 = windowColour(f, t, w, up, x0 + 1, y0 + 1);
+  }
+  const Rgb lo = mix(unpackRgb(q00), unpackRgb(q10), fx);
+  const Rgb hi = mix(unpackRgb(q01), unpackRgb(q11), fx);
   x.colour = mix(x.colour, mix(lo, hi, fy), static_cast<float>(blend));
   return x.colour;
 }
@@ -645,13 +660,31 @@ struct ColumnSink {
   float scale;
   Rgb sum;
   float range = std::numeric_limits<float>::infinity();
+  std::uint8_t* pixels = nullptr;  // this column's pixel in row 0
+  std::size_t rowBytes = 0;
+  float* ranges = nullptr;  // this column's range in row 0
+  std::size_t rowFloats = 0;
+
+  ColumnSink(const CasterFrame& frame, int column, int subRows) noexcept
+      : f(frame), u(column), s(subRows), scale(1.0f / static_cast<float>(subRows)) {
+    if (f.image != nullptr) {
+      rowBytes = f.image->strideBytes();
+      pixels = f.image->bytes().data() + static_cast<std::size_t>(u * f.shading.bytesPerPixel());
+    }
+    if (f.rangeM != nullptr) {
+      rowFloats = static_cast<std::size_t>(f.geo->intrinsics().widthPx);
+      ranges = f.rangeM + u;
+    }
+  }
+
+  void put(int v, const Rgb& c, float rangeM, float k) const noexcept {
+    if (pixels != nullptr) f.shading.storePixel(pixels + static_cast<std::size_t>(v) * rowBytes, c, k);
+    if (ranges != nullptr) ranges[static_cast<std::size_t>(v) * rowFloats] = rangeM;
+  }
 
   void emit(int q, const Rgb& c, float rangeM) noexcept {
     if (s == 1) {
-      if (f.image != nullptr) f.shading.store(f.image->row(q), u, c, 1.0f);
-      if (f.rangeM != nullptr) {
-        f.rangeM[static_cast<std::size_t>(q) * static_cast<std::size_t>(f.geo->intrinsics().widthPx) + u] = rangeM;
-      }
+      put(q, c, rangeM, 1.0f);
       return;
     }
     sum.r += c.r;
@@ -660,11 +693,7 @@ struct ColumnSink {
     const int sub = q % s;
     if (sub == s / 2) range = rangeM;
     if (sub != 0) return;
-    const int v = q / s;
-    if (f.image != nullptr) f.shading.store(f.image->row(v), u, sum, scale);
-    if (f.rangeM != nullptr) {
-      f.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(f.geo->intrinsics().widthPx) + u] = range;
-    }
+    put(q / s, sum, range, scale);
     sum = Rgb{};
     range = std::numeric_limits<float>::infinity();
   }
@@ -959,7 +988,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       jPos = cur.j + cur.phi + drift;
     }
     skippedSincePrev = false;
-    if (cur.v < vTop) {
+    if (cur.v < vTop && vq > cur.v) {
+      // (A crossing that raises the top by less than a row fills nothing and needs no colour.)
       // Sub-rows between the highest crossing so far and this one see the terrain between the two
       // grid lines: perspective-correct interpolation between the crossings (1/depth is linear in v).
       const double invDv = 1.0 / (cur.v - prev.v);
@@ -982,6 +1012,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         }
         vq -= invS;
       }
+    }
+    if (cur.v < vTop) {
       vTop = cur.v;
       setTop(vTop);
     }
@@ -1013,7 +1045,7 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const double uc = u + 0.5;
   const int s = f.supersample;
-  ColumnSink sink{f, u, s, 1.0f / static_cast<float>(s), {}};
+  ColumnSink sink(f, u, s);
   bool havePrev = false;
   glm::dvec2 prevHit{0.0};
   MarchHit hit;

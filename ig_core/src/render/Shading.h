@@ -60,18 +60,24 @@ class Shading {
 
   bool grey() const noexcept { return mGrey; }
 
-  /// Writes `c` (sum of `count` sub-ray colours) to pixel `u` of `row`. RT-safe.
-  void store(std::uint8_t* row, int u, const Rgb& c, float scale) const noexcept {
-    const auto byte = [](float v) { return static_cast<std::uint8_t>(std::clamp(v + 0.5f, 0.0f, 255.0f)); };
+  /// Writes `c` × `scale` (the mean of the sub-ray colours) to the pixel at `pixel`. RT-safe.
+  void storePixel(std::uint8_t* pixel, const Rgb& c, float scale) const noexcept {
+    // max then min: maxss/minss, no branches in the per-pixel path.
+    const auto byte = [](float v) { return static_cast<std::uint8_t>(std::min(std::max(v, 0.0f), 255.0f) + 0.5f); };
     if (mGrey) {
-      row[u] = byte((0.299f * c.r + 0.587f * c.g + 0.114f * c.b) * scale);
+      pixel[0] = byte((0.299f * c.r + 0.587f * c.g + 0.114f * c.b) * scale);
     } else {
-      std::uint8_t* p = row + 3 * u;
-      p[0] = byte(c.r * scale);
-      p[1] = byte(c.g * scale);
-      p[2] = byte(c.b * scale);
+      pixel[0] = byte(c.r * scale);
+      pixel[1] = byte(c.g * scale);
+      pixel[2] = byte(c.b * scale);
     }
   }
+  /// Writes `c` × `scale` to pixel `u` of `row`. RT-safe.
+  void store(std::uint8_t* row, int u, const Rgb& c, float scale) const noexcept {
+    storePixel(row + (mGrey ? u : 3 * u), c, scale);
+  }
+  /// Bytes per pixel of the output.
+  int bytesPerPixel() const noexcept { return mGrey ? 1 : 3; }
 
  private:
   static constexpr int kTable = 1024;

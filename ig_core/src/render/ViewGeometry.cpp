@@ -53,7 +53,9 @@ int ViewGeometry::lodLevel(double depthM) const noexcept {
 
 double ViewGeometry::levelBlend(double depthM, int level) const noexcept {
   if (level >= mLevels - 1) return 0.0;
-  return std::clamp(depthM / (mLodDepth0M * std::ldexp(1.0, level - 1)) - 1.0, 0.0, 1.0);
+  // Level L covers depths (½, 1]·Z0·2^L; the blend ramps over the far half of that, 0 at ¾ and 1 at
+  // the switch: continuous at the switch, and the near half of each level needs no second fetch.
+  return std::clamp(4.0 * depthM / (mLodDepth0M * std::ldexp(1.0, level)) - 3.0, 0.0, 1.0);
 }
 
 }  // namespace fieldcast::core
