@@ -37,7 +37,8 @@ RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
     mTiles->prefetch(request.pose, (ahead.positionM - request.pose.positionM) * 10.0, mDisplay);
     frame.lease = mTiles->lease();
   }
-  frame.ticket = mRenderer.submit(request);
+  // The producer's spare slot holds a frame the field thread has let go of: its buffers are reused.
+  frame.ticket = mRenderer.submit(request, std::move(mFrames.back()));
   return frame;
 }
 
