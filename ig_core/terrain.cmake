@@ -26,7 +26,7 @@ list(APPEND FIELDCAST_CORE_TEST_SOURCES
 # libFuzzer target for the database header/index reader and tile decoder: built with the project
 # compiler when that is clang, or with clang++-14 beside a gcc build when FIELDCAST_FUZZ=ON. The
 # `fuzz` test runs it briefly and is skipped (with the reason) when it was not built.
-option(FIELDCAST_FUZZ "Build the libFuzzer targets (needs clang++; with gcc, clang++-14 builds them)" OFF)
+# FIELDCAST_FUZZ and FIELDCAST_CLANGXX are set in the top-level CMakeLists.txt.
 if(FIELDCAST_BUILD_TESTS)
   set(_db_fuzz_sources ${CMAKE_CURRENT_SOURCE_DIR}/src/TerrainDatabase.cpp ${CMAKE_CURRENT_SOURCE_DIR}/src/TerrainView.cpp
                        ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/DatabaseFuzzer.cpp)
@@ -41,7 +41,6 @@ if(FIELDCAST_BUILD_TESTS)
     set_target_properties(fieldcast_fuzz_terrain_database PROPERTIES
       RUNTIME_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/fuzz OUTPUT_NAME terrain_database_fuzzer)
   else()
-    find_program(FIELDCAST_CLANGXX NAMES clang++-14 clang++ DOC "clang++ for the libFuzzer targets")
     if(NOT FIELDCAST_CLANGXX)
       set(_db_fuzz_reason "clang++ not found (install clang-14 libclang-rt-14-dev: scripts/install-deps.sh --interop)")
     elseif(NOT FIELDCAST_FUZZ)

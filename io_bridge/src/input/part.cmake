@@ -35,13 +35,7 @@ endif()
 # libFuzzer target for the HID parser: built with the project compiler when that is clang, or with
 # clang++-14 beside a gcc build when FIELDCAST_FUZZ=ON (the default when clang++ is installed). The
 # `fuzz` test runs it briefly and is skipped (with the reason) when it was not built.
-find_program(FIELDCAST_CLANGXX NAMES clang++-14 clang++ DOC "clang++ for the libFuzzer targets")
-if(FIELDCAST_CLANGXX OR CMAKE_CXX_COMPILER_ID MATCHES "Clang")
-  set(_fuzz_default ON)
-else()
-  set(_fuzz_default OFF)
-endif()
-option(FIELDCAST_FUZZ "Build the libFuzzer targets (needs clang++; with gcc, clang++-14 builds them)" ${_fuzz_default})
+# FIELDCAST_FUZZ and FIELDCAST_CLANGXX are set in the top-level CMakeLists.txt.
 # fieldcast_input_fuzzer(<name> <sources...>): a libFuzzer executable fuzz/<name> and a `fuzz` test
 # that runs it for 15 s (seeded corpus in the build tree), or skips with the reason.
 function(fieldcast_input_fuzzer name)
