@@ -1,4 +1,6 @@
 // The fieldcast executable's configuration handling, run as a user would run it.
+#include "../common/RunFieldcast.h"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -10,22 +12,8 @@
 
 namespace {
 
-struct RunResult {
-  int exitCode = -1;
-  std::string output;  // stdout and stderr together
-};
-
-RunResult run(const std::string& args) {
-  const std::string command = std::string(FIELDCAST_EXE) + " " + args + " 2>&1";
-  RunResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return result;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe)) result.output += buffer.data();
-  const int status = pclose(pipe);
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+using fieldcast::testing::RunResult;
+RunResult run(const std::string& args, int timeoutS = 120) { return fieldcast::testing::runFieldcast(args, timeoutS); }
 
 std::string writeConfig(const std::string& name, const std::string& text) {
   const auto path = std::filesystem::temp_directory_path() / ("fieldcast_test_" + name + ".toml");

@@ -1,5 +1,7 @@
 // The real service, run as a user runs it, on a small built-in terrain: fields at the right
 // rate into a Y4M file, a clean stop on SIGTERM, and one clear line for each bad configuration.
+#include "../common/RunFieldcast.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -19,24 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exitCode = -1;
-  std::string output;  // stdout and stderr together
-};
-
-// Every run is bounded by coreutils' timeout, so a hang fails the test instead of the suite.
-RunResult run(const std::string& args, int timeoutS = 120) {
-  const std::string command =
-      "timeout -s KILL " + std::to_string(timeoutS) + " " + std::string(FIELDCAST_EXE) + " " + args + " 2>&1";
-  RunResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return result;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe)) result.output += buffer.data();
-  const int status = pclose(pipe);
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+using fieldcast::testing::RunResult;
+RunResult run(const std::string& args, int timeoutS = 120) { return fieldcast::testing::runFieldcast(args, timeoutS); }
 
 // A workspace with a small terrain cache shared by the tests of this run, a flight over it and
 // a configuration that writes into the workspace.
