@@ -8,6 +8,7 @@
 
 #include <ig_core/OpenTerrain.h>
 #include <ig_core/Renderer.h>
+#include <io_bridge/GpioInput.h>
 #include <io_bridge/InputSources.h>
 #include <io_bridge/StickInput.h>
 #include <io_bridge/StickProfile.h>
@@ -84,6 +85,8 @@ struct Service::Parts {
   std::unique_ptr<motion::FlightModel> flightModel;
   const motion::MotionSource* motion = nullptr;
   std::unique_ptr<io::StickInput> stick;
+  std::unique_ptr<io::GpioInputs> gpio;  // the external field sync, when configured
+  std::uint64_t syncPulsesSeen = 0;
   KeyboardFlight keyboard;  // the live window's keys, when there is no stick
   PendingInput pendingInput{0};
   TimePoint lastInputTime{};
@@ -144,6 +147,14 @@ struct Service::Parts {
                                                                     config.threads.fieldThreadCpu}));
     fieldLoop->run(stopFields, lastField);
     fieldsDone.store(true, std::memory_order_release);
+  }
+
+  // Per field: a new external sync pulse, once the estimator is locked, disciplines the clock.
+  void applyExternalSync() noexcept {
+    const io::SyncEstimate estimate = gpio->sync();
+    if (!estimate.locked || estimate.pulses == syncPulsesSeen) return;
+    syncPulsesSeen = estimate.pulses;
+    fieldClock->externalSync(estimate.lastPulse);
   }
 
   // Per field, before the pose is asked for: the stick flight model integrates up to the field.
@@ -218,6 +229,15 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
   });
   p.sinks = std::move(sinks.hub);
   p.window = sinks.window;
+
+  if (!config.input.sync.empty()) {
+    try {
+      p.gpio = std::make_unique<io::GpioInputs>(std::chrono::microseconds(500), config.output.fieldRate);
+      p.gpio->addSync(io::openGpiodEdgeLine(io::parseGpioLineSpec(config.input.sync)));
+    } catch (const std::exception& e) {
+      throw std::runtime_error("input.sync: " + std::string(e.what()));
+    }
+  }
 }
 
 Service::~Service() {
@@ -233,6 +253,7 @@ void Service::start() {
   p.sinks->start();  // opens every output now: an unwritable path fails before anything runs
   if (p.flight) p.flight->setStartTime(p.clock.now());
   if (p.stick) p.stick->start();
+  if (p.gpio) p.gpio->start();
 
   p.renderThread = std::thread([&p] { p.renderMain(); });
   p.started.store(true);
@@ -254,7 +275,12 @@ void Service::start() {
   p.metrics.startAt(p.clock.now());
   p.fieldLoop = std::make_unique<FieldLoop>(*p.fieldClock, p.clock, *p.warper, p.frames, *p.poses, *p.sinks, p.metrics,
                                             p.stick ? &p.pendingInput : nullptr);
-  if (p.flightModel) p.fieldLoop->setBeforeField([&p](const warp::FieldTick& tick) { p.stepFlight(tick); });
+  if (p.flightModel || p.gpio) {
+    p.fieldLoop->setBeforeField([&p](const warp::FieldTick& tick) {
+      if (p.gpio) p.applyExternalSync();
+      if (p.flightModel) p.stepFlight(tick);
+    });
+  }
   std::uint64_t lastField = 0;
   if (p.config.motion.durationS > 0) {
     lastField = static_cast<std::uint64_t>(std::llround(p.config.motion.durationS * clockConfig.rate.hz()));
@@ -300,6 +326,7 @@ ServiceFigures Service::stop() {
   p.stopRender.store(true);
   if (p.renderThread.joinable()) p.renderThread.join();
   if (p.stick) p.stick->stop();
+  if (p.gpio) p.gpio->stop();
   if (p.sinks) {
     p.sinks->stop();  // drains the queues and finalises every output
     spdlog::info("outputs: {}", p.sinks->summary());

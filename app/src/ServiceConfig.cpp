@@ -155,6 +155,7 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
     c.input.stick = t.string("stick", "");
     c.input.profile = t.path("profile", "");
     c.input.record = t.path("record", "");
+    c.input.sync = t.string("sync", "");
     t.finish();
   }
   {

@@ -117,6 +117,7 @@ struct InputConfig {
   std::string stick;              ///< evdev path or name match; empty: no stick
   std::filesystem::path profile;  ///< stick profile (config/sticks/*.toml); empty: generic
   std::filesystem::path record;   ///< record the input to this file; empty: no recording
+  std::string sync;               ///< GPIO line of the external field sync ("gpiochip0:17"); empty: none
 };
 
 /// [metrics]: figures.

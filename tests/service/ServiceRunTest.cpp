@@ -155,6 +155,7 @@ TEST_F(ServiceRun, BadConfigurationsFailWithOneClearLine) {
       {"missing database", "--config " + config() + " --set terrain.source=\\\"/nonexistent/terrain.fcdb\\\"",
        "/nonexistent/terrain.fcdb"},
       {"unwritable output", "--config " + config() + " --y4m /proc/fieldcast/video.y4m", "/proc/fieldcast"},
+      {"bad sync line", "--config " + config() + " --set input.sync=\\\"gpiochip7:3\\\"", "gpiochip7"},
       {"bad device path",
        "--config " + config() + " --set motion.source=\\\"stick\\\" --set input.stick=\\\"/dev/input/event99\\\"",
        "/dev/input/event99"},
