@@ -92,12 +92,10 @@ int run(int argc, char** argv) {
   service.start();
   const auto interval = fieldcast::fromSeconds(config.metrics.logIntervalS);
   auto nextLog = fieldcast::MonotonicClock::now() + interval;
-  int signal = 0;
   while (service.running()) {
     const timespec poll{0, 50'000'000};
     const int got = sigtimedwait(&signals, nullptr, &poll);
     if (got > 0) {
-      signal = got;
       spdlog::info("{}: stopping", got == SIGINT ? "SIGINT" : "SIGTERM");
       break;
     }
@@ -113,7 +111,6 @@ int run(int argc, char** argv) {
     return 1;
   }
   if (!config.metrics.summaryJson.empty()) spdlog::info("summary: {}", config.metrics.summaryJson.string());
-  (void)signal;
   return 0;
 }
 

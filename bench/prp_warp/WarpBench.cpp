@@ -79,6 +79,21 @@ void BM_ScalarReference(benchmark::State& state) {
 }
 BENCHMARK(BM_ScalarReference)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
+/// Evaluates the field's quadratic into OpenCV float maps (pixel-centre origin), as a user of
+/// cv::remap would.
+void buildRemapMaps(const Setup& s, int rows, cv::Mat& mapX, cv::Mat& mapY) {
+  for (int r = 0; r < rows; ++r) {
+    float* mx = mapX.ptr<float>(r);
+    float* my = mapY.ptr<float>(r);
+    const double v = rasterRow(FieldParity::Bottom, r) + 0.5;
+    for (int i = 0; i < s.rasterW; ++i) {
+      const glm::dvec2 p = s.map({i + 0.5, v});
+      mx[i] = static_cast<float>(p.x - 0.5);
+      my[i] = static_cast<float>(p.y - 0.5);
+    }
+  }
+}
+
 /// OpenCV's remap with its map built per field, as a user of OpenCV would warp: evaluate the
 /// quadratic into float maps (pixel-centre origin), then cv::remap bilinear with edge replicate.
 void BM_OpenCvRemapWithMapBuild(benchmark::State& state) {
@@ -90,16 +105,7 @@ void BM_OpenCvRemapWithMapBuild(benchmark::State& state) {
   cv::Mat dstMat(rows, s.rasterW, CV_8UC3, out.row(0));
   cv::Mat mapX(rows, s.rasterW, CV_32FC1), mapY(rows, s.rasterW, CV_32FC1);
   for (auto _ : state) {
-    for (int r = 0; r < rows; ++r) {
-      float* mx = mapX.ptr<float>(r);
-      float* my = mapY.ptr<float>(r);
-      const double v = rasterRow(FieldParity::Bottom, r) + 0.5;
-      for (int i = 0; i < s.rasterW; ++i) {
-        const glm::dvec2 p = s.map({i + 0.5, v});
-        mx[i] = static_cast<float>(p.x - 0.5);
-        my[i] = static_cast<float>(p.y - 0.5);
-      }
-    }
+    buildRemapMaps(s, rows, mapX, mapY);
     cv::remap(srcMat, dstMat, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
     benchmark::ClobberMemory();
   }
@@ -116,12 +122,7 @@ void BM_OpenCvRemapOnly(benchmark::State& state) {
   const cv::Mat srcMat(src.heightPx(), src.widthPx(), CV_8UC3, src.row(0));
   cv::Mat dstMat(rows, s.rasterW, CV_8UC3, out.row(0));
   cv::Mat mapX(rows, s.rasterW, CV_32FC1), mapY(rows, s.rasterW, CV_32FC1);
-  for (int r = 0; r < rows; ++r)
-    for (int i = 0; i < s.rasterW; ++i) {
-      const glm::dvec2 p = s.map({i + 0.5, rasterRow(FieldParity::Bottom, r) + 0.5});
-      mapX.at<float>(r, i) = static_cast<float>(p.x - 0.5);
-      mapY.at<float>(r, i) = static_cast<float>(p.y - 0.5);
-    }
+  buildRemapMaps(s, rows, mapX, mapY);
   for (auto _ : state) {
     cv::remap(srcMat, dstMat, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
     benchmark::ClobberMemory();

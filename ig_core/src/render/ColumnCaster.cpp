@@ -406,6 +406,21 @@ double firstHitStart(const CasterFrame& f, const RayLine& r) noexcept {
 
 // Colour at a hit: linear along the grid line at the hit's level, blended with the next level
 // (bilinear there) by distance.
+/// Marches one ray of a column with vertical coherence: from where the ray below it hit
+/// (projected onto this ray's own line), or from the first hit found in the max pyramid when
+/// there is no ray below. Records where this ray stopped for the ray above it.
+MarchHit marchCoherent(const CasterFrame& f, CasterThread& t, const RayLine& r, bool& havePrev,
+                       glm::dvec2& prevHit) noexcept {
+  const double mStart =
+      havePrev ? r.sx * ((r.xMajor ? prevHit.x : prevHit.y) - r.cMaj) : (++t.firstHits, firstHitStart(f, r));
+  const MarchHit h = march(f, t, r, mStart);
+  const double maj = r.cMaj + r.sx * h.m;
+  const double min = r.cMin + r.slope * h.m;
+  prevHit = r.xMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj};
+  havePrev = true;
+  return h;
+}
+
 Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const MarchHit& h, double depthM) noexcept {
   const Cursor& c = h.at;
   const int j = static_cast<int>(c.y >> 32);
@@ -716,13 +731,7 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
     ++t.rays;
     RayLine r;
     if (!sky && setupLine(f, d, r)) {
-      const double mStart =
-          havePrev ? r.sx * ((r.xMajor ? prevHit.x : prevHit.y) - r.cMaj) : (++t.firstHits, firstHitStart(f, r));
-      const MarchHit h = march(f, t, r, mStart);
-      const double maj = r.cMaj + r.sx * h.m;
-      const double min = r.cMin + r.slope * h.m;
-      prevHit = r.xMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj};
-      havePrev = true;
+      const MarchHit h = marchCoherent(f, t, r, havePrev, prevHit);
       if (h.hit) {
         const double depth = h.m / r.aMaj;
         const float rangeM = static_cast<float>(depth) * length;
@@ -1102,14 +1111,7 @@ void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) no
         ++t.rays;
         RayLine r;
         if (!sky && setupLine(f, d, r)) {
-          // Vertical coherence: start where the ray below hit (projected on this ray's own line).
-          const double mStart =
-              havePrev ? r.sx * ((r.xMajor ? prevHit.x : prevHit.y) - r.cMaj) : (++t.firstHits, firstHitStart(f, r));
-          const MarchHit h = march(f, t, r, mStart);
-          const double maj = r.cMaj + r.sx * h.m;
-          const double min = r.cMin + r.slope * h.m;
-          prevHit = r.xMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj};
-          havePrev = true;
+          const MarchHit h = marchCoherent(f, t, r, havePrev, prevHit);
           if (h.hit) {
             const double depth = h.m / r.aMaj;
             const auto rangeM = static_cast<float>(depth * length);
