@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace fieldcast::core {
@@ -667,28 +668,27 @@ const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
   return x.colour;
 }
 
-// Collects the sub-rows of a column (bottom to top) into pixels.
+// Collects the sub-rows of a column (bottom to top) into pixels of a column-major staging block.
 struct ColumnSink {
   const CasterFrame& f;
-  int u;
   int s;
   float scale;
   Rgb sum;
   float range = std::numeric_limits<float>::infinity();
-  std::uint8_t* pixels = nullptr;  // this column's pixel in row 0
+  std::uint8_t* pixels = nullptr;  // this column's pixel in row 0 (rows are consecutive)
   std::size_t rowBytes = 0;
-  float* ranges = nullptr;  // this column's range in row 0
+  float* ranges = nullptr;  // this column's range in row 0 (rows are consecutive)
   std::size_t rowFloats = 0;
 
-  ColumnSink(const CasterFrame& frame, int column, int subRows) noexcept
-      : f(frame), u(column), s(subRows), scale(1.0f / static_cast<float>(subRows)) {
+  ColumnSink(const CasterFrame& frame, int subRows, std::uint8_t* columnPixels, float* columnRanges) noexcept
+      : f(frame), s(subRows), scale(1.0f / static_cast<float>(subRows)) {
     if (f.image != nullptr) {
-      rowBytes = f.image->strideBytes();
-      pixels = f.image->bytes().data() + static_cast<std::size_t>(u * f.shading.bytesPerPixel());
+      rowBytes = static_cast<std::size_t>(f.shading.bytesPerPixel());
+      pixels = columnPixels;
     }
     if (f.rangeM != nullptr) {
-      rowFloats = static_cast<std::size_t>(f.geo->intrinsics().widthPx);
-      ranges = f.rangeM + u;
+      rowFloats = 1;
+      ranges = columnRanges;
     }
   }
 
@@ -1050,11 +1050,12 @@ int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const Co
                   : marchPlaneAxis<false>(f, t, sink, c, q, start, level);
 }
 
-void castColumn(const CasterFrame& f, CasterThread& t, int u) noexcept {
+void castColumn(const CasterFrame& f, CasterThread& t, int u, std::uint8_t* columnPixels,
+                float* columnRanges) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const double uc = u + 0.5;
   const int s = f.supersample;
-  ColumnSink sink(f, u, s);
+  ColumnSink sink(f, s, columnPixels, columnRanges);
   bool havePrev = false;
   glm::dvec2 prevHit{0.0};
   MarchHit hit;
@@ -1087,10 +1088,50 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u) noexcept {
   castRowsPerRay(f, t, sink, uc, q, false, havePrev, prevHit, hit, line);
 }
 
+// Copies `columns` staged columns (column-major, `rows` each) into the frame from column u0.
+void flushStaging(const CasterFrame& f, const CasterThread& t, int u0, int columns, int rows) noexcept {
+  if (f.image != nullptr) {
+    const auto bpp = static_cast<std::size_t>(f.shading.bytesPerPixel());
+    const auto rowsZ = static_cast<std::size_t>(rows);
+    const std::size_t stride = f.image->strideBytes();
+    std::uint8_t* dst = f.image->bytes().data() + static_cast<std::size_t>(u0) * bpp;
+    for (std::size_t v = 0; v < rowsZ; ++v, dst += stride) {
+      const std::uint8_t* src = t.columnPixels.data() + v * bpp;
+      for (std::size_t c = 0; c < static_cast<std::size_t>(columns); ++c)
+        std::memcpy(dst + c * bpp, src + c * rowsZ * bpp, bpp);
+    }
+  }
+  if (f.rangeM != nullptr) {
+    const auto width = static_cast<std::size_t>(f.geo->intrinsics().widthPx);
+    for (int v = 0; v < rows; ++v) {
+      float* dst = f.rangeM + static_cast<std::size_t>(v) * width + static_cast<std::size_t>(u0);
+      for (int c = 0; c < columns; ++c)
+        dst[c] =
+            t.columnRanges[static_cast<std::size_t>(c) * static_cast<std::size_t>(rows) + static_cast<std::size_t>(v)];
+    }
+  }
+}
+
 }  // namespace
 
 void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept {
-  for (int u = u0; u < u1; ++u) castColumn(f, t, u);
+  // The columns are cast into a column-major staging block and copied into the frame a block at a
+  // time. The caster then writes each pixel next to the last instead of into a new image row, and
+  // two workers on neighbouring columns do not write the same cache lines pixel by pixel: that
+  // false sharing cost the second worker a third of its gain.
+  const int rows = f.geo->intrinsics().heightPx;
+  const auto bpp = static_cast<std::size_t>(f.shading.bytesPerPixel());
+  const auto block = static_cast<std::size_t>(CasterThread::kStagingColumns) * static_cast<std::size_t>(rows);
+  if (f.image != nullptr && t.columnPixels.size() < block * bpp) t.columnPixels.resize(block * bpp);
+  if (f.rangeM != nullptr && t.columnRanges.size() < block) t.columnRanges.resize(block);
+  for (int b0 = u0; b0 < u1; b0 += CasterThread::kStagingColumns) {
+    const int b1 = std::min(u1, b0 + CasterThread::kStagingColumns);
+    for (int u = b0; u < b1; ++u) {
+      const auto c = static_cast<std::size_t>(u - b0) * static_cast<std::size_t>(rows);
+      castColumn(f, t, u, t.columnPixels.data() + c * bpp, t.columnRanges.data() + c);
+    }
+    flushStaging(f, t, b0, b1 - b0, rows);
+  }
 }
 
 void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept {

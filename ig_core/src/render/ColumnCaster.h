@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace fieldcast::core {
 
@@ -61,6 +62,11 @@ struct alignas(64) CasterThread {
   std::uint64_t generic = 0;    ///< generic (slow-path) samples (profiling)
   std::uint64_t retraces = 0;   ///< rays whose start lay below the surface (profiling)
   std::uint64_t firstHits = 0;  ///< max-pyramid descents (profiling)
+  /// Columns are cast into these column-major blocks, then copied into the frame (see castColumns).
+  /// They grow to the tallest frame once; after that the worker allocates nothing.
+  static constexpr int kStagingColumns = 16;
+  std::vector<std::uint8_t> columnPixels;
+  std::vector<float> columnRanges;
   void resetTiles() noexcept { tiles.fill(CachedTile{}); }
 };
 
@@ -73,7 +79,8 @@ struct CastResult {
   std::uint32_t colour = 0;  ///< terrain colour at the hit (level blend not applied)
 };
 
-/// Casts columns [u0, u1) of the frame into its image (and range). RT-safe, allocation-free.
+/// Casts columns [u0, u1) of the frame into its image (and range). Allocation-free once the
+/// worker's staging blocks have grown to the frame's height.
 void castColumns(const CasterFrame& frame, int u0, int u1, CasterThread& thread) noexcept;
 
 /// The same columns cast ray by ray (each ray marched on its own line, starting where the ray

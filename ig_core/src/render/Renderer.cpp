@@ -21,7 +21,7 @@ class Renderer::InFlight {
     job.run = &InFlight::runColumns;
     job.context = this;
     job.count = frame.intrinsics.widthPx;
-    job.chunk = 4;
+    job.chunk = CasterThread::kStagingColumns;
   }
 
   static void runColumns(void* context, int begin, int end, int worker) noexcept {
