@@ -702,9 +702,7 @@ struct ColumnSink {
       put(q, c, rangeM, 1.0f);
       return;
     }
-    sum.r += c.r;
-    sum.g += c.g;
-    sum.b += c.b;
+    sum += c;
     const int sub = q % s;
     if (sub == s / 2) range = rangeM;
     if (sub != 0) return;
@@ -1000,19 +998,26 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     if (cur.v < vTop && vq > cur.v) {
       // (A crossing that raises the top by less than a row fills nothing and needs no colour.)
       // Sub-rows between the highest crossing so far and this one see the terrain between the two
-      // grid lines: perspective-correct interpolation between the crossings (1/depth is linear in v).
-      const double invDv = 1.0 / (cur.v - prev.v);
-      const double dInvZ = cur.invDepth - prev.invDepth;
-      const double dz = cur.depth - prev.depth;
-      const double invDz = dz != 0.0 ? 1.0 / dz : 0.0;
+      // grid lines: perspective-correct interpolation between the crossings. 1/depth is linear in
+      // v, and the colour weight of the far crossing is ts·(1/depth₁)·depth. In float: per pixel
+      // one reciprocal and one square root, nothing carried from pixel to pixel.
+      const auto v0 = static_cast<float>(prev.v);
+      const auto invDv = static_cast<float>(1.0 / (cur.v - prev.v));
+      const auto i0 = static_cast<float>(prev.invDepth);
+      const auto i1 = static_cast<float>(cur.invDepth);
+      const float dI = i1 - i0;
+      const auto invSf = static_cast<float>(invS);
+      const auto cy = static_cast<float>(k.cyPx);
+      const auto invFyF = static_cast<float>(invFy);
       const Rgb& c0 = colourOf(prev);
       const Rgb& c1 = colourOf(cur);
       while (vq > cur.v) {
-        const double ts = std::min((vq - prev.v) * invDv, 1.0);
-        const double depth = 1.0 / (prev.invDepth + ts * dInvZ);
-        const auto tw = static_cast<float>(std::clamp((depth - prev.depth) * invDz, 0.0, 1.0));
-        const auto yc = static_cast<float>((k.cyPx - vq) * invFy);
-        const float rangeM = static_cast<float>(depth) * std::sqrt(xc2 + yc * yc);
+        const float vqf = (static_cast<float>(q) + 0.5f) * invSf;
+        const float ts = std::min((vqf - v0) * invDv, 1.0f);
+        const float depth = 1.0f / (i0 + ts * dI);
+        const float tw = std::clamp(ts * i1 * depth, 0.0f, 1.0f);
+        const float yc = (cy - vqf) * invFyF;
+        const float rangeM = depth * std::sqrt(xc2 + yc * yc);
         sink.emit(q, f.shading.terrain(mix(c0, c1, tw), rangeM), rangeM);
         ++t.rays;
         if (--q < 0) {
@@ -1088,27 +1093,33 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u, std::uint8_t* colu
   castRowsPerRay(f, t, sink, uc, q, false, havePrev, prevHit, hit, line);
 }
 
+// Transposes `columns` staged columns of `rows` elements of Bytes each (column-major) into rows of
+// `dst` (`stride` bytes apart). Bytes is a constant so each copy is one move.
+template <std::size_t Bytes>
+void transposeStaging(const std::uint8_t* src, std::size_t rows, std::size_t columns, std::uint8_t* dst,
+                      std::size_t stride) noexcept {
+  for (std::size_t v = 0; v < rows; ++v, dst += stride) {
+    for (std::size_t c = 0; c < columns; ++c) std::memcpy(dst + c * Bytes, src + (c * rows + v) * Bytes, Bytes);
+  }
+}
+
 // Copies `columns` staged columns (column-major, `rows` each) into the frame from column u0.
 void flushStaging(const CasterFrame& f, const CasterThread& t, int u0, int columns, int rows) noexcept {
+  const auto rowsZ = static_cast<std::size_t>(rows);
+  const auto columnsZ = static_cast<std::size_t>(columns);
   if (f.image != nullptr) {
     const auto bpp = static_cast<std::size_t>(f.shading.bytesPerPixel());
-    const auto rowsZ = static_cast<std::size_t>(rows);
-    const std::size_t stride = f.image->strideBytes();
     std::uint8_t* dst = f.image->bytes().data() + static_cast<std::size_t>(u0) * bpp;
-    for (std::size_t v = 0; v < rowsZ; ++v, dst += stride) {
-      const std::uint8_t* src = t.columnPixels.data() + v * bpp;
-      for (std::size_t c = 0; c < static_cast<std::size_t>(columns); ++c)
-        std::memcpy(dst + c * bpp, src + c * rowsZ * bpp, bpp);
+    if (bpp == 3) {
+      transposeStaging<3>(t.columnPixels.data(), rowsZ, columnsZ, dst, f.image->strideBytes());
+    } else {
+      transposeStaging<1>(t.columnPixels.data(), rowsZ, columnsZ, dst, f.image->strideBytes());
     }
   }
   if (f.rangeM != nullptr) {
     const auto width = static_cast<std::size_t>(f.geo->intrinsics().widthPx);
-    for (int v = 0; v < rows; ++v) {
-      float* dst = f.rangeM + static_cast<std::size_t>(v) * width + static_cast<std::size_t>(u0);
-      for (int c = 0; c < columns; ++c)
-        dst[c] =
-            t.columnRanges[static_cast<std::size_t>(c) * static_cast<std::size_t>(rows) + static_cast<std::size_t>(v)];
-    }
+    transposeStaging<sizeof(float)>(reinterpret_cast<const std::uint8_t*>(t.columnRanges.data()), rowsZ, columnsZ,
+                                    reinterpret_cast<std::uint8_t*>(f.rangeM + u0), width * sizeof(float));
   }
 }
 
@@ -1157,9 +1168,7 @@ void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) no
             const double depth = h.m / r.aMaj;
             const auto rangeM = static_cast<float>(depth * length);
             const Rgb c = f.shading.terrain(hitColour(f, t, r, h, depth), rangeM);
-            sum.r += c.r;
-            sum.g += c.g;
-            sum.b += c.b;
+            sum += c;
             if (sub == s / 2) rangePx = rangeM;
             continue;
           }
@@ -1171,9 +1180,7 @@ void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) no
           havePrev = false;  // nowhere near the terrain: the next ray starts afresh
         }
         const Rgb c = f.shading.sky(static_cast<float>(d.z / length));
-        sum.r += c.r;
-        sum.g += c.g;
-        sum.b += c.b;
+        sum += c;
       }
       if (f.image != nullptr) f.shading.store(f.image->row(v), u, sum, scale);
       if (f.rangeM != nullptr)

@@ -122,9 +122,7 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
         } else {
           colour = shading.sky(static_cast<float>(d.z / length));
         }
-        sum.r += colour.r;
-        sum.g += colour.g;
-        sum.b += colour.b;
+        sum += colour;
       }
       shading.store(frame.image.row(v), u, sum, 1.0f / static_cast<float>(s));
       frame.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + u] = rangePx;

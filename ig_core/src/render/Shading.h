@@ -10,21 +10,37 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace fieldcast::core {
 
-/// Linear RGB in 0..255 (float): what a ray contributes to its pixel.
+/// Four floats in one SSE register (GCC/Clang vector extension).
+using Float4 = float __attribute__((vector_size(16)));
+
+/// Linear RGB in 0..255 (float): what a ray contributes to its pixel. Held as four floats (the
+/// fourth is unused), so unpacking, mixing and storing a colour are a few vector instructions.
 struct Rgb {
-  float r = 0, g = 0, b = 0;
+  Float4 v{0.0f, 0.0f, 0.0f, 0.0f};
+  Rgb() noexcept = default;
+  explicit Rgb(Float4 x) noexcept : v(x) {}
+  Rgb(float r, float g, float b) noexcept : v{r, g, b, 0.0f} {}
+  float r() const noexcept { return v[0]; }
+  float g() const noexcept { return v[1]; }
+  float b() const noexcept { return v[2]; }
+  Rgb& operator+=(const Rgb& o) noexcept {
+    v += o.v;
+    return *this;
+  }
 };
 
+/// RGBA8 (R in the low byte) to Rgb; alpha lands in the unused fourth lane.
 inline Rgb unpackRgb(std::uint32_t rgba) noexcept {
-  return {static_cast<float>(rgba & 0xFFu), static_cast<float>((rgba >> 8) & 0xFFu),
-          static_cast<float>((rgba >> 16) & 0xFFu)};
+  using Bytes4 = std::uint8_t __attribute__((vector_size(4)));
+  Bytes4 bytes;
+  std::memcpy(&bytes, &rgba, sizeof bytes);
+  return Rgb{__builtin_convertvector(bytes, Float4)};
 }
-inline Rgb mix(const Rgb& a, const Rgb& b, float t) noexcept {
-  return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t};
-}
+inline Rgb mix(const Rgb& a, const Rgb& b, float t) noexcept { return Rgb{a.v + (b.v - a.v) * t}; }
 
 /// Haze and sky for one frame's settings. Built once per frame (a small table); RT-safe to use.
 class Shading {
@@ -62,14 +78,24 @@ class Shading {
 
   /// Writes `c` × `scale` (the mean of the sub-ray colours) to the pixel at `pixel`. RT-safe.
   void storePixel(std::uint8_t* pixel, const Rgb& c, float scale) const noexcept {
-    // max then min: maxss/minss, no branches in the per-pixel path.
-    const auto byte = [](float v) { return static_cast<std::uint8_t>(std::min(std::max(v, 0.0f), 255.0f) + 0.5f); };
+    // Clamp to 0..255 and round, all lanes at once (maxps, minps, addps, cvttps2dq).
+    using Int4 = int __attribute__((vector_size(16)));
+    const Float4 zero{0.0f, 0.0f, 0.0f, 0.0f};
+    const Float4 top{255.0f, 255.0f, 255.0f, 255.0f};
+    Float4 x;
     if (mGrey) {
-      pixel[0] = byte((0.299f * c.r + 0.587f * c.g + 0.114f * c.b) * scale);
+      const Float4 w = c.v * Float4{0.299f, 0.587f, 0.114f, 0.0f};  // BT.601 luma
+      x = Float4{(w[0] + w[1] + w[2]) * scale, 0.0f, 0.0f, 0.0f};
     } else {
-      pixel[0] = byte(c.r * scale);
-      pixel[1] = byte(c.g * scale);
-      pixel[2] = byte(c.b * scale);
+      x = c.v * scale;
+    }
+    x = x > zero ? x : zero;
+    x = x < top ? x : top;
+    const Int4 i = __builtin_convertvector(x + 0.5f, Int4);
+    pixel[0] = static_cast<std::uint8_t>(i[0]);
+    if (!mGrey) {
+      pixel[1] = static_cast<std::uint8_t>(i[1]);
+      pixel[2] = static_cast<std::uint8_t>(i[2]);
     }
   }
   /// Writes `c` × `scale` to pixel `u` of `row`. RT-safe.
