@@ -12,6 +12,10 @@
 #include <cstdint>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace fieldcast::core {
 
 /// Four floats in one SSE register (GCC/Clang vector extension).
@@ -35,10 +39,18 @@ struct Rgb {
 
 /// RGBA8 (R in the low byte) to Rgb; alpha lands in the unused fourth lane.
 inline Rgb unpackRgb(std::uint32_t rgba) noexcept {
+#if defined(__SSE2__)
+  // Zero-extend the bytes to 32-bit lanes, convert: four instructions (the generic conversion
+  // below compiles to four scalar conversions).
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i bytes = _mm_cvtsi32_si128(static_cast<int>(rgba));
+  return Rgb{Float4(_mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(bytes, zero), zero)))};
+#else
   using Bytes4 = std::uint8_t __attribute__((vector_size(4)));
   Bytes4 bytes;
   std::memcpy(&bytes, &rgba, sizeof bytes);
   return Rgb{__builtin_convertvector(bytes, Float4)};
+#endif
 }
 inline Rgb mix(const Rgb& a, const Rgb& b, float t) noexcept { return Rgb{a.v + (b.v - a.v) * t}; }
 
@@ -78,8 +90,7 @@ class Shading {
 
   /// Writes `c` × `scale` (the mean of the sub-ray colours) to the pixel at `pixel`. RT-safe.
   void storePixel(std::uint8_t* pixel, const Rgb& c, float scale) const noexcept {
-    // Clamp to 0..255 and round, all lanes at once (maxps, minps, addps, cvttps2dq).
-    using Int4 = int __attribute__((vector_size(16)));
+    // Clamp to 0..255 and round, all lanes at once.
     const Float4 zero{0.0f, 0.0f, 0.0f, 0.0f};
     const Float4 top{255.0f, 255.0f, 255.0f, 255.0f};
     Float4 x;
@@ -89,6 +100,19 @@ class Shading {
     } else {
       x = c.v * scale;
     }
+#if defined(__SSE2__)
+    // Clamp, round and narrow to bytes in registers; one 16-bit store and one byte store.
+    const __m128 clamped = _mm_min_ps(_mm_max_ps(__m128(x), __m128(zero)), __m128(top));
+    const __m128i ints = _mm_cvttps_epi32(_mm_add_ps(clamped, _mm_set1_ps(0.5f)));
+    const auto packed =
+        static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_packus_epi16(_mm_packs_epi32(ints, ints), ints)));
+    pixel[0] = static_cast<std::uint8_t>(packed);
+    if (!mGrey) {
+      const auto gb = static_cast<std::uint16_t>(packed >> 8);
+      std::memcpy(pixel + 1, &gb, sizeof gb);
+    }
+#else
+    using Int4 = int __attribute__((vector_size(16)));
     x = x > zero ? x : zero;
     x = x < top ? x : top;
     const Int4 i = __builtin_convertvector(x + 0.5f, Int4);
@@ -97,6 +121,7 @@ class Shading {
       pixel[1] = static_cast<std::uint8_t>(i[1]);
       pixel[2] = static_cast<std::uint8_t>(i[2]);
     }
+#endif
   }
   /// Writes `c` × `scale` to pixel `u` of `row`. RT-safe.
   void store(std::uint8_t* row, int u, const Rgb& c, float scale) const noexcept {
