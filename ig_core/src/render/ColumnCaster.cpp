@@ -892,6 +892,11 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   double vTop = prevP->v;
   double vq = (q + 0.5) * invS;
   const float xc2 = static_cast<float>(1.0 + c.xc * c.xc);
+  const PixelShader shading = f.shading.pixelShader();  // in registers: see the fill loop
+  const bool oneSubRow = sink.s == 1;
+  std::uint8_t* const pixels = sink.pixels;
+  float* const ranges = sink.ranges;
+  const std::size_t bpp = sink.rowBytes;
   const double invFy = 1.0 / k.fyPx;
   int sinceCheck = 0;
   // Occlusion skipping. The ray of row vTop (the highest terrain seen so far) meets grid line i at
@@ -1009,22 +1014,33 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       const auto invSf = static_cast<float>(invS);
       const auto cy = static_cast<float>(k.cyPx);
       const auto invFyF = static_cast<float>(invFy);
-      const Rgb& c0 = colourOf(prev);
-      const Rgb& c1 = colourOf(cur);
-      while (vq > cur.v) {
+      // Locals only in this loop: the pixel stores are bytes, which may alias anything, so
+      // anything read through a reference would be read again after every store.
+      const Rgb c0 = colourOf(prev);
+      const Rgb c1 = colourOf(cur);
+      const double vStop = cur.v;
+      const int qFirst = q;
+      while (vq > vStop) {
         const float vqf = (static_cast<float>(q) + 0.5f) * invSf;
         const float ts = std::min((vqf - v0) * invDv, 1.0f);
         const float depth = 1.0f / (i0 + ts * dI);
         const float tw = std::clamp(ts * i1 * depth, 0.0f, 1.0f);
         const float yc = (cy - vqf) * invFyF;
         const float rangeM = depth * std::sqrt(xc2 + yc * yc);
-        sink.emit(q, f.shading.terrain(mix(c0, c1, tw), rangeM), rangeM);
-        ++t.rays;
-        if (--q < 0) {
-          t.steps += steps;
-          return -1;
+        const Rgb colour = shading.terrain(mix(c0, c1, tw), rangeM);
+        if (oneSubRow) {
+          if (pixels != nullptr) shading.storePixel(pixels + static_cast<std::size_t>(q) * bpp, colour, 1.0f);
+          if (ranges != nullptr) ranges[q] = rangeM;
+        } else {
+          sink.emit(q, colour, rangeM);
         }
+        if (--q < 0) break;
         vq -= invS;
+      }
+      t.rays += static_cast<std::uint64_t>(qFirst - q);
+      if (q < 0) {
+        t.steps += steps;
+        return -1;
       }
     }
     if (cur.v < vTop) {

@@ -54,6 +54,61 @@ inline Rgb unpackRgb(std::uint32_t rgba) noexcept {
 }
 inline Rgb mix(const Rgb& a, const Rgb& b, float t) noexcept { return Rgb{a.v + (b.v - a.v) * t}; }
 
+/// Haze and the pixel store as a small value: hot loops keep it in registers. (Their pixel stores
+/// are bytes, which may alias anything, so members read through a reference would be read again
+/// after every pixel.) The haze table it points to belongs to the Shading that made it.
+struct PixelShader {
+  const float* haze;  ///< haze fraction 1 − exp(−r/R) per table step
+  float invStepM;     ///< table steps per metre of range
+  float lastStep;     ///< the table's last index
+  Rgb horizon;        ///< haze colour
+  bool hazeOn;
+  bool grey;
+
+  /// Terrain colour at range `rangeM` (metres). RT-safe.
+  Rgb terrain(const Rgb& colour, float rangeM) const noexcept {
+    if (!hazeOn) return colour;
+    const float x = std::min(rangeM * invStepM, lastStep);
+    return mix(colour, horizon, haze[static_cast<std::size_t>(x)]);
+  }
+
+  /// Writes `c` × `scale` (the mean of the sub-ray colours) to the pixel at `pixel`. RT-safe.
+  void storePixel(std::uint8_t* pixel, const Rgb& c, float scale) const noexcept {
+    // Clamp to 0..255 and round, all lanes at once.
+    const Float4 zero{0.0f, 0.0f, 0.0f, 0.0f};
+    const Float4 top{255.0f, 255.0f, 255.0f, 255.0f};
+    Float4 x;
+    if (grey) {
+      const Float4 w = c.v * Float4{0.299f, 0.587f, 0.114f, 0.0f};  // BT.601 luma
+      x = Float4{(w[0] + w[1] + w[2]) * scale, 0.0f, 0.0f, 0.0f};
+    } else {
+      x = c.v * scale;
+    }
+#if defined(__SSE2__)
+    // Clamp, round and narrow to bytes in registers; one 16-bit store and one byte store.
+    const __m128 clamped = _mm_min_ps(_mm_max_ps(__m128(x), __m128(zero)), __m128(top));
+    const __m128i ints = _mm_cvttps_epi32(_mm_add_ps(clamped, _mm_set1_ps(0.5f)));
+    const auto packed =
+        static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_packus_epi16(_mm_packs_epi32(ints, ints), ints)));
+    pixel[0] = static_cast<std::uint8_t>(packed);
+    if (!grey) {
+      const auto gb = static_cast<std::uint16_t>(packed >> 8);
+      std::memcpy(pixel + 1, &gb, sizeof gb);
+    }
+#else
+    using Int4 = int __attribute__((vector_size(16)));
+    x = x > zero ? x : zero;
+    x = x < top ? x : top;
+    const Int4 i = __builtin_convertvector(x + 0.5f, Int4);
+    pixel[0] = static_cast<std::uint8_t>(i[0]);
+    if (!grey) {
+      pixel[1] = static_cast<std::uint8_t>(i[1]);
+      pixel[2] = static_cast<std::uint8_t>(i[2]);
+    }
+#endif
+  }
+};
+
 /// Haze and sky for one frame's settings. Built once per frame (a small table); RT-safe to use.
 class Shading {
  public:
@@ -72,13 +127,16 @@ class Shading {
       mHaze[static_cast<std::size_t>(k)] = mHazeOn ? static_cast<float>(1.0 - std::exp(-r / s.hazeRangeM)) : 0.0f;
     }
   }
+  Shading(const Shading&) = delete;  // PixelShaders point into the table
+  Shading& operator=(const Shading&) = delete;
+
+  /// The per-pixel part, as a value for hot loops.
+  PixelShader pixelShader() const noexcept {
+    return PixelShader{mHaze.data(), mInvStepM, static_cast<float>(kTable - 1), mHorizon, mHazeOn, mGrey};
+  }
 
   /// Terrain colour at range `rangeM` (metres). RT-safe.
-  Rgb terrain(const Rgb& colour, float rangeM) const noexcept {
-    if (!mHazeOn) return colour;
-    const float x = std::min(rangeM * mInvStepM, static_cast<float>(kTable - 1));
-    return mix(colour, mHorizon, mHaze[static_cast<std::size_t>(x)]);
-  }
+  Rgb terrain(const Rgb& colour, float rangeM) const noexcept { return pixelShader().terrain(colour, rangeM); }
 
   /// Sky colour for a ray whose elevation sine is `sinElevation`. RT-safe.
   Rgb sky(float sinElevation) const noexcept {
@@ -90,38 +148,7 @@ class Shading {
 
   /// Writes `c` × `scale` (the mean of the sub-ray colours) to the pixel at `pixel`. RT-safe.
   void storePixel(std::uint8_t* pixel, const Rgb& c, float scale) const noexcept {
-    // Clamp to 0..255 and round, all lanes at once.
-    const Float4 zero{0.0f, 0.0f, 0.0f, 0.0f};
-    const Float4 top{255.0f, 255.0f, 255.0f, 255.0f};
-    Float4 x;
-    if (mGrey) {
-      const Float4 w = c.v * Float4{0.299f, 0.587f, 0.114f, 0.0f};  // BT.601 luma
-      x = Float4{(w[0] + w[1] + w[2]) * scale, 0.0f, 0.0f, 0.0f};
-    } else {
-      x = c.v * scale;
-    }
-#if defined(__SSE2__)
-    // Clamp, round and narrow to bytes in registers; one 16-bit store and one byte store.
-    const __m128 clamped = _mm_min_ps(_mm_max_ps(__m128(x), __m128(zero)), __m128(top));
-    const __m128i ints = _mm_cvttps_epi32(_mm_add_ps(clamped, _mm_set1_ps(0.5f)));
-    const auto packed =
-        static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_packus_epi16(_mm_packs_epi32(ints, ints), ints)));
-    pixel[0] = static_cast<std::uint8_t>(packed);
-    if (!mGrey) {
-      const auto gb = static_cast<std::uint16_t>(packed >> 8);
-      std::memcpy(pixel + 1, &gb, sizeof gb);
-    }
-#else
-    using Int4 = int __attribute__((vector_size(16)));
-    x = x > zero ? x : zero;
-    x = x < top ? x : top;
-    const Int4 i = __builtin_convertvector(x + 0.5f, Int4);
-    pixel[0] = static_cast<std::uint8_t>(i[0]);
-    if (!mGrey) {
-      pixel[1] = static_cast<std::uint8_t>(i[1]);
-      pixel[2] = static_cast<std::uint8_t>(i[2]);
-    }
-#endif
+    pixelShader().storePixel(pixel, c, scale);
   }
   /// Writes `c` × `scale` to pixel `u` of `row`. RT-safe.
   void store(std::uint8_t* row, int u, const Rgb& c, float scale) const noexcept {
