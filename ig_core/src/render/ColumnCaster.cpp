@@ -628,8 +628,19 @@ const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
                           Crossing& x) noexcept {
   if (x.haveColour) return x.colour;
   const int l = x.level;
-  const std::uint32_t c0 = c.xMajor ? windowColour(f, t, w, l, x.i, x.j) : windowColour(f, t, w, l, x.j, x.i);
-  const std::uint32_t c1 = c.xMajor ? windowColour(f, t, w, l, x.i, x.j + 1) : windowColour(f, t, w, l, x.j + 1, x.i);
+  std::uint32_t c0, c1;
+  const int vx = c.xMajor ? x.i : x.j;
+  const int vy = c.xMajor ? x.j : x.i;
+  if ((x.j & f.tileMask) != f.tileMask && windowFor(f, t, w, l, vx, vy)) {
+    // Both voxels of the segment lie in one tile: two loads.
+    const auto lv = static_cast<std::size_t>(l);
+    const std::uint32_t* p0 = w.tile[lv]->colourRgba + (((vy - w.y0[lv]) << f.tileShift) + (vx - w.x0[lv]));
+    c0 = p0[0];
+    c1 = p0[c.xMajor ? std::ptrdiff_t{1} << f.tileShift : 1];
+  } else {
+    c0 = windowColour(f, t, w, l, vx, vy);
+    c1 = c.xMajor ? windowColour(f, t, w, l, vx, vy + 1) : windowColour(f, t, w, l, vx + 1, vy);
+  }
   x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
   x.haveColour = true;
   if (!f.blend || l + 1 >= f.levels) return x.colour;
@@ -918,13 +929,15 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double ceilOffset = -c.nZ * (f.ceilingQ - c.cZ) / c.nMin;
   bool lastOccluded = false;
   bool skippedSincePrev = false;
-  int failedCell = std::numeric_limits<int>::min();
+  std::array<int, 4> failedCells;  // per cell size: the last cell that could not be skipped
+  failedCells.fill(std::numeric_limits<int>::min());
   std::uint64_t skippedLines = 0;
-  const auto trySkip = [&]() -> bool {
-    const int kLevel = std::min(level + 3, f.levels - 1);
+  const auto trySkip = [&](int up) -> bool {
+    const int kLevel = std::min(level + up, f.levels - 1);
     const int shiftK = kLevel - level;
     if (shiftK <= 0 || !topValid) return false;
     const int ci = i >> shiftK;
+    int& failedCell = failedCells[static_cast<std::size_t>(up)];
     if (ci == failedCell) return false;
     const int iFar = sx > 0 ? ((ci + 1) << shiftK) - 1 : (ci << shiftK);
     const double dMajFar = (iFar + 0.5) * p - 0.5 - c.cMaj;
@@ -978,7 +991,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       dMaj += dMajStep;
       base += baseStep;
     }
-    if (lastOccluded && trySkip()) continue;
+    if (lastOccluded && (trySkip(3) || trySkip(2))) continue;
     if (!solve(cur)) {
       t.steps += steps;
       return q;
