@@ -826,9 +826,12 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   double jPos = levelIndex(startMin, level);   // predicted minor position of the next crossing
   const double drift = -c.nMaj / c.nMin * sx;  // minor change of the plane's trace per major step
 
-  // The last crossing (prev) and the one being found (cur).
+  // The last crossing (prev) and the one being found (cur). A crossing is kept in camera space
+  // (yc, zc): most crossings at low pitch raise the column by less than a row, and telling that
+  // (and whether a crossing is hidden) takes a multiply, not a division. Only a crossing that
+  // bounds a fill is projected to its image row.
   struct Found {
-    double v, depth, invDepth, phi;
+    double yc, depth, phi;  // camera up and forward coordinates (depth = zc, metres)
     int level, i, j;
     bool haveColour;
     Rgb colour;
@@ -886,10 +889,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     const double dZ = h0 + phi * (h1 - h0) - c.cZ;
     const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + dZ * c.fwdZ;
     if (!(zc > 1e-6)) return false;
-    const double yc = dMaj * c.upMaj + dMin * c.upMin + dZ * c.upZ;
-    out.invDepth = 1.0 / zc;
+    out.yc = dMaj * c.upMaj + dMin * c.upMin + dZ * c.upZ;
     out.depth = zc;
-    out.v = k.cyPx - k.fyPx * yc * out.invDepth;
     out.phi = phi;
     out.level = level;
     out.i = i;
@@ -900,7 +901,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   };
 
   if (!solve(*prevP)) return q;
-  double vTop = prevP->v;
+  // The highest crossing so far (its row is the top of the filled part of the column).
+  double topYc = prevP->yc;
+  double topZc = prevP->depth;
   double vq = (q + 0.5) * invS;
   const float xc2 = static_cast<float>(1.0 + c.xc * c.xc);
   const PixelShader shading = f.shading.pixelShader();  // in registers: see the fill loop
@@ -910,15 +913,17 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const std::size_t bpp = sink.rowBytes;
   const double invFy = 1.0 / k.fyPx;
   int sinceCheck = 0;
-  // Occlusion skipping. The ray of row vTop (the highest terrain seen so far) meets grid line i at
+  // Occlusion skipping. The ray through the top crossing (the highest terrain seen so far) meets grid line i at
   // R; a crossing of line i can only be visible above R on L_i, i.e. where the terrain reaches at
   // least R's height, between R and the ceiling. When the conservative max mip of a coarse cell
   // (level + 3) covering that stretch for all the cell's grid lines is below R, none of them can
   // be seen: they are skipped without solving their crossings.
   double topMin = 0.0, topZ = 0.0;  // the top ray's minor and height change per unit of major
   bool topValid = false;
-  const auto setTop = [&](double v) {
-    const double yc = (k.cyPx - v) * (1.0 / k.fyPx);
+  bool topChanged = true;  // the top crossing moved since topMin / topZ were set
+  const auto setTopRay = [&] {
+    topChanged = false;
+    const double yc = topYc / topZc;
     const double dMajTop = c.aMaj + yc * c.bMaj;
     topValid = dMajTop * sx > 1e-12;
     if (!topValid) return;
@@ -935,7 +940,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const auto trySkip = [&](int up) -> bool {
     const int kLevel = std::min(level + up, f.levels - 1);
     const int shiftK = kLevel - level;
-    if (shiftK <= 0 || !topValid) return false;
+    if (shiftK <= 0) return false;
+    if (topChanged) setTopRay();
+    if (!topValid) return false;
     const int ci = i >> shiftK;
     int& failedCell = failedCells[static_cast<std::size_t>(up)];
     if (ci == failedCell) return false;
@@ -972,8 +979,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     skippedSincePrev = true;
     return true;
   };
-  setTop(vTop);
-
   for (;;) {
     // Next grid line: on an even step past the level's depth, the coarser level's line (half a
     // step ahead); otherwise the next line of this level.
@@ -996,8 +1001,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       t.steps += steps;
       return q;
     }
-    lastOccluded = !(cur.v < vTop);
-    if (!lastOccluded && skippedSincePrev) {
+    // Visible ⇔ above the top ray ⇔ yc/zc > topYc/topZc (both depths are positive).
+    const bool visible = cur.yc * topZc > topYc * cur.depth;
+    lastOccluded = !visible;
+    if (visible && skippedSincePrev) {
       // The crossing before this one was skipped: solve it now, it bounds the rows to fill.
       const int iHere = i;
       const double dMajHere = dMaj, baseHere = base;
@@ -1013,16 +1020,21 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       jPos = cur.j + cur.phi + drift;
     }
     skippedSincePrev = false;
-    if (cur.v < vTop && vq > cur.v) {
+    // Rows to fill: the next sub-row's ray passes below this crossing (vq > v), without dividing.
+    if (visible && cur.yc > (k.cyPx - vq) * invFy * cur.depth) {
       // (A crossing that raises the top by less than a row fills nothing and needs no colour.)
+      const double prevInvDepth = 1.0 / prev.depth;
+      const double curInvDepth = 1.0 / cur.depth;
+      const double prevV = k.cyPx - k.fyPx * prev.yc * prevInvDepth;
+      const double curV = k.cyPx - k.fyPx * cur.yc * curInvDepth;
       // Sub-rows between the highest crossing so far and this one see the terrain between the two
       // grid lines: perspective-correct interpolation between the crossings. 1/depth is linear in
       // v, and the colour weight of the far crossing is ts·(1/depth₁)·depth. In float: per pixel
       // one reciprocal and one square root, nothing carried from pixel to pixel.
-      const auto v0 = static_cast<float>(prev.v);
-      const auto invDv = static_cast<float>(1.0 / (cur.v - prev.v));
-      const auto i0 = static_cast<float>(prev.invDepth);
-      const auto i1 = static_cast<float>(cur.invDepth);
+      const auto v0 = static_cast<float>(prevV);
+      const auto invDv = static_cast<float>(1.0 / (curV - prevV));
+      const auto i0 = static_cast<float>(prevInvDepth);
+      const auto i1 = static_cast<float>(curInvDepth);
       const float dI = i1 - i0;
       const auto invSf = static_cast<float>(invS);
       const auto cy = static_cast<float>(k.cyPx);
@@ -1031,7 +1043,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       // anything read through a reference would be read again after every store.
       const Rgb c0 = colourOf(prev);
       const Rgb c1 = colourOf(cur);
-      const double vStop = cur.v;
+      const double vStop = curV;
       const int qFirst = q;
       while (vq > vStop) {
         const float vqf = (static_cast<float>(q) + 0.5f) * invSf;
@@ -1056,9 +1068,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         return -1;
       }
     }
-    if (cur.v < vTop) {
-      vTop = cur.v;
-      setTop(vTop);
+    if (visible) {
+      topYc = cur.yc;
+      topZc = cur.depth;
+      topChanged = true;
     }
     std::swap(prevP, curP);
     // Now and then: do all rows left look upwards, already above the highest terrain?
