@@ -125,6 +125,7 @@ struct Service::Parts {
     try {
       core::RenderSettings settings;
       settings.quality = config.render.quality;
+      settings.maxAnisotropy = config.render.maxAnisotropy;
       settings.marginFraction = config.render.marginFraction;
       settings.rangeImage = config.render.rangeImage || config.warp.kind == WarpChoice::Range3d;
       settings.colourMode = config.render.grey ? core::FrameColour::Grey : core::FrameColour::Rgb;

@@ -33,6 +33,7 @@ struct RenderConfig {
   double marginFraction = 0.10;  ///< frame margin on each side, fraction of each dimension
   double targetFrameMs = 0.0;    ///< frame-time controller target; 0 = fixed quality
   double quality = 1.0;          ///< pixel-to-voxel ratio knob (larger: coarser and faster)
+  double maxAnisotropy = 0.0;    ///< grazing-angle level of detail (RenderSettings); 0 = off
   bool rangeImage = false;       ///< render the per-pixel range (needed by the 3D warp)
   bool grey = false;             ///< render grey-level frames
   int widthPx = 720;             ///< display window rendered (the output raster by default)

@@ -88,7 +88,7 @@ double referenceNsPerPixel(int pose, int size) {
   const ViewRequest r = requestFor(pose, size);
   const RenderSettings settings;
   const FrameLayout layout = layoutFrame(r.display, settings.marginFraction, 0.0);
-  const ViewGeometry geo(r.pose, layout.frame, terrain().geometry(), settings.quality);
+  const ViewGeometry geo(r.pose, layout.frame, terrain().geometry(), settings);
   const ReferenceRenderer reference(terrain().view());
   const int step = 24;
   int count = 0;
@@ -107,9 +107,11 @@ void BM_Render(benchmark::State& state) {
   const int pose = static_cast<int>(state.range(0));
   const int size = static_cast<int>(state.range(1));
   const int threads = static_cast<int>(state.range(2));
+  RenderSettings settings;
+  settings.maxAnisotropy = static_cast<double>(state.range(3));  // the grazing-angle rule, 0 = off
   state.SetLabel(std::string(kPoses[static_cast<std::size_t>(pose)].name));
-  const double refNs = referenceNsPerPixel(pose, size);
-  Renderer renderer(terrain().view(), RenderSettings{}, threads);
+  const double refNs = referenceNsPerPixel(pose, size);  // the reference with the rule off
+  Renderer renderer(terrain().view(), settings, threads);
   const ViewRequest request = requestFor(pose, size);
   if (terrain().cache) {
     // Page in everything this view needs first: the figures are of rendering, not of loading.
@@ -141,13 +143,15 @@ void BM_Render(benchmark::State& state) {
 
 void registerAll() {
   for (int size = 0; size < 2; ++size) {
-    for (int threads : {1, 2}) {
-      for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
-        benchmark::RegisterBenchmark("render", BM_Render)
-            ->Args({pose, size, threads})
-            ->ArgNames({"pose", "size", "threads"})
-            ->Unit(benchmark::kMillisecond)
-            ->UseRealTime();
+    for (int anisotropy : {0, 2}) {
+      for (int threads : {1, 2}) {
+        for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
+          benchmark::RegisterBenchmark("render", BM_Render)
+              ->Args({pose, size, threads, anisotropy})
+              ->ArgNames({"pose", "size", "threads", "anisotropy"})
+              ->Unit(benchmark::kMillisecond)
+              ->UseRealTime();
+        }
       }
     }
   }

@@ -85,6 +85,9 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--quality", settings.quality, "pixel-to-voxel ratio (LOD bias = log2); larger is coarser and faster")
       ->check(CLI::Range(0.05, 64.0));
+  app.add_option("--anisotropy", settings.maxAnisotropy,
+                 "grazing-angle level of detail: footprint elongation allowed before a coarser level (0 = depth alone)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--supersample", settings.verticalSupersample, "vertical sub-rays per pixel")->check(CLI::Range(1, 4));
   app.add_flag("--grey", grey, "grey-level frame");
   app.add_option("--haze", settings.hazeRangeM, "range (m) where haze covers 63%; 0 = none")

@@ -24,6 +24,13 @@ struct RenderSettings {
   /// then the march switches to level L+1. 1 = the paper's rule; 2 = one level coarser (faster,
   /// blurrier); 0.5 = one level finer. LOD bias = log2(quality).
   double quality = 1.0;
+  /// Grazing-angle level of detail. A pixel's footprint on the ground is longer along the ray than
+  /// across it, by about 1/sin(depression) for level ground. Where that elongation exceeds
+  /// `maxAnisotropy`, the level is chosen for a depth that many times larger (up to
+  /// `maxLodStretch`), so the march does not take several grid lines per pixel row. 0 = depth
+  /// alone (the seed paper's rule).
+  double maxAnisotropy = 0.0;
+  double maxLodStretch = 4.0;   ///< at most this factor (2 levels) coarser than depth alone
   bool blendLevels = true;      ///< blend colours of adjacent levels by distance (no LOD seam)
   int verticalSupersample = 1;  ///< sub-rays per pixel along the column, 1..4 (for shallow pitch)
   FrameColour colourMode = FrameColour::Rgb;

@@ -3,6 +3,7 @@
 // transform, and the level-of-detail rule. Keeping it in one place means the fast caster and the
 // reference renderer see exactly the same multiresolution surface.
 
+#include <ig_core/RenderSettings.h>
 #include <ig_core/TerrainView.h>
 
 #include <fieldcast/Conventions.h>
@@ -11,6 +12,9 @@
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 namespace fieldcast::core {
 
 /// The view of one frame over one terrain. Immutable after construction; RT-safe to query.
@@ -18,6 +22,9 @@ class ViewGeometry {
  public:
   /// `pose.rollRad` is ignored (the IG renders without roll). `quality` as in RenderSettings.
   ViewGeometry(const Pose& pose, const Intrinsics& frame, const TerrainGeometry& terrain, double quality) noexcept;
+  /// The same with the grazing-angle rule of `settings` (maxAnisotropy, maxLodStretch).
+  ViewGeometry(const Pose& pose, const Intrinsics& frame, const TerrainGeometry& terrain,
+               const RenderSettings& settings) noexcept;
 
   const Pose& pose() const noexcept { return mPose; }  ///< the pose with roll = 0
   const Intrinsics& intrinsics() const noexcept { return mK; }
@@ -37,6 +44,18 @@ class ViewGeometry {
   /// Level of detail used at depth `depthM`: the smallest L whose voxel still projects to at
   /// least `quality` pixels, clamped to the pyramid. RT-safe.
   int lodLevel(double depthM) const noexcept;
+  /// Level of detail for a hit at depth `depthM` seen along `ray` (as from ray()): lodLevel of the
+  /// depth stretched by lodStretch(ray). RT-safe.
+  int lodLevel(double depthM, const glm::dvec3& ray) const noexcept { return lodLevel(depthM * lodStretch(ray)); }
+  /// Factor (1 ..maxLodStretch) by which the grazing-angle rule enlarges the depth the level is
+  /// chosen for, for a ray (any length): 1 / (sin(depression)·maxAnisotropy), clamped; the most
+  /// for rays at or above the horizon; 1 when the rule is off. RT-safe.
+  double lodStretch(const glm::dvec3& ray) const noexcept {
+    if (!(mMaxAnisotropy > 0.0)) return 1.0;
+    const double down = -ray.z * mMaxAnisotropy;  // sin(depression)·A·|ray|
+    const double length = std::sqrt(ray.x * ray.x + ray.y * ray.y + ray.z * ray.z);
+    return down * mMaxLodStretch > length ? std::max(length / down, 1.0) : mMaxLodStretch;
+  }
   /// Weight (0..1) of level `level`+1's colour blended into level `level`'s at depth `depthM`:
   /// 0 over the near half of the level's depth range, rising linearly to 1 where the march
   /// switches to `level`+1. RT-safe.
@@ -48,6 +67,8 @@ class ViewGeometry {
   CameraAxes mAxes;
   double mLodDepth0M;
   int mLevels;
+  double mMaxAnisotropy = 0.0;
+  double mMaxLodStretch = 1.0;
 };
 
 }  // namespace fieldcast::core

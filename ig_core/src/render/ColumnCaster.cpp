@@ -37,6 +37,7 @@ struct RayLine {
   double zPer = 0;   // height quanta per unit of m
   double aMaj = 1;   // units of m per metre of depth
   double mUnit = 1;  // level L is used while m ≤ mUnit·2^L
+  double lodStretch = 1;  // ViewGeometry::lodStretch of the ray
   double invMUnit = 1;
   double mEnter = 0;  // first m inside the terrain's box (hull of voxel centres, below the ceiling)
   double mExit = 0;   // last m inside that box
@@ -75,7 +76,8 @@ bool setupLine(const CasterFrame& f, const glm::dvec3& d, RayLine& r) noexcept {
   const double inv = 1.0 / r.aMaj;
   r.slope = dMin * inv;
   r.zPer = d.z * f.quantaPerM * inv;
-  r.mUnit = f.geo->lodDepth0M() * r.aMaj;
+  r.lodStretch = f.geo->lodStretch(d);
+  r.mUnit = f.geo->lodDepth0M() * r.aMaj / r.lodStretch;
   r.invMUnit = 1.0 / r.mUnit;
 
   const double majSize = (r.xMajor ? f.levelWidth[0] : f.levelHeight[0]) - 1;
@@ -430,7 +432,7 @@ Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const Mar
   const std::uint32_t c1 = r.xMajor ? colourAt(f, t, c.level, c.i, j + 1) : colourAt(f, t, c.level, j + 1, c.i);
   Rgb colour = mix(unpackRgb(c0), unpackRgb(c1), frac);
   if (!f.blend) return colour;
-  const double w = f.geo->levelBlend(depthM, c.level);
+  const double w = f.geo->levelBlend(depthM * r.lodStretch, c.level);
   if (w <= 0.0) return colour;
   // The same point on the next level: continuous index there, bilinear over four voxels.
   const int up = c.level + 1;
@@ -534,6 +536,7 @@ struct Crossing {
   double phi = 0;    // fraction along the segment
   double v = 0;      // image row (continuous)
   double depth = 0;  // metres along the forward axis
+  double lodDepth = 0;  // depth the level of detail is chosen for (depth × lodStretch)
   bool haveColour = false;
   Rgb colour;
 };
@@ -644,7 +647,7 @@ const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
   x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
   x.haveColour = true;
   if (!f.blend || l + 1 >= f.levels) return x.colour;
-  const double blend = std::clamp(4.0 * x.depth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
+  const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
   if (blend <= 0.0) return x.colour;
   const double p = pow2(l);
   const double mMaj = (x.i + 0.5) * p - 0.5;
@@ -832,6 +835,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   // bounds a fill is projected to its image row.
   struct Found {
     double yc, depth, phi;  // camera up and forward coordinates (depth = zc, metres)
+    double lodDepth;        // depth × the lodStretch the level was chosen with
     int level, i, j;
     bool haveColour;
     Rgb colour;
@@ -840,6 +844,15 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   Found* prevP = &found[0];
   Found* curP = &found[1];
   std::uint64_t steps = 0;
+  // The grazing-angle stretch of the level of detail (ViewGeometry::lodStretch) for the ray of the
+  // next sub-row to fill. It only grows as the rows go up the column, so levels still only go up.
+  const CameraAxes& axes = f.geo->axes();
+  const auto stretchOfRow = [&](int row) {
+    const double yc = (k.cyPx - (row + 0.5) * invS) / k.fyPx;
+    return f.geo->lodStretch(c.xc * axes.right + yc * axes.up + axes.forward);
+  };
+  const bool grazingLod = f.geo->lodStretch(glm::dvec3{0.0, 0.0, 1.0}) > 1.0;  // the rule is on
+  double stretch = grazingLod ? stretchOfRow(q) : 1.0;
   const auto colourOf = [&](Found& x) -> const Rgb& {
     if (!x.haveColour) {
       Crossing cx;
@@ -848,6 +861,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       cx.j = x.j;
       cx.phi = x.phi;
       cx.depth = x.depth;
+      cx.lodDepth = x.lodDepth;
       x.colour = crossingColour(f, t, window, c, cx);
       x.haveColour = true;
     }
@@ -891,6 +905,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     if (!(zc > 1e-6)) return false;
     out.yc = dMaj * c.upMaj + dMin * c.upMin + dZ * c.upZ;
     out.depth = zc;
+    out.lodDepth = zc * stretch;
     out.phi = phi;
     out.level = level;
     out.i = i;
@@ -962,7 +977,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     if (cj != floorToInt((hi + 0.5) * invCell)) return false;
     // Do not skip past the depth where the march changes level.
     const double depthFar = dMajFar * c.fwdMaj + (nFar - c.cMin) * c.fwdMin + (zFar - c.cZ) * c.fwdZ;
-    if (depthFar > switchDepth) return false;
+    if (depthFar * stretch > switchDepth) return false;
     const int x = kXMajor ? ci : cj;
     const int y = kXMajor ? cj : ci;
     if (!windowFor(f, t, window, kLevel, x, y)) return false;
@@ -984,7 +999,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     // step ahead); otherwise the next line of this level.
     Found& prev = *prevP;
     Found& cur = *curP;
-    if (prev.depth > switchDepth && (i & 1) == (sx > 0 ? 0 : 1)) {
+    if (prev.lodDepth > switchDepth && (i & 1) == (sx > 0 ? 0 : 1)) {
       ++level;
       i >>= 1;
       enterLevel(level);
@@ -1062,6 +1077,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         if (--q < 0) break;
         vq -= invS;
       }
+      if (grazingLod) stretch = stretchOfRow(q);
       t.rays += static_cast<std::uint64_t>(qFirst - q);
       if (q < 0) {
         t.steps += steps;

@@ -58,7 +58,7 @@ ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u
     return p.z - mView.heightAtM(p.x, p.y, level);
   };
   double t = lo;
-  int level = geo.lodLevel(t);
+  int level = geo.lodLevel(t, d);
   double f = above(t, level);
   if (f <= 0.0) {
     const glm::dvec3 p = c + t * d;
@@ -69,7 +69,7 @@ ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u
     // 1/8 voxel horizontally; steep rays also advance at most 1/8 voxel-height of drop per step.
     const double dt = 0.125 * voxel / std::max(horizontal, 0.05 * std::abs(d.z) + 1e-12);
     const double tNext = std::min(t + dt, hi);
-    const int levelNext = geo.lodLevel(tNext);
+    const int levelNext = geo.lodLevel(tNext, d);
     const double fNext = above(tNext, levelNext);
     if (fNext <= 0.0) {
       // Bisection between the last point above and the first below.
@@ -77,13 +77,13 @@ ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u
       double b = tNext;
       for (int k = 0; k < 60 && (b - a) > 1e-7; ++k) {
         const double mid = 0.5 * (a + b);
-        if (above(mid, geo.lodLevel(mid)) > 0.0) {
+        if (above(mid, geo.lodLevel(mid, d)) > 0.0) {
           a = mid;
         } else {
           b = mid;
         }
       }
-      return Hit{true, c + b * d, b, geo.lodLevel(b)};
+      return Hit{true, c + b * d, b, geo.lodLevel(b, d)};
     }
     t = tNext;
     level = levelNext;
@@ -95,7 +95,7 @@ ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u
 Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings& settings) const {
   Frame frame = frameShell(request, settings, true);
   frame.renderStart = MonotonicClock::now();
-  const ViewGeometry geo(frame.pose, frame.intrinsics, mView.geometry(), settings.quality);
+  const ViewGeometry geo(frame.pose, frame.intrinsics, mView.geometry(), settings);
   const Shading shading(settings);
   const int s = std::clamp(settings.verticalSupersample, 1, 4);
   const int w = frame.intrinsics.widthPx;
@@ -114,7 +114,7 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
           const double x = (h.pointM.x - g.originM.x) / g.spacingM;
           const double y = (h.pointM.y - g.originM.y) / g.spacingM;
           colour = bilinearColour(mView, h.level, x, y);
-          const double blend = settings.blendLevels ? geo.levelBlend(h.depthM, h.level) : 0.0;
+          const double blend = settings.blendLevels ? geo.levelBlend(h.depthM * geo.lodStretch(d), h.level) : 0.0;
           if (blend > 0.0) colour = mix(colour, bilinearColour(mView, h.level + 1, x, y), static_cast<float>(blend));
           const auto range = static_cast<float>(h.depthM * length);
           colour = shading.terrain(colour, range);

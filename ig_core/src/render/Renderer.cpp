@@ -15,7 +15,7 @@ class Renderer::InFlight {
   InFlight(Renderer& r, const ViewRequest& request, const RenderSettings& s, Frame&& recycle)
       : renderer(r),
         frame(frameShell(request, s, s.rangeImage, std::move(recycle))),
-        geometry(frame.pose, frame.intrinsics, r.mView.geometry(), s.quality),
+        geometry(frame.pose, frame.intrinsics, r.mView.geometry(), s),
         caster(r.mView, geometry, s, r.mCeilingQ, &frame.image, s.rangeImage ? frame.rangeM.data() : nullptr) {
     frame.renderStart = MonotonicClock::now();
     job.run = &InFlight::runColumns;

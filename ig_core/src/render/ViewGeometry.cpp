@@ -43,6 +43,13 @@ ViewGeometry::ViewGeometry(const Pose& pose, const Intrinsics& frame, const Terr
   mLodDepth0M = terrain.spacingM * frame.fxPx / std::max(quality, 1e-3);
 }
 
+ViewGeometry::ViewGeometry(const Pose& pose, const Intrinsics& frame, const TerrainGeometry& terrain,
+                           const RenderSettings& settings) noexcept
+    : ViewGeometry(pose, frame, terrain, settings.quality) {
+  mMaxAnisotropy = std::max(settings.maxAnisotropy, 0.0);
+  mMaxLodStretch = std::max(settings.maxLodStretch, 1.0);
+}
+
 int ViewGeometry::lodLevel(double depthM) const noexcept {
   if (!(depthM > mLodDepth0M)) return 0;
   int exponent = 0;

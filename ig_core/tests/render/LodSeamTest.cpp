@@ -24,11 +24,12 @@ struct SeamFigures {
   int switches = 0;
 };
 
-SeamFigures measureSeams(bool blend) {
+SeamFigures measureSeams(bool blend, double maxAnisotropy = 0.0) {
   static const std::unique_ptr<MemoryTerrain> plane = makeSyntheticTerrain({SyntheticKind::FlatPlane, 1024, 2.0, 6, 5});
   const TerrainView& view = plane->view();
   RenderSettings settings;
   settings.blendLevels = blend;
+  settings.maxAnisotropy = maxAnisotropy;
   settings.colourMode = FrameColour::Grey;
   settings.rangeImage = true;
   settings.hazeRangeM = 0.0;
@@ -38,7 +39,7 @@ SeamFigures measureSeams(bool blend) {
   r.pose = poseAbove(view, 1000.0, 200.0, 40.0, 0.0, -12.0);
   r.display = Intrinsics::fromHorizontalFov(320, 240, radians(50));
   const Frame f = renderer.render(r);
-  const ViewGeometry geo(f.pose, f.intrinsics, view.geometry(), settings.quality);
+  const ViewGeometry geo(f.pose, f.intrinsics, view.geometry(), settings);
   const int w = f.image.widthPx();
   std::vector<double> contrast;
   std::vector<int> level;
@@ -49,7 +50,7 @@ SeamFigures measureSeams(bool blend) {
     for (int x = 0; x + 1 < w; ++x) sum += std::abs(f.image.row(y)[x + 1] - f.image.row(y)[x]);
     contrast.push_back(sum / (w - 1));
     const glm::dvec3 d = geo.ray(w / 2 + 0.5, y + 0.5);
-    level.push_back(geo.lodLevel(range / glm::length(d)));
+    level.push_back(geo.lodLevel(range / glm::length(d), d));
   }
   if (std::getenv("FIELDCAST_DEBUG_SEAM")) {
     for (std::size_t k = 0; k < contrast.size(); ++k) std::printf("%zu L%d %.2f\n", k, level[k], contrast[k]);
@@ -90,6 +91,18 @@ TEST(LodSeam, BlendedLevelSwitchesShowNoContrastStep) {
   const double bound = 2.0;
   EXPECT_LE(blended.worstSwitchStep, bound);
   EXPECT_GT(hard.worstSwitchStep, bound);
+}
+
+// With the grazing-angle rule the levels switch at other rows (the depth is stretched by the ray's
+// depression); the blend must follow the same stretched depth.
+TEST(LodSeam, GrazingAngleLevelSwitchesShowNoContrastStep) {
+  const SeamFigures blended = measureSeams(true, 2.0);
+  const SeamFigures hard = measureSeams(false, 2.0);
+  std::printf("grazing rule: %d level switches; step across a switch %.2f blended, %.2f unblended\n", blended.switches,
+              blended.worstSwitchStep, hard.worstSwitchStep);
+  ASSERT_GE(blended.switches, 3);
+  EXPECT_LE(blended.worstSwitchStep, 2.0);
+  EXPECT_GT(hard.worstSwitchStep, 2.0);
 }
 
 }  // namespace

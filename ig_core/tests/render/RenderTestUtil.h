@@ -54,8 +54,9 @@ struct HitAgreement {
   double fraction() const { return pixels ? static_cast<double>(same) / pixels : 1.0; }
 };
 
-inline HitAgreement compareHits(const Frame& fast, const Frame& reference, const TerrainGeometry& g, double quality) {
-  const ViewGeometry geo(fast.pose, fast.intrinsics, g, quality);
+inline HitAgreement compareHits(const Frame& fast, const Frame& reference, const TerrainGeometry& g,
+                                const RenderSettings& settings) {
+  const ViewGeometry geo(fast.pose, fast.intrinsics, g, settings);
   HitAgreement a;
   const int w = fast.intrinsics.widthPx;
   for (int v = 0; v < fast.intrinsics.heightPx; ++v) {
@@ -75,7 +76,7 @@ inline HitAgreement compareHits(const Frame& fast, const Frame& reference, const
         const glm::dvec3 d = geo.ray(u + 0.5, v + 0.5);
         const double r = std::isinf(rf) ? rr : rf;
         const glm::dvec3 p = fast.pose.positionM + r * glm::normalize(d);
-        const double voxel = std::ldexp(g.spacingM, geo.lodLevel(r / glm::length(d)));
+        const double voxel = std::ldexp(g.spacingM, geo.lodLevel(r / glm::length(d), d));
         const double edge = std::min({p.x - g.originM.x, g.originM.x + (g.widthVox - 1) * g.spacingM - p.x,
                                       p.y - g.originM.y, g.originM.y + (g.heightVox - 1) * g.spacingM - p.y});
         if (edge <= voxel) {
@@ -94,7 +95,7 @@ inline HitAgreement compareHits(const Frame& fast, const Frame& reference, const
       const glm::dvec3 unit = glm::normalize(d);
       const glm::dvec3 pf = fast.pose.positionM + static_cast<double>(rf) * unit;
       const glm::dvec3 pr = fast.pose.positionM + static_cast<double>(rr) * unit;
-      const int level = geo.lodLevel(rf / glm::length(d));
+      const int level = geo.lodLevel(rf / glm::length(d), d);
       if (voxelDistance(g, pf, pr, level) <= 1) ++a.same;
     }
   }
