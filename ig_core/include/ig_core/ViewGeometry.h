@@ -44,6 +44,8 @@ class ViewGeometry {
   /// Level of detail used at depth `depthM`: the smallest L whose voxel still projects to at
   /// least `quality` pixels, clamped to the pyramid. RT-safe.
   int lodLevel(double depthM) const noexcept;
+  /// Whether the grazing-angle rule is on (RenderSettings::maxAnisotropy > 0).
+  bool grazingLod() const noexcept { return mMaxAnisotropy > 0.0; }
   /// Level of detail for a hit at depth `depthM` seen along `ray` (as from ray()): lodLevel of the
   /// depth stretched by lodStretch(ray). RT-safe.
   int lodLevel(double depthM, const glm::dvec3& ray) const noexcept { return lodLevel(depthM * lodStretch(ray)); }
@@ -51,7 +53,7 @@ class ViewGeometry {
   /// chosen for, for a ray (any length): 1 / (sin(depression)·maxAnisotropy), clamped; the most
   /// for rays at or above the horizon; 1 when the rule is off. RT-safe.
   double lodStretch(const glm::dvec3& ray) const noexcept {
-    if (!(mMaxAnisotropy > 0.0)) return 1.0;
+    if (!grazingLod()) return 1.0;
     const double down = -ray.z * mMaxAnisotropy;  // sin(depression)·A·|ray|
     const double length = std::sqrt(ray.x * ray.x + ray.y * ray.y + ray.z * ray.z);
     return down * mMaxLodStretch > length ? std::max(length / down, 1.0) : mMaxLodStretch;

@@ -851,7 +851,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     const double yc = (k.cyPx - (row + 0.5) * invS) / k.fyPx;
     return f.geo->lodStretch(c.xc * axes.right + yc * axes.up + axes.forward);
   };
-  const bool grazingLod = f.geo->lodStretch(glm::dvec3{0.0, 0.0, 1.0}) > 1.0;  // the rule is on
+  const bool grazingLod = f.geo->grazingLod();
   double stretch = grazingLod ? stretchOfRow(q) : 1.0;
   const auto colourOf = [&](Found& x) -> const Rgb& {
     if (!x.haveColour) {
@@ -928,11 +928,11 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const std::size_t bpp = sink.rowBytes;
   const double invFy = 1.0 / k.fyPx;
   int sinceCheck = 0;
-  // Occlusion skipping. The ray through the top crossing (the highest terrain seen so far) meets grid line i at
-  // R; a crossing of line i can only be visible above R on L_i, i.e. where the terrain reaches at
-  // least R's height, between R and the ceiling. When the conservative max mip of a coarse cell
-  // (level + 3) covering that stretch for all the cell's grid lines is below R, none of them can
-  // be seen: they are skipped without solving their crossings.
+  // Occlusion skipping. The ray through the top crossing (the highest terrain seen so far) meets
+  // grid line i at R; a crossing of line i can only be visible above R on L_i, i.e. where the
+  // terrain reaches at least R's height, between R and the ceiling. When the conservative max mip
+  // of a coarse cell (level + 3, else level + 2) covering that stretch for all the cell's grid
+  // lines is below R, none of them can be seen: they are skipped without solving their crossings.
   double topMin = 0.0, topZ = 0.0;  // the top ray's minor and height change per unit of major
   bool topValid = false;
   bool topChanged = true;  // the top crossing moved since topMin / topZ were set
