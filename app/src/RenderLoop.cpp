@@ -62,6 +62,7 @@ void RenderLoop::publish(Frame&& frame, const core::RenderStats&) {
   if (mPacing.controller.target.count() > 0) {
     const double q = mController.update(took);
     mRenderer.setQuality(q);
+    if (mPacing.controller.grazingAnisotropy > 0.0) mRenderer.setMaxAnisotropy(mController.maxAnisotropy());
     mQuality.store(q, std::memory_order_relaxed);
   }
 }

@@ -134,6 +134,9 @@ struct Service::Parts {
       pacing.maxRateHz = config.render.maxRateHz;
       pacing.controller.target = fromSeconds(config.render.targetFrameMs * 1e-3);
       pacing.initialQuality = config.render.quality;
+      // A fixed grazing rule stays on; otherwise the controller may turn it on before `quality`.
+      pacing.controller.grazingAnisotropy =
+          config.render.maxAnisotropy > 0.0 ? 0.0 : config.render.controllerAnisotropy;
       RenderLoop loop(renderer, *motion, display, frames, metrics, pacing, terrain.get());
       spdlog::info("render: {} worker threads, {}x{} display, margin {:.0f}%", renderer.threads(), display.widthPx,
                    display.heightPx, config.render.marginFraction * 100);

@@ -67,6 +67,7 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
     c.render.targetFrameMs = t.number("target_frame_ms", 0.0, 0.0, 1000.0);
     c.render.quality = t.number("quality", 1.0, 0.25, 16.0);
     c.render.maxAnisotropy = t.number("max_anisotropy", 0.0, 0.0, 64.0);
+    c.render.controllerAnisotropy = t.number("controller_anisotropy", 2.0, 0.0, 64.0);
     c.render.rangeImage = t.boolean("range_image", false);
     c.render.grey = t.boolean("grey", false);
     c.render.widthPx = static_cast<int>(t.integer("width", c.output.widthPx, 16, 8192));

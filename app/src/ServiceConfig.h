@@ -34,6 +34,7 @@ struct RenderConfig {
   double targetFrameMs = 0.0;    ///< frame-time controller target; 0 = fixed quality
   double quality = 1.0;          ///< pixel-to-voxel ratio knob (larger: coarser and faster)
   double maxAnisotropy = 0.0;    ///< grazing-angle level of detail (RenderSettings); 0 = off
+  double controllerAnisotropy = 2.0;  ///< the frame-time controller turns the rule on at this first; 0 = never
   bool rangeImage = false;       ///< render the per-pixel range (needed by the 3D warp)
   bool grey = false;             ///< render grey-level frames
   int widthPx = 720;             ///< display window rendered (the output raster by default)

@@ -2,6 +2,10 @@
 // Holds the render time near a target by turning the quality knob (RenderSettings::quality) with
 // hysteresis: coarsen when the smoothed frame time is over budget, refine only when it is well
 // under, and do nothing in between, so the knob does not hunt as the view sweeps.
+//
+// Optionally it first turns on the grazing-angle level of detail (RenderSettings::maxAnisotropy),
+// which coarsens only far terrain seen at low pitch (where the cost is) and keeps the near field
+// sharp; `quality`, which coarsens everything, comes second. Refining undoes them in reverse order.
 
 #include <fieldcast/Time.h>
 
@@ -16,6 +20,12 @@ struct FrameTimeControllerConfig {
   double smoothing = 0.3;         ///< weight of the newest frame in the smoothed time (0..1]
   double maxStepRatio = 1.25;     ///< largest change of the knob per frame (×/÷)
   double refineStepRatio = 1.05;  ///< change of the knob per frame when refining
+  /// Anisotropy of the grazing-angle rule the controller turns on before it coarsens `quality`;
+  /// 0 = the quality knob alone.
+  double grazingAnisotropy = 0.0;
+  /// The rule goes off again only when the smoothed time is below this × target (it roughly halves
+  /// the cost of low views, so a wider band than refineBelow keeps it from hunting).
+  double grazingOffBelow = 0.4;
 };
 
 /// Turns measured frame times into a quality knob. Not thread-safe; RT-safe (no allocation).
@@ -26,6 +36,9 @@ class FrameTimeController {
   /// Feeds the time the last frame took; returns the knob to use for the next frame.
   double update(Nanoseconds frameTime) noexcept;
   double quality() const noexcept { return mQuality; }
+  /// RenderSettings::maxAnisotropy to use with quality(): grazingAnisotropy while the controller
+  /// has the rule on, else 0.
+  double maxAnisotropy() const noexcept { return mGrazing ? mConfig.grazingAnisotropy : 0.0; }
   /// Smoothed frame time in seconds (0 before the first update).
   double smoothedSeconds() const noexcept { return mSmoothed; }
 
@@ -33,6 +46,8 @@ class FrameTimeController {
   FrameTimeControllerConfig mConfig;
   double mQuality;
   double mSmoothed = 0.0;
+  bool mGrazing = false;         ///< the grazing-angle rule is on
+  double mGrazingQuality = 0.0;  ///< the knob when the rule went on
 };
 
 }  // namespace fieldcast::core

@@ -39,6 +39,8 @@ class Renderer {
   void setSettings(const RenderSettings& settings) noexcept { mSettings = settings; }
   /// Only the quality knob (the frame-time controller's output).
   void setQuality(double quality) noexcept { mSettings.quality = quality; }
+  /// Grazing-angle level of detail for frames submitted from now on (RenderSettings::maxAnisotropy).
+  void setMaxAnisotropy(double anisotropy) noexcept { mSettings.maxAnisotropy = anisotropy; }
   int threads() const noexcept { return mPool.threads(); }
 
   class InFlight;

@@ -15,11 +15,29 @@ double FrameTimeController::update(Nanoseconds frameTime) noexcept {
   if (!(target > 0.0)) return mQuality;
   const double t = toSeconds(frameTime);
   mSmoothed = mSmoothed == 0.0 ? t : mSmoothed + std::clamp(mConfig.smoothing, 0.01, 1.0) * (t - mSmoothed);
+  const bool canGraze = mConfig.grazingAnisotropy > 0.0;
   if (mSmoothed > target) {
+    if (canGraze && !mGrazing) {
+      // Over budget: the grazing-angle rule first. The smoothing restarts, since the frames to
+      // come cost something else.
+      mGrazing = true;
+      mGrazingQuality = mQuality;
+      mSmoothed = 0.0;
+      return mQuality;
+    }
     // Over budget: coarsen in proportion to the overrun, bounded per frame.
     mQuality *= std::min(std::sqrt(mSmoothed / target) * 1.02, mConfig.maxStepRatio);
   } else if (mSmoothed < mConfig.refineBelow * target) {
+    if (mGrazing && mQuality <= mGrazingQuality) {
+      // Back where the rule went on: turn it off once there is room for it, else hold.
+      if (mSmoothed < mConfig.grazingOffBelow * target) {
+        mGrazing = false;
+        mSmoothed = 0.0;
+      }
+      return mQuality;
+    }
     mQuality /= mConfig.refineStepRatio;  // well under: refine slowly
+    if (mGrazing) mQuality = std::max(mQuality, mGrazingQuality);
   }
   mQuality = std::clamp(mQuality, mConfig.minQuality, mConfig.maxQuality);
   return mQuality;
