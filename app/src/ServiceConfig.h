@@ -27,17 +27,17 @@ struct TerrainConfig {
 
 /// [render]: the image generator.
 struct RenderConfig {
-  int threads = 0;               ///< render workers; 0 = one per core
-  double maxRateHz = 0.0;        ///< cap on the render rate; 0 = as fast as it can
-  double hfovDeg = 60.0;         ///< horizontal field of view of the display window
-  double marginFraction = 0.10;  ///< frame margin on each side, fraction of each dimension
-  double targetFrameMs = 0.0;    ///< frame-time controller target; 0 = fixed quality
-  double quality = 1.0;          ///< pixel-to-voxel ratio knob (larger: coarser and faster)
-  double maxAnisotropy = 0.0;    ///< grazing-angle level of detail (RenderSettings); 0 = off
+  int threads = 0;                    ///< render workers; 0 = one per core
+  double maxRateHz = 0.0;             ///< cap on the render rate; 0 = as fast as it can
+  double hfovDeg = 60.0;              ///< horizontal field of view of the display window
+  double marginFraction = 0.10;       ///< frame margin on each side, fraction of each dimension
+  double targetFrameMs = 0.0;         ///< frame-time controller target; 0 = fixed quality
+  double quality = 1.0;               ///< pixel-to-voxel ratio knob (larger: coarser and faster)
+  double maxAnisotropy = 0.0;         ///< grazing-angle level of detail (RenderSettings); 0 = off
   double controllerAnisotropy = 2.0;  ///< the frame-time controller turns the rule on at this first; 0 = never
-  bool rangeImage = false;       ///< render the per-pixel range (needed by the 3D warp)
-  bool grey = false;             ///< render grey-level frames
-  int widthPx = 720;             ///< display window rendered (the output raster by default)
+  bool rangeImage = false;            ///< render the per-pixel range (needed by the 3D warp)
+  bool grey = false;                  ///< render grey-level frames
+  int widthPx = 720;                  ///< display window rendered (the output raster by default)
   int heightPx = 486;
 };
 

@@ -2,6 +2,8 @@
 #include "Service.h"
 #include "ServiceConfig.h"
 
+#include <fieldcast/ToolMain.h>
+
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
@@ -116,14 +118,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "fieldcast: %s\n", e.what());
-    return 1;
-  } catch (...) {
-    std::fprintf(stderr, "fieldcast: fatal: unknown exception\n");
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return fieldcast::runProgram("fieldcast", run, argc, argv); }

@@ -6,6 +6,8 @@
 #include "Service.h"
 #include "ServiceConfig.h"
 
+#include <fieldcast/ToolMain.h>
+
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
@@ -101,11 +103,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "fieldcast-bench: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return fieldcast::runProgram("fieldcast-bench", run, argc, argv); }

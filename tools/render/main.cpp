@@ -10,6 +10,7 @@
 #include <ig_core/SyntheticTerrain.h>
 
 #include <fieldcast/Conventions.h>
+#include <fieldcast/ToolMain.h>
 
 #include <OpenImageIO/imageio.h>
 #include <CLI/CLI.hpp>
@@ -197,11 +198,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "fieldcast-render: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return fieldcast::runProgram("fieldcast-render", run, argc, argv); }

@@ -6,11 +6,12 @@
 
 #include <ig_core/SyntheticTerrain.h>
 
+#include <fieldcast/ToolMain.h>
+
 #include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cstdio>
-#include <exception>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -103,11 +104,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "fieldcast-warpeval: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return fieldcast::runProgram("fieldcast-warpeval", run, argc, argv); }

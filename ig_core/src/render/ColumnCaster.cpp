@@ -19,6 +19,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <tuple>
+#include <utility>
 
 namespace fieldcast::core {
 namespace {
@@ -30,13 +32,13 @@ constexpr int kNoIndex = std::numeric_limits<int>::min() / 2;
 // One ray's line through the grid, in level-0 units, fixed for the whole march.
 struct RayLine {
   bool xMajor = true;
-  int sx = 1;        // direction of the major axis: +1 or −1
-  double cMaj = 0;   // camera on the major axis
-  double cMin = 0;   // camera on the minor axis
-  double slope = 0;  // minor units per unit of m
-  double zPer = 0;   // height quanta per unit of m
-  double aMaj = 1;   // units of m per metre of depth
-  double mUnit = 1;  // level L is used while m ≤ mUnit·2^L
+  int sx = 1;             // direction of the major axis: +1 or −1
+  double cMaj = 0;        // camera on the major axis
+  double cMin = 0;        // camera on the minor axis
+  double slope = 0;       // minor units per unit of m
+  double zPer = 0;        // height quanta per unit of m
+  double aMaj = 1;        // units of m per metre of depth
+  double mUnit = 1;       // level L is used while m ≤ mUnit·2^L
   double lodStretch = 1;  // ViewGeometry::lodStretch of the ray
   double invMUnit = 1;
   double mEnter = 0;  // first m inside the terrain's box (hull of voxel centres, below the ceiling)
@@ -528,15 +530,18 @@ struct ColumnPlane {
   int majSize = 0, minSize = 0;             // level-0 grid size along major / minor
 };
 
-// The terrain point of one grid line that the column sees.
+// The terrain point of one grid line that the column sees. It is kept in camera space (yc, zc):
+// most crossings at low pitch raise the column by less than a row, and telling that (and whether
+// a crossing is hidden) takes a multiply, not a division. Only a crossing that bounds a fill is
+// projected to its image row; only one that colours a pixel gets a colour.
 struct Crossing {
-  int level = 0;
-  int i = 0;         // level-L major index of the grid line
-  int j = 0;         // minor segment j .. j+1 (level-L indices)
-  double phi = 0;    // fraction along the segment
-  double v = 0;      // image row (continuous)
-  double depth = 0;  // metres along the forward axis
+  double yc = 0;        // camera up coordinate (metres)
+  double depth = 0;     // camera forward coordinate zc (metres)
+  double phi = 0;       // fraction along the segment
   double lodDepth = 0;  // depth the level of detail is chosen for (depth × lodStretch)
+  int level = 0;
+  int i = 0;  // level-L major index of the grid line
+  int j = 0;  // minor segment j .. j+1 (level-L indices)
   bool haveColour = false;
   Rgb colour;
 };
@@ -597,27 +602,23 @@ ColumnPlane columnPlane(const CasterFrame& f, double uc) noexcept {
   c.xMajor = std::abs(n.y) >= std::abs(n.x);  // the plane's ground trace runs along (n.y, −n.x)
   const double nMin = c.xMajor ? n.y : n.x;
   if (nMin < 0.0) n = -n;
-  c.nMaj = c.xMajor ? n.x : n.y;
-  c.nMin = c.xMajor ? n.y : n.x;
+  // (major, minor) components of a horizontal vector, by the plane's major axis.
+  const auto majMin = [&c](double x, double y) { return c.xMajor ? std::pair{x, y} : std::pair{y, x}; };
+  std::tie(c.nMaj, c.nMin) = majMin(n.x, n.y);
   c.nZ = n.z;
-  c.cMaj = c.xMajor ? f.camX : f.camY;
-  c.cMin = c.xMajor ? f.camY : f.camX;
+  std::tie(c.cMaj, c.cMin) = majMin(f.camX, f.camY);
   c.cZ = f.camZq;
-  c.aMaj = c.xMajor ? a.x : a.y;
-  c.aMin = c.xMajor ? a.y : a.x;
+  std::tie(c.aMaj, c.aMin) = majMin(a.x, a.y);
   c.aZ = a.z;
-  c.bMaj = c.xMajor ? b.x : b.y;
-  c.bMin = c.xMajor ? b.y : b.x;
+  std::tie(c.bMaj, c.bMin) = majMin(b.x, b.y);
   c.bZ = b.z;
-  c.upMaj = (c.xMajor ? ax.up.x : ax.up.y) * sp;
-  c.upMin = (c.xMajor ? ax.up.y : ax.up.x) * sp;
+  std::tie(c.upMaj, c.upMin) = majMin(ax.up.x * sp, ax.up.y * sp);
   c.upZ = ax.up.z * hs;
-  c.fwdMaj = (c.xMajor ? ax.forward.x : ax.forward.y) * sp;
-  c.fwdMin = (c.xMajor ? ax.forward.y : ax.forward.x) * sp;
+  std::tie(c.fwdMaj, c.fwdMin) = majMin(ax.forward.x * sp, ax.forward.y * sp);
   c.fwdZ = ax.forward.z * hs;
   c.vHorizon = ax.up.z > 1e-12 ? k.cyPx + k.fyPx * aw.z / ax.up.z : (aw.z > 0 ? 1e30 : -1e30);
-  c.majSize = c.xMajor ? f.levelWidth[0] : f.levelHeight[0];
-  c.minSize = c.xMajor ? f.levelHeight[0] : f.levelWidth[0];
+  std::tie(c.majSize, c.minSize) =
+      c.xMajor ? std::pair{f.levelWidth[0], f.levelHeight[0]} : std::pair{f.levelHeight[0], f.levelWidth[0]};
   // Rows go up the image as the ground point moves along up_z·d_h − d_z·up_h (d: a ray of the
   // column; the direction is the same for every ray that looks down).
   const glm::dvec3 d = a + (-0.5) * b;  // a ray below the centre row
@@ -690,25 +691,21 @@ struct ColumnSink {
   Rgb sum;
   float range = std::numeric_limits<float>::infinity();
   std::uint8_t* pixels = nullptr;  // this column's pixel in row 0 (rows are consecutive)
-  std::size_t rowBytes = 0;
+  std::size_t bytesPerPixel = 0;
   float* ranges = nullptr;  // this column's range in row 0 (rows are consecutive)
-  std::size_t rowFloats = 0;
 
   ColumnSink(const CasterFrame& frame, int subRows, std::uint8_t* columnPixels, float* columnRanges) noexcept
       : f(frame), s(subRows), scale(1.0f / static_cast<float>(subRows)) {
     if (f.image != nullptr) {
-      rowBytes = static_cast<std::size_t>(f.shading.bytesPerPixel());
+      bytesPerPixel = static_cast<std::size_t>(f.shading.bytesPerPixel());
       pixels = columnPixels;
     }
-    if (f.rangeM != nullptr) {
-      rowFloats = 1;
-      ranges = columnRanges;
-    }
+    if (f.rangeM != nullptr) ranges = columnRanges;
   }
 
   void put(int v, const Rgb& c, float rangeM, float k) const noexcept {
-    if (pixels != nullptr) f.shading.storePixel(pixels + static_cast<std::size_t>(v) * rowBytes, c, k);
-    if (ranges != nullptr) ranges[static_cast<std::size_t>(v) * rowFloats] = rangeM;
+    if (pixels != nullptr) f.shading.storePixel(pixels + static_cast<std::size_t>(v) * bytesPerPixel, c, k);
+    if (ranges != nullptr) ranges[v] = rangeM;
   }
 
   void emit(int q, const Rgb& c, float rangeM) noexcept {
@@ -829,20 +826,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   double jPos = levelIndex(startMin, level);   // predicted minor position of the next crossing
   const double drift = -c.nMaj / c.nMin * sx;  // minor change of the plane's trace per major step
 
-  // The last crossing (prev) and the one being found (cur). A crossing is kept in camera space
-  // (yc, zc): most crossings at low pitch raise the column by less than a row, and telling that
-  // (and whether a crossing is hidden) takes a multiply, not a division. Only a crossing that
-  // bounds a fill is projected to its image row.
-  struct Found {
-    double yc, depth, phi;  // camera up and forward coordinates (depth = zc, metres)
-    double lodDepth;        // depth × the lodStretch the level was chosen with
-    int level, i, j;
-    bool haveColour;
-    Rgb colour;
-  };
-  Found found[2]{};
-  Found* prevP = &found[0];
-  Found* curP = &found[1];
+  // The last crossing (prev) and the one being found (cur).
+  Crossing crossings[2]{};
+  Crossing* prevP = &crossings[0];
+  Crossing* curP = &crossings[1];
   std::uint64_t steps = 0;
   // The grazing-angle stretch of the level of detail (ViewGeometry::lodStretch) for the ray of the
   // next sub-row to fill. It only grows as the rows go up the column, so levels still only go up.
@@ -853,22 +840,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   };
   const bool grazingLod = f.geo->grazingLod();
   double stretch = grazingLod ? stretchOfRow(q) : 1.0;
-  const auto colourOf = [&](Found& x) -> const Rgb& {
-    if (!x.haveColour) {
-      Crossing cx;
-      cx.level = x.level;
-      cx.i = x.i;
-      cx.j = x.j;
-      cx.phi = x.phi;
-      cx.depth = x.depth;
-      cx.lodDepth = x.lodDepth;
-      x.colour = crossingColour(f, t, window, c, cx);
-      x.haveColour = true;
-    }
-    return x.colour;
-  };
   // Solves the crossing on the current grid line; false when it leaves the grid or the view.
-  const auto solve = [&](Found & out) __attribute__((always_inline))->bool {
+  const auto solve = [&](Crossing & out) __attribute__((always_inline))->bool {
     if (sx > 0 ? i > majLast : i < majLast) return false;
     if (minLast < 0) return false;
     int j = floorToInt(jPos);
@@ -925,7 +898,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const bool oneSubRow = sink.s == 1;
   std::uint8_t* const pixels = sink.pixels;
   float* const ranges = sink.ranges;
-  const std::size_t bpp = sink.rowBytes;
+  const std::size_t bpp = sink.bytesPerPixel;
   const double invFy = 1.0 / k.fyPx;
   int sinceCheck = 0;
   // Occlusion skipping. The ray through the top crossing (the highest terrain seen so far) meets
@@ -997,8 +970,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   for (;;) {
     // Next grid line: on an even step past the level's depth, the coarser level's line (half a
     // step ahead); otherwise the next line of this level.
-    Found& prev = *prevP;
-    Found& cur = *curP;
+    Crossing& prev = *prevP;
+    Crossing& cur = *curP;
     if (prev.lodDepth > switchDepth && (i & 1) == (sx > 0 ? 0 : 1)) {
       ++level;
       i >>= 1;
@@ -1027,7 +1000,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       dMaj -= dMajStep;
       base -= baseStep;
       jPos = cur.j + cur.phi - drift;
-      Found before{};
+      Crossing before{};
       if (solve(before)) prev = before;
       i = iHere;
       dMaj = dMajHere;
@@ -1056,8 +1029,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       const auto invFyF = static_cast<float>(invFy);
       // Locals only in this loop: the pixel stores are bytes, which may alias anything, so
       // anything read through a reference would be read again after every store.
-      const Rgb c0 = colourOf(prev);
-      const Rgb c1 = colourOf(cur);
+      const Rgb c0 = crossingColour(f, t, window, c, prev);
+      const Rgb c1 = crossingColour(f, t, window, c, cur);
       const double vStop = curV;
       const int qFirst = q;
       while (vq > vStop) {

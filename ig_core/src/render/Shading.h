@@ -28,9 +28,6 @@ struct Rgb {
   Rgb() noexcept = default;
   explicit Rgb(Float4 x) noexcept : v(x) {}
   Rgb(float r, float g, float b) noexcept : v{r, g, b, 0.0f} {}
-  float r() const noexcept { return v[0]; }
-  float g() const noexcept { return v[1]; }
-  float b() const noexcept { return v[2]; }
   Rgb& operator+=(const Rgb& o) noexcept {
     v += o.v;
     return *this;

@@ -5,6 +5,7 @@
 #include <io_bridge/HidReportDecoder.h>
 #include <io_bridge/HidReportDescriptor.h>
 
+#include "FuzzSeedCorpus.h"
 #include "RealDescriptors.h"
 
 #include <cstdint>
@@ -33,17 +34,12 @@ void writeSeed(const std::filesystem::path& dir, const char* name, std::span<con
 
 // Seeds the corpus directory (the first non-flag argument) with the real descriptors.
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
-  for (int i = 1; i < *argc; ++i) {
-    const std::string arg = (*argv)[i];
-    if (arg.empty() || arg[0] == '-') continue;
-    std::error_code ec;
-    if (!std::filesystem::is_directory(arg, ec) || !std::filesystem::is_empty(arg, ec)) break;
-    writeSeed(arg, "raptor", testdata::kRaptorMach2, 64, 1);
-    writeSeed(arg, "tca", testdata::kTcaYokeBoeing, 64, 1);
-    writeSeed(arg, "saitek", testdata::kSaitekFfbJoystick, 7, 1);
-    writeSeed(arg, "asus", testdata::kAsusGamepad, 9, 1);
-    writeSeed(arg, "ds4", testdata::kDualShock4, 64, 1);
-    break;
+  if (const auto dir = testdata::emptyCorpusDirectory(*argc, *argv)) {
+    writeSeed(*dir, "raptor", testdata::kRaptorMach2, 64, 1);
+    writeSeed(*dir, "tca", testdata::kTcaYokeBoeing, 64, 1);
+    writeSeed(*dir, "saitek", testdata::kSaitekFfbJoystick, 7, 1);
+    writeSeed(*dir, "asus", testdata::kAsusGamepad, 9, 1);
+    writeSeed(*dir, "ds4", testdata::kDualShock4, 64, 1);
   }
   return 0;
 }

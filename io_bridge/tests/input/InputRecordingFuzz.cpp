@@ -3,6 +3,8 @@
 // recording must replay without touching memory it does not own.
 #include <io_bridge/InputRecording.h>
 
+#include "FuzzSeedCorpus.h"
+
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -39,14 +41,8 @@ constexpr const char* kSeed =
 
 // Seeds an empty corpus directory (the first non-flag argument) with a valid recording.
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
-  for (int i = 1; i < *argc; ++i) {
-    const std::string arg = (*argv)[i];
-    if (arg.empty() || arg[0] == '-') continue;
-    std::error_code ec;
-    if (std::filesystem::is_directory(arg, ec) && std::filesystem::is_empty(arg, ec)) {
-      std::ofstream(std::filesystem::path(arg) / "seed.rec") << kSeed;
-    }
-    break;
+  if (const auto dir = fieldcast::io::testdata::emptyCorpusDirectory(*argc, *argv)) {
+    std::ofstream(*dir / "seed.rec") << kSeed;
   }
   return 0;
 }
