@@ -725,6 +725,21 @@ struct ColumnSink {
 
 inline float rayLength(double xc, double yc) noexcept { return static_cast<float>(std::sqrt(1.0 + xc * xc + yc * yc)); }
 
+// Sky in sub-rows q = qFrom ... 0 of the column at camera-space x `xc`: the elevation sine of a ray
+// is its world z over its length, both linear / quadratic in the camera-space yc of the row.
+void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double xc, int qFrom) noexcept {
+  const Intrinsics& k = f.geo->intrinsics();
+  const CameraAxes& ax = f.geo->axes();
+  const double invS = 1.0 / sink.s;
+  const double az = xc * ax.right.z + ax.forward.z;
+  for (int q = qFrom; q >= 0; --q) {
+    const double yc = (k.cyPx - (q + 0.5) * invS) / k.fyPx;
+    const float len = rayLength(xc, yc);
+    sink.emit(q, f.shading.sky(static_cast<float>(az + yc * ax.up.z) / len), std::numeric_limits<float>::infinity());
+  }
+  t.rays += static_cast<std::uint64_t>(std::max(qFrom + 1, 0));
+}
+
 // Per-ray casting of sub-rows q = qFrom, qFrom−1, ... (the rows the plane march cannot take: below
 // the first hit, and beyond the terrain's edge). Stops after the first hit when `untilHit`.
 // Returns the sub-row below which it stopped (−1 when the column is done) and the hit.
@@ -732,14 +747,13 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
                    bool& havePrev, glm::dvec2& prevHit, MarchHit& hitOut, RayLine& lineOut) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const double xc = (uc - k.cxPx) / k.fxPx;
-  bool sky = false;
   for (int q = qFrom; q >= 0; --q) {
     const double vq = (q + 0.5) / f.supersample;
     const glm::dvec3 d = f.geo->ray(uc, vq);
     const float length = rayLength(xc, -(vq - k.cyPx) / k.fyPx);
     ++t.rays;
     RayLine r;
-    if (!sky && setupLine(f, d, r)) {
+    if (setupLine(f, d, r)) {
       const MarchHit h = marchCoherent(f, t, r, havePrev, prevHit);
       if (h.hit) {
         const double depth = h.m / r.aMaj;
@@ -755,7 +769,10 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
       // Missed. An ascending ray passes over everything, and so does every ray above it. A
       // descending one left the terrain's side; the ray above starts where this one left (a
       // pitched column fans out in azimuth, so it may come back over the terrain: retrace).
-      if (d.z >= 0.0) sky = true;
+      if (d.z >= 0.0) {
+        castSkyRows(f, t, sink, xc, q);
+        return -1;
+      }
     } else {
       havePrev = false;  // nowhere near the terrain: the next ray starts afresh
     }
@@ -767,9 +784,11 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
 // The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
 // sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
 // fill (−1 when the column is done): the march left the terrain, or the rows left look over it.
+// `start` becomes the level-0 x, y of the last crossing solved: the rays of the rows left pass
+// above the terrain up to there (vertical coherence for the per-ray march that takes them on).
 template <bool kXMajor>
 int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
-                   const glm::dvec2& start, int level) noexcept {
+                   glm::dvec2& start, int level) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const int sx = c.sx;
   const double invS = 1.0 / sink.s;
@@ -804,7 +823,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   // carries the grid line's major position and grows by baseStep per step.
   double p = 0, gA = 0, gB = 0, baseStep = 0, dMajStep = 0, switchDepth = 0;
   int majLast = 0, minLast = 0;
-  const auto enterLevel = [&](int lv) {
+  const auto enterLevel = [&](int lv) __attribute__((always_inline)) {
     p = pow2(lv);
     gA = c.nMin * p;
     gB = c.nMin * (0.5 * p - 0.5);
@@ -834,7 +853,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   // The grazing-angle stretch of the level of detail (ViewGeometry::lodStretch) for the ray of the
   // next sub-row to fill. It only grows as the rows go up the column, so levels still only go up.
   const CameraAxes& axes = f.geo->axes();
-  const auto stretchOfRow = [&](int row) {
+  const auto stretchOfRow = [&](int row) __attribute__((always_inline)) {
     const double yc = (k.cyPx - (row + 0.5) * invS) / k.fyPx;
     return f.geo->lodStretch(c.xc * axes.right + yc * axes.up + axes.forward);
   };
@@ -889,6 +908,14 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   };
 
   if (!solve(*prevP)) return q;
+  // Where the march stopped: the last crossing solved, in level-0 x, y.
+  const auto stop = [&](const Crossing& last) __attribute__((always_inline)) {
+    const double lp = pow2(last.level);
+    const double maj = (last.i + 0.5) * lp - 0.5;
+    const double min = (last.j + 0.5 + last.phi) * lp - 0.5;
+    start = kXMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj};
+    t.steps += steps;
+  };
   // The highest crossing so far (its row is the top of the filled part of the column).
   double topYc = prevP->yc;
   double topZc = prevP->depth;
@@ -909,7 +936,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   double topMin = 0.0, topZ = 0.0;  // the top ray's minor and height change per unit of major
   bool topValid = false;
   bool topChanged = true;  // the top crossing moved since topMin / topZ were set
-  const auto setTopRay = [&] {
+  const auto setTopRay = [&]() __attribute__((always_inline)) {
     topChanged = false;
     const double yc = topYc / topZc;
     const double dMajTop = c.aMaj + yc * c.bMaj;
@@ -925,7 +952,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   std::array<int, 4> failedCells;  // per cell size: the last cell that could not be skipped
   failedCells.fill(std::numeric_limits<int>::min());
   std::uint64_t skippedLines = 0;
-  const auto trySkip = [&](int up) -> bool {
+  const auto trySkip = [&](int up) __attribute__((always_inline))->bool {
     const int kLevel = std::min(level + up, f.levels - 1);
     const int shiftK = kLevel - level;
     if (shiftK <= 0) return false;
@@ -986,7 +1013,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     }
     if (lastOccluded && (trySkip(3) || trySkip(2))) continue;
     if (!solve(cur)) {
-      t.steps += steps;
+      stop(prev);
       return q;
     }
     // Visible ⇔ above the top ray ⇔ yc/zc > topYc/topZc (both depths are positive).
@@ -1053,7 +1080,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       if (grazingLod) stretch = stretchOfRow(q);
       t.rays += static_cast<std::uint64_t>(qFirst - q);
       if (q < 0) {
-        t.steps += steps;
+        stop(cur);
         return -1;
       }
     }
@@ -1072,7 +1099,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + above * c.fwdZ;
         const double yc = dMaj * c.upMaj + dMin * c.upMin + above * c.upZ;
         if (zc > 0.0 && k.cyPx - k.fyPx * yc / zc >= vq) {
-          t.steps += steps;
+          stop(*prevP);
           return q;
         }
       }
@@ -1080,8 +1107,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   }
 }
 
-int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
-               const glm::dvec2& start, int level) noexcept {
+int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q, glm::dvec2& start,
+               int level) noexcept {
   return c.xMajor ? marchPlaneAxis<true>(f, t, sink, c, q, start, level)
                   : marchPlaneAxis<false>(f, t, sink, c, q, start, level);
 }
@@ -1109,16 +1136,7 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u, std::uint8_t* colu
   // Beyond the terrain (or above it): rows that look up see the sky; rows that still look down
   // (over the terrain's edge, where a tilted column may come back over it) are cast one by one.
   if (rowV(q) < horizonRow) {
-    // Sky: the elevation sine of a ray is its world z over its length; both are linear / quadratic
-    // in the camera-space yc of the row.
-    const CameraAxes& ax = f.geo->axes();
-    const double az = c.xc * ax.right.z + ax.forward.z;
-    for (; q >= 0; --q) {
-      const double yc = (k.cyPx - rowV(q)) / k.fyPx;
-      const float len = rayLength(c.xc, yc);
-      sink.emit(q, f.shading.sky(static_cast<float>(az + yc * ax.up.z) / len), std::numeric_limits<float>::infinity());
-      ++t.rays;
-    }
+    castSkyRows(f, t, sink, c.xc, q);
     return;
   }
   castRowsPerRay(f, t, sink, uc, q, false, havePrev, prevHit, hit, line);
