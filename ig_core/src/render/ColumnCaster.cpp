@@ -781,6 +781,141 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
   return -1;
 }
 
+// The state of a column's plane march that the run of visible crossings below reads and advances.
+struct VisibleRun {
+  // The register tile window (level-L indices of its first voxel) and the current level.
+  const std::uint16_t* tileHeights;
+  int wx0, wy0, tileShift;
+  int sx, majLast;  // major direction and the last grid line the march may take
+  // The crossing equation and camera coordinates of the current grid line (see marchPlaneAxis).
+  double gA, nZ, yMinor, zMinor, upZ, fwdZ;
+  double baseStep, yStep, zStep;
+  double drift, rowSlope, switchZc;
+  int evenParity;  // i & 1 on the grid lines where the march may switch to the coarser level
+  // Advanced by the run.
+  int i;
+  double base, yLine, zLine, jPos;
+  double topYc, topZc;  // the top crossing, which is also the last one taken
+  int topJ = 0;
+  double topPhi = 0;
+  int taken = 0;              // visible crossings taken
+  std::uint64_t samples = 0;  // heights read
+  // The crossing that stopped the run (when run returns true): hidden, or it fills a row.
+  int curJ = 0;
+  double curPhi = 0, curYc = 0, curZc = 0;
+};
+
+// The common case of the plane march at grazing angles, in a loop of its own so its values stay in
+// registers: the crossings of the next grid lines are visible but raise the column by less than a
+// row, so each only becomes the new top. Reads heights only from the tile window (both voxels of
+// every segment inside it). Returns true when it stopped at a crossing that needs the general path
+// (hidden, or it fills a row), solved on grid line r.i; false when the next grid line needs the
+// general path before it is solved (level switch, tile or grid edge, the view's near plane).
+template <bool kXMajor>
+bool runVisibleCrossings(VisibleRun& r) noexcept {
+  const std::uint16_t* const tile = r.tileHeights;
+  const unsigned size = 1u << r.tileShift;
+  const int maj0 = kXMajor ? r.wx0 : r.wy0;
+  const int min0 = kXMajor ? r.wy0 : r.wx0;
+  // Level-L voxel (major i, minor j) of the window: tile[i·majStride + j·minStride − origin].
+  const std::ptrdiff_t majStride = kXMajor ? 1 : std::ptrdiff_t{1} << r.tileShift;
+  const std::ptrdiff_t minStride = kXMajor ? std::ptrdiff_t{1} << r.tileShift : 1;
+  const std::ptrdiff_t origin = maj0 * majStride + min0 * minStride;
+  const int sx = r.sx;
+  const double gA = r.gA, nZ = r.nZ, yMinor = r.yMinor, zMinor = r.zMinor, upZ = r.upZ, fwdZ = r.fwdZ;
+  const double baseStep = r.baseStep, yStep = r.yStep, zStep = r.zStep, drift = r.drift;
+  const double rowSlope = r.rowSlope, switchZc = r.switchZc;
+  int i = r.i;
+  double base = r.base, yLine = r.yLine, zLine = r.zLine, jPos = r.jPos;
+  double topYc = r.topYc, topZc = r.topZc;
+  int topJ = r.topJ;
+  double topPhi = r.topPhi;
+  int taken = 0;
+  std::uint64_t samples = 0;
+  bool stoppedAtCrossing = false;
+  for (;;) {
+    if (topZc > switchZc && (i & 1) == r.evenParity) break;
+    const int iNext = i + sx;
+    if (sx > 0 ? iNext > r.majLast : iNext < r.majLast) break;
+    if (static_cast<unsigned>(iNext - maj0) >= size) break;
+    const double baseNext = base + baseStep;
+    int j = floorToInt(jPos);
+    if (static_cast<unsigned>(j - min0) >= size - 1) break;
+    const std::uint16_t* line = tile + (iNext * majStride - origin);
+    double h0 = line[j * minStride];
+    double h1 = line[(j + 1) * minStride];
+    double g0 = gA * j + nZ * h0 + baseNext;
+    double g1 = g0 + gA + nZ * (h1 - h0);
+    std::uint64_t read = 2;
+    // g grows along the minor axis: walk to the segment where it changes sign, inside the window.
+    bool inside = true;
+    while (g0 > 0.0) {
+      if (j == min0) {
+        inside = false;
+        break;
+      }
+      --j;
+      h1 = h0;
+      g1 = g0;
+      h0 = line[j * minStride];
+      g0 -= gA + nZ * (h1 - h0);
+      ++read;
+    }
+    while (inside && g1 <= 0.0) {
+      if (j + 2 >= min0 + static_cast<int>(size)) {
+        inside = false;
+        break;
+      }
+      ++j;
+      h0 = h1;
+      g0 = g1;
+      h1 = line[(j + 1) * minStride];
+      g1 = g0 + gA + nZ * (h1 - h0);
+      ++read;
+    }
+    if (!inside) break;
+    const double phi = g0 / (g0 - g1);
+    const double minor = j + phi;
+    const double h = h0 + phi * (h1 - h0);
+    const double zc = zLine + zStep + minor * zMinor + h * fwdZ;
+    if (!(zc > 1e-6)) break;
+    const double yc = yLine + yStep + minor * yMinor + h * upZ;
+    // Taken: this grid line is done.
+    samples += read;
+    i = iNext;
+    base = baseNext;
+    yLine += yStep;
+    zLine += zStep;
+    jPos = minor + drift;
+    if (!(yc * topZc > topYc * zc) || yc > rowSlope * zc) {
+      // Hidden, or it fills a row: the general path takes it from here.
+      r.curJ = j;
+      r.curPhi = phi;
+      r.curYc = yc;
+      r.curZc = zc;
+      stoppedAtCrossing = true;
+      break;
+    }
+    topYc = yc;
+    topZc = zc;
+    topJ = j;
+    topPhi = phi;
+    ++taken;
+  }
+  r.i = i;
+  r.base = base;
+  r.yLine = yLine;
+  r.zLine = zLine;
+  r.jPos = jPos;
+  r.topYc = topYc;
+  r.topZc = topZc;
+  r.topJ = topJ;
+  r.topPhi = topPhi;
+  r.taken = taken;
+  r.samples = samples;
+  return stoppedAtCrossing;
+}
+
 // The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
 // sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
 // fill (−1 when the column is done): the march left the terrain, or the rows left look over it.
@@ -819,16 +954,23 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     return heightAt(f, t, lv, x, y);  // outside the grid (clamped) or tile missing (coarser level)
   };
 
-  // Per-level constants of the crossing equation g(j) = gA·j + gB + nZ·h(j) + base, where base
-  // carries the grid line's major position and grows by baseStep per step.
-  double p = 0, gA = 0, gB = 0, baseStep = 0, dMajStep = 0, switchDepth = 0;
+  // The crossing on grid line i at minor position j + φ (level units) solves g = gA·(j + φ) + nZ·h +
+  // base = 0; its camera coordinates are yc = yLine + (j + φ)·yMinor + h·upZ and zc likewise. base,
+  // yLine and zLine carry the grid line's major position and grow by a constant step per line, so
+  // the hot loop keeps few values live (more than the 16 vector registers made it spill).
+  const double nZ = c.nZ, upZ = c.upZ, fwdZ = c.fwdZ;
+  double p = 0, gA = 0, baseStep = 0, minOffset = 0, yMinor = 0, zMinor = 0, yStep = 0, zStep = 0;
+  double switchDepth = 0;
   int majLast = 0, minLast = 0;
   const auto enterLevel = [&](int lv) __attribute__((always_inline)) {
     p = pow2(lv);
     gA = c.nMin * p;
-    gB = c.nMin * (0.5 * p - 0.5);
-    dMajStep = sx * p;
-    baseStep = c.nMaj * dMajStep;
+    baseStep = c.nMaj * sx * p;
+    minOffset = 0.5 * p - cMinHalf;  // minor offset from the camera of segment 0's start
+    yMinor = c.upMin * p;
+    zMinor = c.fwdMin * p;
+    yStep = c.upMaj * sx * p;
+    zStep = c.fwdMaj * sx * p;
     switchDepth = lv + 1 < f.levels ? lodDepth * p : std::numeric_limits<double>::infinity();
     wx0 = std::numeric_limits<int>::min() / 4;  // the register window belongs to the old level
     // Last grid line inside both the level's grid and the hull of the level-0 voxel centres.
@@ -840,8 +982,15 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double startMin = c.xMajor ? start.y : start.x;
   enterLevel(level);
   int i = sx > 0 ? floorToInt(levelIndex(startMaj, level)) : ceilToInt(levelIndex(startMaj, level));
-  double dMaj = (i + 0.5) * p - 0.5 - c.cMaj;
-  double base = c.nMaj * dMaj - c.nMin * c.cMin - c.nZ * c.cZ;
+  const auto dMajOf = [&](int line) { return (line + 0.5) * p - 0.5 - c.cMaj; };
+  double base = 0, yLine = 0, zLine = 0;
+  const auto setLine = [&](int line) __attribute__((always_inline)) {
+    const double dMaj = dMajOf(line);
+    base = c.nMaj * dMaj + c.nMin * minOffset - c.nZ * c.cZ;
+    yLine = dMaj * c.upMaj + minOffset * c.upMin - c.cZ * upZ;
+    zLine = dMaj * c.fwdMaj + minOffset * c.fwdMin - c.cZ * fwdZ;
+  };
+  setLine(i);
   double jPos = levelIndex(startMin, level);   // predicted minor position of the next crossing
   const double drift = -c.nMaj / c.nMin * sx;  // minor change of the plane's trace per major step
 
@@ -859,6 +1008,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   };
   const bool grazingLod = f.geo->grazingLod();
   double stretch = grazingLod ? stretchOfRow(q) : 1.0;
+  // The march switches level once a crossing's depth passes switchDepth / stretch.
+  double switchZc = switchDepth / stretch;
   // Solves the crossing on the current grid line; false when it leaves the grid or the view.
   const auto solve = [&](Crossing & out) __attribute__((always_inline))->bool {
     if (sx > 0 ? i > majLast : i < majLast) return false;
@@ -867,8 +1018,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     j = j < 0 ? 0 : (j > minLast ? minLast : j);
     double h0 = height(level, i, j);
     double h1 = height(level, i, j + 1);
-    double g0 = gA * j + gB + c.nZ * h0 + base;
-    double g1 = g0 + gA + c.nZ * (h1 - h0);
+    double g0 = gA * j + nZ * h0 + base;
+    double g1 = g0 + gA + nZ * (h1 - h0);
     std::uint64_t samples = 2;
     // g grows along the minor axis: walk to the segment where it changes sign.
     while (g0 > 0.0) {
@@ -877,7 +1028,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       h1 = h0;
       g1 = g0;
       h0 = height(level, i, j);
-      g0 -= gA + c.nZ * (h1 - h0);
+      g0 -= gA + nZ * (h1 - h0);
       ++samples;
     }
     while (g1 <= 0.0) {
@@ -886,16 +1037,16 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       h0 = h1;
       g0 = g1;
       h1 = height(level, i, j + 1);
-      g1 = g0 + gA + c.nZ * (h1 - h0);
+      g1 = g0 + gA + nZ * (h1 - h0);
       ++samples;
     }
     steps += samples;
     const double phi = g0 / (g0 - g1);
-    const double dMin = (j + phi) * p + 0.5 * p - cMinHalf;
-    const double dZ = h0 + phi * (h1 - h0) - c.cZ;
-    const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + dZ * c.fwdZ;
+    const double minor = j + phi;
+    const double h = h0 + phi * (h1 - h0);
+    const double zc = zLine + minor * zMinor + h * fwdZ;
     if (!(zc > 1e-6)) return false;
-    out.yc = dMaj * c.upMaj + dMin * c.upMin + dZ * c.upZ;
+    out.yc = yLine + minor * yMinor + h * upZ;
     out.depth = zc;
     out.lodDepth = zc * stretch;
     out.phi = phi;
@@ -927,6 +1078,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   float* const ranges = sink.ranges;
   const std::size_t bpp = sink.bytesPerPixel;
   const double invFy = 1.0 / k.fyPx;
+  double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
   int sinceCheck = 0;
   // Occlusion skipping. The ray through the top crossing (the highest terrain seen so far) meets
   // grid line i at R; a crossing of line i can only be visible above R on L_i, i.e. where the
@@ -962,7 +1114,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     int& failedCell = failedCells[static_cast<std::size_t>(up)];
     if (ci == failedCell) return false;
     const int iFar = sx > 0 ? ((ci + 1) << shiftK) - 1 : (ci << shiftK);
-    const double dMajFar = (iFar + 0.5) * p - 0.5 - c.cMaj;
+    const double dMaj = dMajOf(i);
+    const double dMajFar = dMajOf(iFar);
     const double zNear = c.cZ + dMaj * topZ;
     const double zFar = c.cZ + dMajFar * topZ;
     const double nNear = c.cMin + dMaj * topMin;
@@ -977,7 +1130,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     if (cj != floorToInt((hi + 0.5) * invCell)) return false;
     // Do not skip past the depth where the march changes level.
     const double depthFar = dMajFar * c.fwdMaj + (nFar - c.cMin) * c.fwdMin + (zFar - c.cZ) * c.fwdZ;
-    if (depthFar * stretch > switchDepth) return false;
+    if (depthFar > switchZc) return false;
     const int x = kXMajor ? ci : cj;
     const int y = kXMajor ? cj : ci;
     if (!windowFor(f, t, window, kLevel, x, y)) return false;
@@ -986,35 +1139,64 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     if (!(maxQ < std::min(zNear, zFar))) return false;
     if (sx > 0 ? iFar > majLast : iFar < majLast) return false;  // near the edge: march normally
     skippedLines += static_cast<std::uint64_t>(std::abs(iFar - i) + 1);
-    const double dSkip = dMajFar - dMaj;
     i = iFar;
-    dMaj = dMajFar;
-    base += c.nMaj * dSkip;
+    setLine(i);
     jPos = (nFar + 0.5) / p - 0.5;
     skippedSincePrev = true;
     return true;
   };
+  const int evenParity = sx > 0 ? 0 : 1;
   for (;;) {
-    // Next grid line: on an even step past the level's depth, the coarser level's line (half a
-    // step ahead); otherwise the next line of this level.
     Crossing& prev = *prevP;
     Crossing& cur = *curP;
-    if (prev.lodDepth > switchDepth && (i & 1) == (sx > 0 ? 0 : 1)) {
-      ++level;
-      i >>= 1;
-      enterLevel(level);
-      dMaj = (i + 0.5) * p - 0.5 - c.cMaj;
-      base = c.nMaj * dMaj - c.nMin * c.cMin - c.nZ * c.cZ;
-      jPos = (jPos + 0.5) * 0.5 - 0.5;
-    } else {
-      i += sx;
-      dMaj += dMajStep;
-      base += baseStep;
+    bool solved = false;
+    // After a visible crossing (the top), most next ones are visible too and fill nothing: taken
+    // by a loop of their own until one needs this general path.
+    if (!lastOccluded) {
+      VisibleRun run{tileHeights, wx0, wy0,  f.tileShift, sx,    majLast, gA,    nZ,       yMinor,
+                     zMinor,      upZ, fwdZ, baseStep,    yStep, zStep,   drift, rowSlope, switchZc,
+                     evenParity,  i,   base, yLine,       zLine, jPos,    topYc, topZc};
+      const bool stopped = runVisibleCrossings<kXMajor>(run);
+      steps += run.samples;
+      if (run.taken > 0) {
+        prev = Crossing{run.topYc, run.topZc, run.topPhi, run.topZc * stretch, level, stopped ? run.i - sx : run.i,
+                        run.topJ,  false,     Rgb{}};
+        topYc = run.topYc;
+        topZc = run.topZc;
+        topChanged = true;
+        sinceCheck += run.taken;
+      }
+      i = run.i;
+      base = run.base;
+      yLine = run.yLine;
+      zLine = run.zLine;
+      jPos = run.jPos;
+      if (stopped) {
+        cur = Crossing{run.curYc, run.curZc, run.curPhi, run.curZc * stretch, level, i, run.curJ, false, Rgb{}};
+        solved = true;
+      }
     }
-    if (lastOccluded && (trySkip(3) || trySkip(2))) continue;
-    if (!solve(cur)) {
-      stop(prev);
-      return q;
+    if (!solved) {
+      // Next grid line: on an even step past the level's depth, the coarser level's line (half a
+      // step ahead); otherwise the next line of this level.
+      if (prev.depth > switchZc && (i & 1) == evenParity) {
+        ++level;
+        i >>= 1;
+        enterLevel(level);
+        switchZc = switchDepth / stretch;
+        setLine(i);
+        jPos = (jPos + 0.5) * 0.5 - 0.5;
+      } else {
+        i += sx;
+        base += baseStep;
+        yLine += yStep;
+        zLine += zStep;
+      }
+      if (lastOccluded && (trySkip(3) || trySkip(2))) continue;
+      if (!solve(cur)) {
+        stop(prev);
+        return q;
+      }
     }
     // Visible ⇔ above the top ray ⇔ yc/zc > topYc/topZc (both depths are positive).
     const bool visible = cur.yc * topZc > topYc * cur.depth;
@@ -1022,21 +1204,21 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     if (visible && skippedSincePrev) {
       // The crossing before this one was skipped: solve it now, it bounds the rows to fill.
       const int iHere = i;
-      const double dMajHere = dMaj, baseHere = base;
+      const double baseHere = base, yLineHere = yLine, zLineHere = zLine;
       i -= sx;
-      dMaj -= dMajStep;
-      base -= baseStep;
+      setLine(i);
       jPos = cur.j + cur.phi - drift;
       Crossing before{};
       if (solve(before)) prev = before;
       i = iHere;
-      dMaj = dMajHere;
       base = baseHere;
+      yLine = yLineHere;
+      zLine = zLineHere;
       jPos = cur.j + cur.phi + drift;
     }
     skippedSincePrev = false;
     // Rows to fill: the next sub-row's ray passes below this crossing (vq > v), without dividing.
-    if (visible && cur.yc > (k.cyPx - vq) * invFy * cur.depth) {
+    if (visible && cur.yc > rowSlope * cur.depth) {
       // (A crossing that raises the top by less than a row fills nothing and needs no colour.)
       const double prevInvDepth = 1.0 / prev.depth;
       const double curInvDepth = 1.0 / cur.depth;
@@ -1077,7 +1259,11 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         if (--q < 0) break;
         vq -= invS;
       }
-      if (grazingLod) stretch = stretchOfRow(q);
+      rowSlope = (k.cyPx - vq) * invFy;
+      if (grazingLod) {
+        stretch = stretchOfRow(q);
+        switchZc = switchDepth / stretch;
+      }
       t.rays += static_cast<std::uint64_t>(qFirst - q);
       if (q < 0) {
         stop(cur);
@@ -1095,6 +1281,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       sinceCheck = 0;
       if (vq < c.vHorizon) {
         const double above = f.ceilingQ - c.cZ;  // the point of this grid line's L_i at the ceiling
+        const double dMaj = dMajOf(i);
         const double dMin = -(c.nMaj * dMaj + c.nZ * above) / c.nMin;
         const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + above * c.fwdZ;
         const double yc = dMaj * c.upMaj + dMin * c.upMin + above * c.upZ;
