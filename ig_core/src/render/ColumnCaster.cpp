@@ -781,6 +781,20 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
   return -1;
 }
 
+// Where the column plane crosses the terrain on segment j .. j+1 of a grid line, given g (the plane
+// equation) at both ends, g0 ≤ 0 < g1: the fraction φ along the segment and the crossing's camera
+// up and forward coordinates, from the line's yc, zc at minor 0, height 0 and their rates.
+struct SegmentHit {
+  double phi, minor, yc, zc;
+};
+inline SegmentHit segmentHit(int j, double h0, double h1, double g0, double g1, double yLine, double zLine,
+                             double yMinor, double zMinor, double upZ, double fwdZ) noexcept {
+  const double phi = g0 / (g0 - g1);
+  const double minor = j + phi;
+  const double h = h0 + phi * (h1 - h0);
+  return {phi, minor, yLine + minor * yMinor + h * upZ, zLine + minor * zMinor + h * fwdZ};
+}
+
 // The state of a column's plane march that the run of visible crossings below reads and advances.
 struct VisibleRun {
   // The register tile window (level-L indices of its first voxel) and the current level.
@@ -874,32 +888,28 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
       ++read;
     }
     if (!inside) break;
-    const double phi = g0 / (g0 - g1);
-    const double minor = j + phi;
-    const double h = h0 + phi * (h1 - h0);
-    const double zc = zLine + zStep + minor * zMinor + h * fwdZ;
-    if (!(zc > 1e-6)) break;
-    const double yc = yLine + yStep + minor * yMinor + h * upZ;
+    const SegmentHit x = segmentHit(j, h0, h1, g0, g1, yLine + yStep, zLine + zStep, yMinor, zMinor, upZ, fwdZ);
+    if (!(x.zc > 1e-6)) break;
     // Taken: this grid line is done.
     samples += read;
     i = iNext;
     base = baseNext;
     yLine += yStep;
     zLine += zStep;
-    jPos = minor + drift;
-    if (!(yc * topZc > topYc * zc) || yc > rowSlope * zc) {
+    jPos = x.minor + drift;
+    if (!(x.yc * topZc > topYc * x.zc) || x.yc > rowSlope * x.zc) {
       // Hidden, or it fills a row: the general path takes it from here.
       r.curJ = j;
-      r.curPhi = phi;
-      r.curYc = yc;
-      r.curZc = zc;
+      r.curPhi = x.phi;
+      r.curYc = x.yc;
+      r.curZc = x.zc;
       stoppedAtCrossing = true;
       break;
     }
-    topYc = yc;
-    topZc = zc;
+    topYc = x.yc;
+    topZc = x.zc;
     topJ = j;
-    topPhi = phi;
+    topPhi = x.phi;
     ++taken;
   }
   r.i = i;
@@ -1041,20 +1051,17 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       ++samples;
     }
     steps += samples;
-    const double phi = g0 / (g0 - g1);
-    const double minor = j + phi;
-    const double h = h0 + phi * (h1 - h0);
-    const double zc = zLine + minor * zMinor + h * fwdZ;
-    if (!(zc > 1e-6)) return false;
-    out.yc = yLine + minor * yMinor + h * upZ;
-    out.depth = zc;
-    out.lodDepth = zc * stretch;
-    out.phi = phi;
+    const SegmentHit x = segmentHit(j, h0, h1, g0, g1, yLine, zLine, yMinor, zMinor, upZ, fwdZ);
+    if (!(x.zc > 1e-6)) return false;
+    out.yc = x.yc;
+    out.depth = x.zc;
+    out.lodDepth = x.zc * stretch;
+    out.phi = x.phi;
     out.level = level;
     out.i = i;
     out.j = j;
     out.haveColour = false;
-    jPos = j + phi + drift;
+    jPos = x.minor + drift;
     return true;
   };
 
