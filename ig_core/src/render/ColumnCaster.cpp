@@ -847,17 +847,22 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
   int taken = 0;
   std::uint64_t samples = 0;
   bool stoppedAtCrossing = false;
+  // Grid lines the run may take: up to the march's last line and the window's edge.
+  const int lastLine = sx > 0 ? std::min(r.majLast, maj0 + static_cast<int>(size) - 1) : std::max(r.majLast, maj0);
+  int linesLeft = (lastLine - i) * sx;
+  if (static_cast<unsigned>(i - maj0) >= size) linesLeft = 0;  // the window is another tile's (or none)
+  const std::uint16_t* line = linesLeft > 0 ? tile + (i * majStride - origin) : tile;  // line i's voxels
+  const std::ptrdiff_t lineStep = sx * majStride;
   for (;;) {
     if (topZc > switchZc && (i & 1) == r.evenParity) break;
+    if (linesLeft <= 0) break;
     const int iNext = i + sx;
-    if (sx > 0 ? iNext > r.majLast : iNext < r.majLast) break;
-    if (static_cast<unsigned>(iNext - maj0) >= size) break;
     const double baseNext = base + baseStep;
     int j = floorToInt(jPos);
     if (static_cast<unsigned>(j - min0) >= size - 1) break;
-    const std::uint16_t* line = tile + (iNext * majStride - origin);
-    double h0 = line[j * minStride];
-    double h1 = line[(j + 1) * minStride];
+    const std::uint16_t* const next = line + lineStep;
+    double h0 = next[j * minStride];
+    double h1 = next[(j + 1) * minStride];
     double g0 = gA * j + nZ * h0 + baseNext;
     double g1 = g0 + gA + nZ * (h1 - h0);
     std::uint64_t read = 2;
@@ -871,7 +876,7 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
       --j;
       h1 = h0;
       g1 = g0;
-      h0 = line[j * minStride];
+      h0 = next[j * minStride];
       g0 -= gA + nZ * (h1 - h0);
       ++read;
     }
@@ -883,7 +888,7 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
       ++j;
       h0 = h1;
       g0 = g1;
-      h1 = line[(j + 1) * minStride];
+      h1 = next[(j + 1) * minStride];
       g1 = g0 + gA + nZ * (h1 - h0);
       ++read;
     }
@@ -893,6 +898,8 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
     // Taken: this grid line is done.
     samples += read;
     i = iNext;
+    line = next;
+    --linesLeft;
     base = baseNext;
     yLine += yStep;
     zLine += zStep;
