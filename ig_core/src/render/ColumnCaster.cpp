@@ -841,6 +841,10 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
   const double rowSlope = r.rowSlope, switchZc = r.switchZc;
   int i = r.i;
   double base = r.base, yLine = r.yLine, zLine = r.zLine, jPos = r.jPos;
+  // The next line's segment, floor(j + φ + drift) = j + floor(φ + drift) with φ + drift in [−1, 2)
+  // (|drift| ≤ 1 on the major axis), found by two comparisons instead of through the division:
+  // the division then stays off the chain from one crossing to the next, which bounds this loop.
+  int jNext = floorToInt(jPos);
   double topYc = r.topYc, topZc = r.topZc;
   int topJ = r.topJ;
   double topPhi = r.topPhi;
@@ -858,7 +862,7 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
     if (linesLeft <= 0) break;
     const int iNext = i + sx;
     const double baseNext = base + baseStep;
-    int j = floorToInt(jPos);
+    int j = jNext;
     if (static_cast<unsigned>(j - min0) >= size - 1) break;
     const std::uint16_t* const next = line + lineStep;
     double h0 = next[j * minStride];
@@ -904,6 +908,8 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
     yLine += yStep;
     zLine += zStep;
     jPos = x.minor + drift;
+    const double dg = g0 - g1;  // < 0; φ = g0 / dg
+    jNext = j + static_cast<int>(g0 <= (1.0 - drift) * dg) - static_cast<int>(g0 > -drift * dg);
     if (!(x.yc * topZc > topYc * x.zc) || x.yc > rowSlope * x.zc) {
       // Hidden, or it fills a row: the general path takes it from here.
       r.curJ = j;
@@ -1114,6 +1120,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double ceilSlope = -c.nMaj / c.nMin;  // minor of L_i at the ceiling, per unit of major
   const double ceilOffset = -c.nZ * (f.ceilingQ - c.cZ) / c.nMin;
   bool lastOccluded = false;
+  bool lastSubRow = false;  // the last crossing was visible and filled no row
   bool skippedSincePrev = false;
   std::array<int, 4> failedCells;  // per cell size: the last cell that could not be skipped
   failedCells.fill(std::numeric_limits<int>::min());
@@ -1164,9 +1171,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     Crossing& prev = *prevP;
     Crossing& cur = *curP;
     bool solved = false;
-    // After a visible crossing (the top), most next ones are visible too and fill nothing: taken
-    // by a loop of their own until one needs this general path.
-    if (!lastOccluded) {
+    // After a visible crossing that filled nothing, most next ones are visible and fill nothing
+    // too: taken by a loop of their own until one needs this general path. (Looking down, where
+    // nearly every crossing fills rows, the run would stop at once.)
+    if (lastSubRow) {
       VisibleRun run{tileHeights, wx0, wy0,  f.tileShift, sx,    majLast, gA,    nZ,       yMinor,
                      zMinor,      upZ, fwdZ, baseStep,    yStep, zStep,   drift, rowSlope, switchZc,
                      evenParity,  i,   base, yLine,       zLine, jPos,    topYc, topZc};
@@ -1232,7 +1240,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     }
     skippedSincePrev = false;
     // Rows to fill: the next sub-row's ray passes below this crossing (vq > v), without dividing.
-    if (visible && cur.yc > rowSlope * cur.depth) {
+    const bool fills = visible && cur.yc > rowSlope * cur.depth;
+    lastSubRow = visible && !fills;
+    if (fills) {
       // (A crossing that raises the top by less than a row fills nothing and needs no colour.)
       const double prevInvDepth = 1.0 / prev.depth;
       const double curInvDepth = 1.0 / cur.depth;
