@@ -795,6 +795,15 @@ inline SegmentHit segmentHit(int j, double h0, double h1, double g0, double g1, 
   return {phi, minor, yLine + minor * yMinor + h * upZ, zLine + minor * zMinor + h * fwdZ};
 }
 
+// The next grid line's segment floor(j + φ + drift), for φ = g0 / (g0 − g1) in [0, 1) and
+// |drift| ≤ 1 (the plane's trace runs along the major axis): φ + drift is in [−1, 2), so two
+// comparisons give it without the division. That keeps the division off the chain from one
+// crossing to the next, which bounds the march (it is latency-bound, not instruction-bound).
+inline int nextSegment(int j, double g0, double g1, double drift) noexcept {
+  const double dg = g0 - g1;  // < 0
+  return j + static_cast<int>(g0 <= (1.0 - drift) * dg) - static_cast<int>(g0 > -drift * dg);
+}
+
 // The state of a column's plane march that the run of visible crossings below reads and advances.
 struct VisibleRun {
   // The register tile window (level-L indices of its first voxel) and the current level.
@@ -809,6 +818,7 @@ struct VisibleRun {
   // Advanced by the run.
   int i;
   double base, yLine, zLine, jPos;
+  int jNext;            // floor(jPos), the segment to start the next line's search at
   double topYc, topZc;  // the top crossing, which is also the last one taken
   int topJ = 0;
   double topPhi = 0;
@@ -841,10 +851,7 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
   const double rowSlope = r.rowSlope, switchZc = r.switchZc;
   int i = r.i;
   double base = r.base, yLine = r.yLine, zLine = r.zLine, jPos = r.jPos;
-  // The next line's segment, floor(j + φ + drift) = j + floor(φ + drift) with φ + drift in [−1, 2)
-  // (|drift| ≤ 1 on the major axis), found by two comparisons instead of through the division:
-  // the division then stays off the chain from one crossing to the next, which bounds this loop.
-  int jNext = floorToInt(jPos);
+  int jNext = r.jNext;
   double topYc = r.topYc, topZc = r.topZc;
   int topJ = r.topJ;
   double topPhi = r.topPhi;
@@ -908,8 +915,7 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
     yLine += yStep;
     zLine += zStep;
     jPos = x.minor + drift;
-    const double dg = g0 - g1;  // < 0; φ = g0 / dg
-    jNext = j + static_cast<int>(g0 <= (1.0 - drift) * dg) - static_cast<int>(g0 > -drift * dg);
+    jNext = nextSegment(j, g0, g1, drift);
     if (!(x.yc * topZc > topYc * x.zc) || x.yc > rowSlope * x.zc) {
       // Hidden, or it fills a row: the general path takes it from here.
       r.curJ = j;
@@ -930,6 +936,7 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
   r.yLine = yLine;
   r.zLine = zLine;
   r.jPos = jPos;
+  r.jNext = jNext;
   r.topYc = topYc;
   r.topZc = topZc;
   r.topJ = topJ;
@@ -1014,7 +1021,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     zLine = dMaj * c.fwdMaj + minOffset * c.fwdMin - c.cZ * fwdZ;
   };
   setLine(i);
-  double jPos = levelIndex(startMin, level);   // predicted minor position of the next crossing
+  double jPos = levelIndex(startMin, level);  // predicted minor position of the next crossing
+  constexpr int kNoGuess = std::numeric_limits<int>::min();
+  int jGuess = kNoGuess;                       // floor(jPos) when the last solve found it without the division
   const double drift = -c.nMaj / c.nMin * sx;  // minor change of the plane's trace per major step
 
   // The last crossing (prev) and the one being found (cur).
@@ -1037,7 +1046,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const auto solve = [&](Crossing & out) __attribute__((always_inline))->bool {
     if (sx > 0 ? i > majLast : i < majLast) return false;
     if (minLast < 0) return false;
-    int j = floorToInt(jPos);
+    int j = jGuess != kNoGuess ? jGuess : floorToInt(jPos);
     j = j < 0 ? 0 : (j > minLast ? minLast : j);
     double h0 = height(level, i, j);
     double h1 = height(level, i, j + 1);
@@ -1075,6 +1084,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     out.j = j;
     out.haveColour = false;
     jPos = x.minor + drift;
+    jGuess = nextSegment(j, g0, g1, drift);
     return true;
   };
 
@@ -1163,6 +1173,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     i = iFar;
     setLine(i);
     jPos = (nFar + 0.5) / p - 0.5;
+    jGuess = kNoGuess;
     skippedSincePrev = true;
     return true;
   };
@@ -1175,9 +1186,12 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     // too: taken by a loop of their own until one needs this general path. (Looking down, where
     // nearly every crossing fills rows, the run would stop at once.)
     if (lastSubRow) {
-      VisibleRun run{tileHeights, wx0, wy0,  f.tileShift, sx,    majLast, gA,    nZ,       yMinor,
-                     zMinor,      upZ, fwdZ, baseStep,    yStep, zStep,   drift, rowSlope, switchZc,
-                     evenParity,  i,   base, yLine,       zLine, jPos,    topYc, topZc};
+      VisibleRun run{tileHeights, wx0,      wy0,      f.tileShift, sx,
+                     majLast,     gA,       nZ,       yMinor,      zMinor,
+                     upZ,         fwdZ,     baseStep, yStep,       zStep,
+                     drift,       rowSlope, switchZc, evenParity,  i,
+                     base,        yLine,    zLine,    jPos,        jGuess != kNoGuess ? jGuess : floorToInt(jPos),
+                     topYc,       topZc};
       const bool stopped = runVisibleCrossings<kXMajor>(run);
       steps += run.samples;
       if (run.taken > 0) {
@@ -1193,6 +1207,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       yLine = run.yLine;
       zLine = run.zLine;
       jPos = run.jPos;
+      jGuess = run.jNext;
       if (stopped) {
         cur = Crossing{run.curYc, run.curZc, run.curPhi, run.curZc * stretch, level, i, run.curJ, false, Rgb{}};
         solved = true;
@@ -1208,6 +1223,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         switchZc = switchDepth / stretch;
         setLine(i);
         jPos = (jPos + 0.5) * 0.5 - 0.5;
+        jGuess = kNoGuess;
       } else {
         i += sx;
         base += baseStep;
@@ -1230,6 +1246,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       i -= sx;
       setLine(i);
       jPos = cur.j + cur.phi - drift;
+      jGuess = kNoGuess;
       Crossing before{};
       if (solve(before)) prev = before;
       i = iHere;
@@ -1237,6 +1254,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       yLine = yLineHere;
       zLine = zLineHere;
       jPos = cur.j + cur.phi + drift;
+      jGuess = kNoGuess;
     }
     skippedSincePrev = false;
     // Rows to fill: the next sub-row's ray passes below this crossing (vq > v), without dividing.
