@@ -740,25 +740,41 @@ void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double
   t.rays += static_cast<std::uint64_t>(std::max(qFrom + 1, 0));
 }
 
+// Where the column plane march stopped: the level-0 x, y of its last crossing, on a grid line of its
+// major axis. The rays of the rows it left pass above all the terrain of the grid lines before.
+struct PlaneStop {
+  bool valid = false;
+  bool xMajor = false;  // the plane's major axis
+  glm::dvec2 point{0.0};
+};
+
 // Per-ray casting of sub-rows q = qFrom, qFrom−1, ... (the rows the plane march cannot take: below
 // the first hit, and beyond the terrain's edge). Stops after the first hit when `untilHit`.
-// Returns the sub-row below which it stopped (−1 when the column is done) and the hit.
+// Returns the sub-row below which it stopped (−1 when the column is done) and the hit. The first
+// ray starts at `resume` when given and it marches along the same major axis (its distance is then
+// measured along the grid lines the plane march took; on the other axis the crossing's minor
+// offset could put the start past terrain the ray has not been tested against).
 int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double uc, int qFrom, bool untilHit,
-                   bool& havePrev, glm::dvec2& prevHit, MarchHit& hitOut, RayLine& lineOut) noexcept {
+                   bool& havePrev, glm::dvec2& prevHit, MarchHit& hitOut, RayLine& lineOut,
+                   const PlaneStop* resume = nullptr) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const double xc = (uc - k.cxPx) / k.fxPx;
   for (int q = qFrom; q >= 0; --q) {
     const double vq = (q + 0.5) / f.supersample;
     const glm::dvec3 d = f.geo->ray(uc, vq);
     const float length = rayLength(xc, -(vq - k.cyPx) / k.fyPx);
-    ++t.rays;
     RayLine r;
     if (setupLine(f, d, r)) {
+      if (q == qFrom && resume != nullptr && resume->valid && resume->xMajor == r.xMajor) {
+        prevHit = resume->point;
+        havePrev = true;
+      }
       const MarchHit h = marchCoherent(f, t, r, havePrev, prevHit);
       if (h.hit) {
         const double depth = h.m / r.aMaj;
         const float rangeM = static_cast<float>(depth) * length;
         sink.emit(q, f.shading.terrain(hitColour(f, t, r, h, depth), rangeM), rangeM);
+        ++t.rays;
         if (untilHit) {
           hitOut = h;
           lineOut = r;
@@ -777,6 +793,7 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
       havePrev = false;  // nowhere near the terrain: the next ray starts afresh
     }
     sink.emit(q, f.shading.sky(static_cast<float>(d.z) / length), std::numeric_limits<float>::infinity());
+    ++t.rays;
   }
   return -1;
 }
@@ -806,10 +823,11 @@ inline int nextSegment(int j, double g0, double g1, double drift) noexcept {
 
 // The state of a column's plane march that the run of visible crossings below reads and advances.
 struct VisibleRun {
-  // The register tile window (level-L indices of its first voxel) and the current level.
+  // The register tile window (level-L indices of its first voxel, tile size 2^tileShift).
   const std::uint16_t* tileHeights;
   int wx0, wy0, tileShift;
   int sx, majLast;  // major direction and the last grid line the march may take
+  int minLast;      // the last segment start on the minor axis (its voxel j + 1 is the grid's last)
   // The crossing equation and camera coordinates of the current grid line (see marchPlaneAxis).
   double gA, nZ, yMinor, zMinor, upZ, fwdZ;
   double baseStep, yStep, zStep;
@@ -818,7 +836,7 @@ struct VisibleRun {
   // Advanced by the run.
   int i;
   double base, yLine, zLine, jPos;
-  int jNext;            // floor(jPos), the segment to start the next line's search at
+  int jNext;            // the segment to start the next line's search at (floor(jPos), see nextSegment)
   double topYc, topZc;  // the top crossing, which is also the last one taken
   int topJ = 0;
   double topPhi = 0;
@@ -864,13 +882,16 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
   if (static_cast<unsigned>(i - maj0) >= size) linesLeft = 0;  // the window is another tile's (or none)
   const std::uint16_t* line = linesLeft > 0 ? tile + (i * majStride - origin) : tile;  // line i's voxels
   const std::ptrdiff_t lineStep = sx * majStride;
+  // Segments j .. j+1 inside both the window and the grid (beyond the grid's edge a tile repeats
+  // the edge voxel: the general path stops there).
+  const int jLast = std::min(min0 + static_cast<int>(size) - 2, r.minLast);
   for (;;) {
     if (topZc > switchZc && (i & 1) == r.evenParity) break;
     if (linesLeft <= 0) break;
     const int iNext = i + sx;
     const double baseNext = base + baseStep;
     int j = jNext;
-    if (static_cast<unsigned>(j - min0) >= size - 1) break;
+    if (j < min0 || j > jLast) break;
     const std::uint16_t* const next = line + lineStep;
     double h0 = next[j * minStride];
     double h1 = next[(j + 1) * minStride];
@@ -892,7 +913,7 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
       ++read;
     }
     while (inside && g1 <= 0.0) {
-      if (j + 2 >= min0 + static_cast<int>(size)) {
+      if (j == jLast) {
         inside = false;
         break;
       }
@@ -949,11 +970,10 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
 // The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
 // sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
 // fill (−1 when the column is done): the march left the terrain, or the rows left look over it.
-// `start` becomes the level-0 x, y of the last crossing solved: the rays of the rows left pass
-// above the terrain up to there (vertical coherence for the per-ray march that takes them on).
+// `stopped` records its last crossing, where the per-ray march takes the rows left on.
 template <bool kXMajor>
 int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
-                   glm::dvec2& start, int level) noexcept {
+                   const glm::dvec2& start, int level, PlaneStop& stopped) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const int sx = c.sx;
   const double invS = 1.0 / sink.s;
@@ -1002,7 +1022,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     yStep = c.upMaj * sx * p;
     zStep = c.fwdMaj * sx * p;
     switchDepth = lv + 1 < f.levels ? lodDepth * p : std::numeric_limits<double>::infinity();
-    wx0 = std::numeric_limits<int>::min() / 4;  // the register window belongs to the old level
+    // The register window belongs to the old level.
+    tileHeights = nullptr;
+    wx0 = std::numeric_limits<int>::min() / 4;
+    wy0 = std::numeric_limits<int>::min() / 4;
     // Last grid line inside both the level's grid and the hull of the level-0 voxel centres.
     const int hullLast = sx > 0 ? floorToInt(levelIndex(c.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
     majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
@@ -1088,13 +1111,16 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     return true;
   };
 
-  if (!solve(*prevP)) return q;
+  if (!solve(*prevP)) {
+    t.steps += steps;
+    return q;
+  }
   // Where the march stopped: the last crossing solved, in level-0 x, y.
-  const auto stop = [&](const Crossing& last) __attribute__((always_inline)) {
+  const auto recordStop = [&](const Crossing& last) __attribute__((always_inline)) {
     const double lp = pow2(last.level);
     const double maj = (last.i + 0.5) * lp - 0.5;
     const double min = (last.j + 0.5 + last.phi) * lp - 0.5;
-    start = kXMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj};
+    stopped = PlaneStop{true, kXMajor, kXMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj}};
     t.steps += steps;
   };
   // The highest crossing so far (its row is the top of the filled part of the column).
@@ -1186,16 +1212,38 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     // too: taken by a loop of their own until one needs this general path. (Looking down, where
     // nearly every crossing fills rows, the run would stop at once.)
     if (lastSubRow) {
-      VisibleRun run{tileHeights, wx0,      wy0,      f.tileShift, sx,
-                     majLast,     gA,       nZ,       yMinor,      zMinor,
-                     upZ,         fwdZ,     baseStep, yStep,       zStep,
-                     drift,       rowSlope, switchZc, evenParity,  i,
-                     base,        yLine,    zLine,    jPos,        jGuess != kNoGuess ? jGuess : floorToInt(jPos),
-                     topYc,       topZc};
-      const bool stopped = runVisibleCrossings<kXMajor>(run);
+      VisibleRun run{.tileHeights = tileHeights,
+                     .wx0 = wx0,
+                     .wy0 = wy0,
+                     .tileShift = f.tileShift,
+                     .sx = sx,
+                     .majLast = majLast,
+                     .minLast = minLast,
+                     .gA = gA,
+                     .nZ = nZ,
+                     .yMinor = yMinor,
+                     .zMinor = zMinor,
+                     .upZ = upZ,
+                     .fwdZ = fwdZ,
+                     .baseStep = baseStep,
+                     .yStep = yStep,
+                     .zStep = zStep,
+                     .drift = drift,
+                     .rowSlope = rowSlope,
+                     .switchZc = switchZc,
+                     .evenParity = evenParity,
+                     .i = i,
+                     .base = base,
+                     .yLine = yLine,
+                     .zLine = zLine,
+                     .jPos = jPos,
+                     .jNext = jGuess != kNoGuess ? jGuess : floorToInt(jPos),
+                     .topYc = topYc,
+                     .topZc = topZc};
+      const bool handedBack = runVisibleCrossings<kXMajor>(run);
       steps += run.samples;
       if (run.taken > 0) {
-        prev = Crossing{run.topYc, run.topZc, run.topPhi, run.topZc * stretch, level, stopped ? run.i - sx : run.i,
+        prev = Crossing{run.topYc, run.topZc, run.topPhi, run.topZc * stretch, level, handedBack ? run.i - sx : run.i,
                         run.topJ,  false,     Rgb{}};
         topYc = run.topYc;
         topZc = run.topZc;
@@ -1208,7 +1256,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       zLine = run.zLine;
       jPos = run.jPos;
       jGuess = run.jNext;
-      if (stopped) {
+      if (handedBack) {
         cur = Crossing{run.curYc, run.curZc, run.curPhi, run.curZc * stretch, level, i, run.curJ, false, Rgb{}};
         solved = true;
       }
@@ -1232,7 +1280,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       }
       if (lastOccluded && (trySkip(3) || trySkip(2))) continue;
       if (!solve(cur)) {
-        stop(prev);
+        recordStop(prev);
         return q;
       }
     }
@@ -1308,7 +1356,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       }
       t.rays += static_cast<std::uint64_t>(qFirst - q);
       if (q < 0) {
-        stop(cur);
+        recordStop(cur);
         return -1;
       }
     }
@@ -1328,7 +1376,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + above * c.fwdZ;
         const double yc = dMaj * c.upMaj + dMin * c.upMin + above * c.upZ;
         if (zc > 0.0 && k.cyPx - k.fyPx * yc / zc >= vq) {
-          stop(*prevP);
+          recordStop(*prevP);
           return q;
         }
       }
@@ -1336,10 +1384,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   }
 }
 
-int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q, glm::dvec2& start,
-               int level) noexcept {
-  return c.xMajor ? marchPlaneAxis<true>(f, t, sink, c, q, start, level)
-                  : marchPlaneAxis<false>(f, t, sink, c, q, start, level);
+int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
+               const glm::dvec2& start, int level, PlaneStop& stopped) noexcept {
+  return c.xMajor ? marchPlaneAxis<true>(f, t, sink, c, q, start, level, stopped)
+                  : marchPlaneAxis<false>(f, t, sink, c, q, start, level, stopped);
 }
 
 void castColumn(const CasterFrame& f, CasterThread& t, int u, std::uint8_t* columnPixels,
@@ -1360,7 +1408,8 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u, std::uint8_t* colu
   const double invS = 1.0 / s;
   const auto rowV = [invS](int qq) { return (qq + 0.5) * invS; };
   const double horizonRow = c.vHorizon;
-  q = marchPlane(f, t, sink, c, q, prevHit, hit.at.level);
+  PlaneStop stopped;
+  q = marchPlane(f, t, sink, c, q, prevHit, hit.at.level, stopped);
   if (q < 0) return;
   // Beyond the terrain (or above it): rows that look up see the sky; rows that still look down
   // (over the terrain's edge, where a tilted column may come back over it) are cast one by one.
@@ -1368,7 +1417,7 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u, std::uint8_t* colu
     castSkyRows(f, t, sink, c.xc, q);
     return;
   }
-  castRowsPerRay(f, t, sink, uc, q, false, havePrev, prevHit, hit, line);
+  castRowsPerRay(f, t, sink, uc, q, false, havePrev, prevHit, hit, line, &stopped);
 }
 
 // Transposes `columns` staged columns of `rows` elements of Bytes each (column-major) into rows of

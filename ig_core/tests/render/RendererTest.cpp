@@ -128,18 +128,39 @@ TEST(Renderer, OverlappingFramesComeOutInOrderAndIdentical) {
   EXPECT_TRUE(f1.image == f3.image);
 }
 
+// Pixels whose hit lies more than one voxel (at its level) outside the hull of the grid's voxel
+// centres: terrain the database does not have.
+int hitsBeyondTheGrid(const Frame& f, const TerrainGeometry& g, const RenderSettings& settings) {
+  const ViewGeometry geo(f.pose, f.intrinsics, g, settings);
+  int beyond = 0;
+  for (int v = 0; v < f.intrinsics.heightPx; ++v) {
+    for (int u = 0; u < f.intrinsics.widthPx; ++u) {
+      const float r = f.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(f.intrinsics.widthPx) +
+                               static_cast<std::size_t>(u)];
+      if (std::isinf(r)) continue;
+      const glm::dvec3 d = geo.ray(u + 0.5, v + 0.5);
+      const glm::dvec3 p = f.pose.positionM + static_cast<double>(r) * glm::normalize(d);
+      const double voxel = std::ldexp(g.spacingM, geo.lodLevel(r / glm::length(d), d));
+      const glm::dvec2 lo = g.originM - voxel;
+      const glm::dvec2 hi =
+          g.originM + glm::dvec2{(g.widthVox - 1) * g.spacingM, (g.heightVox - 1) * g.spacingM} + voxel;
+      if (p.x < lo.x || p.y < lo.y || p.x > hi.x || p.y > hi.y) ++beyond;
+    }
+  }
+  return beyond;
+}
+
 // castColumns (one crossing per grid line, exact for tilted columns) against castColumnsPerRay
-// (each ray on its own line): the two coherent marches must see the same voxels.
-void planeMarchAgainstRayByRay(double maxAnisotropy) {
-  const TerrainView& view = hills().view();
+// (each ray on its own line): the two coherent marches must see the same voxels, and no terrain
+// beyond the grid.
+void planeMarchAgainstRayByRay(const TerrainView& view, const std::vector<ViewRequest>& views, double maxAnisotropy) {
   RenderSettings settings;
   settings.rangeImage = true;
   settings.maxAnisotropy = maxAnisotropy;
   const std::uint16_t ceiling = terrainCeilingQ(view);
   int total = 0;
   int same = 0;
-  for (const ViewRequest& r : {someView(view, 10, -15, 80), someView(view, 200, -75, 400, 90),
-                               someView(view, 290, -3, 25, 40), someView(view, 135, -40, 1500, 70)}) {
+  for (const ViewRequest& r : views) {
     const FrameLayout l = layoutFrame(r.display, 0.1, 0.0);
     const ViewGeometry geo(r.pose, l.frame, view.geometry(), settings);
     Frame plane;
@@ -152,6 +173,7 @@ void planeMarchAgainstRayByRay(double maxAnisotropy) {
     castColumns(CasterFrame(view, geo, settings, ceiling, &plane.image, plane.rangeM.data()), 0, l.frame.widthPx, t);
     castColumnsPerRay(CasterFrame(view, geo, settings, ceiling, &perRay.image, perRay.rangeM.data()), 0,
                       l.frame.widthPx, t);
+    EXPECT_EQ(hitsBeyondTheGrid(plane, view.geometry(), settings), 0);
     const HitAgreement a = compareHits(plane, perRay, view.geometry(), settings);
     total += a.pixels;
     same += a.same;
@@ -160,8 +182,33 @@ void planeMarchAgainstRayByRay(double maxAnisotropy) {
   EXPECT_GE(static_cast<double>(same) / total, 0.999);
 }
 
-TEST(Renderer, PlaneMarchAgreesWithRayByRayMarch) { planeMarchAgainstRayByRay(0.0); }
-TEST(Renderer, PlaneMarchAgreesWithRayByRayMarchUnderTheGrazingAngleRule) { planeMarchAgainstRayByRay(2.0); }
+std::vector<ViewRequest> marchComparisonViews(const TerrainView& view) {
+  return {someView(view, 10, -15, 80), someView(view, 200, -75, 400, 90), someView(view, 290, -3, 25, 40),
+          someView(view, 135, -40, 1500, 70)};
+}
+
+TEST(Renderer, PlaneMarchAgreesWithRayByRayMarch) {
+  planeMarchAgainstRayByRay(hills().view(), marchComparisonViews(hills().view()), 0.0);
+}
+TEST(Renderer, PlaneMarchAgreesWithRayByRayMarchUnderTheGrazingAngleRule) {
+  planeMarchAgainstRayByRay(hills().view(), marchComparisonViews(hills().view()), 2.0);
+}
+
+TEST(Renderer, PlaneMarchAgreesWithRayByRayMarchAcrossTheTerrainsSide) {
+  // 500 voxels: the last tile of each row and column is partial, and beyond the grid's edge it
+  // repeats the edge voxel. Views from near the north side (y = 998 m) look along it, so the
+  // column planes run east or west (x major) and leave the grid across their minor axis.
+  static const std::unique_ptr<MemoryTerrain> partial = makeSyntheticTerrain({SyntheticKind::Hills, 500, 2.0, 6, 5});
+  const TerrainView& view = partial->view();
+  std::vector<ViewRequest> views;
+  for (const double heading : {60.0, 75.0, 285.0, 300.0}) {
+    ViewRequest r;
+    r.pose = poseAbove(view, 500.0, 950.0, 60.0, heading, -8.0);
+    r.display = Intrinsics::fromHorizontalFov(160, 120, radians(90.0));
+    views.push_back(r);
+  }
+  planeMarchAgainstRayByRay(view, views, 0.0);
+}
 
 TEST(FrameTimeController, HoldsTheTargetWithoutHunting) {
   // A render whose time falls with the knob: t = 2 ms + 18 ms / quality².
