@@ -821,6 +821,23 @@ inline int nextSegment(int j, double g0, double g1, double drift) noexcept {
   return j + static_cast<int>(g0 <= (1.0 - drift) * dg) - static_cast<int>(g0 > -drift * dg);
 }
 
+// Where the plane march stands: its grid line, that line's accumulators (see marchPlaneAxis) and
+// where the next line's search starts.
+struct MarchLine {
+  int i;
+  double base, yLine, zLine;
+  double jPos;  // predicted minor position of the next crossing
+  int jNext;    // the segment the next line's search starts at (floor(jPos), see nextSegment)
+};
+
+// A crossing the visible run took or stopped at: camera up and forward coordinates, segment j and
+// the fraction along it.
+struct RunCrossing {
+  double yc = 0, zc = 0;
+  int j = 0;
+  double phi = 0;
+};
+
 // The state of a column's plane march that the run of visible crossings below reads and advances.
 struct VisibleRun {
   // The register tile window (level-L indices of its first voxel, tile size 2^tileShift).
@@ -832,19 +849,12 @@ struct VisibleRun {
   double gA, nZ, yMinor, zMinor, upZ, fwdZ;
   double baseStep, yStep, zStep;
   double drift, rowSlope, switchZc;
-  int evenParity;  // i & 1 on the grid lines where the march may switch to the coarser level
-  // Advanced by the run.
-  int i;
-  double base, yLine, zLine, jPos;
-  int jNext;            // the segment to start the next line's search at (floor(jPos), see nextSegment)
-  double topYc, topZc;  // the top crossing, which is also the last one taken
-  int topJ = 0;
-  double topPhi = 0;
+  int evenParity;             // i & 1 on the grid lines where the march may switch to the coarser level
+  MarchLine line;             // advanced by the run
+  RunCrossing top;            // the top crossing, which is also the last one taken
   int taken = 0;              // visible crossings taken
   std::uint64_t samples = 0;  // heights read
-  // The crossing that stopped the run (when run returns true): hidden, or it fills a row.
-  int curJ = 0;
-  double curPhi = 0, curYc = 0, curZc = 0;
+  RunCrossing stop{};         // the crossing that stopped the run (when it returns true)
 };
 
 // The common case of the plane march at grazing angles, in a loop of its own so its values stay in
@@ -867,30 +877,26 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
   const double gA = r.gA, nZ = r.nZ, yMinor = r.yMinor, zMinor = r.zMinor, upZ = r.upZ, fwdZ = r.fwdZ;
   const double baseStep = r.baseStep, yStep = r.yStep, zStep = r.zStep, drift = r.drift;
   const double rowSlope = r.rowSlope, switchZc = r.switchZc;
-  int i = r.i;
-  double base = r.base, yLine = r.yLine, zLine = r.zLine, jPos = r.jPos;
-  int jNext = r.jNext;
-  double topYc = r.topYc, topZc = r.topZc;
-  int topJ = r.topJ;
-  double topPhi = r.topPhi;
+  MarchLine at = r.line;
+  RunCrossing top = r.top;
   int taken = 0;
   std::uint64_t samples = 0;
   bool stoppedAtCrossing = false;
   // Grid lines the run may take: up to the march's last line and the window's edge.
   const int lastLine = sx > 0 ? std::min(r.majLast, maj0 + static_cast<int>(size) - 1) : std::max(r.majLast, maj0);
-  int linesLeft = (lastLine - i) * sx;
-  if (static_cast<unsigned>(i - maj0) >= size) linesLeft = 0;  // the window is another tile's (or none)
-  const std::uint16_t* line = linesLeft > 0 ? tile + (i * majStride - origin) : tile;  // line i's voxels
+  int linesLeft = (lastLine - at.i) * sx;
+  if (static_cast<unsigned>(at.i - maj0) >= size) linesLeft = 0;  // the window is another tile's (or none)
+  const std::uint16_t* line = linesLeft > 0 ? tile + (at.i * majStride - origin) : tile;  // line i's voxels
   const std::ptrdiff_t lineStep = sx * majStride;
   // Segments j .. j+1 inside both the window and the grid (beyond the grid's edge a tile repeats
   // the edge voxel: the general path stops there).
   const int jLast = std::min(min0 + static_cast<int>(size) - 2, r.minLast);
   for (;;) {
-    if (topZc > switchZc && (i & 1) == r.evenParity) break;
+    if (top.zc > switchZc && (at.i & 1) == r.evenParity) break;
     if (linesLeft <= 0) break;
-    const int iNext = i + sx;
-    const double baseNext = base + baseStep;
-    int j = jNext;
+    const int iNext = at.i + sx;
+    const double baseNext = at.base + baseStep;
+    int j = at.jNext;
     if (j < min0 || j > jLast) break;
     const std::uint16_t* const next = line + lineStep;
     double h0 = next[j * minStride];
@@ -925,43 +931,29 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
       ++read;
     }
     if (!inside) break;
-    const SegmentHit x = segmentHit(j, h0, h1, g0, g1, yLine + yStep, zLine + zStep, yMinor, zMinor, upZ, fwdZ);
+    const SegmentHit x = segmentHit(j, h0, h1, g0, g1, at.yLine + yStep, at.zLine + zStep, yMinor, zMinor, upZ, fwdZ);
     if (!(x.zc > 1e-6)) break;
     // Taken: this grid line is done.
     samples += read;
-    i = iNext;
+    at.i = iNext;
     line = next;
     --linesLeft;
-    base = baseNext;
-    yLine += yStep;
-    zLine += zStep;
-    jPos = x.minor + drift;
-    jNext = nextSegment(j, g0, g1, drift);
-    if (!(x.yc * topZc > topYc * x.zc) || x.yc > rowSlope * x.zc) {
+    at.base = baseNext;
+    at.yLine += yStep;
+    at.zLine += zStep;
+    at.jPos = x.minor + drift;
+    at.jNext = nextSegment(j, g0, g1, drift);
+    if (!(x.yc * top.zc > top.yc * x.zc) || x.yc > rowSlope * x.zc) {
       // Hidden, or it fills a row: the general path takes it from here.
-      r.curJ = j;
-      r.curPhi = x.phi;
-      r.curYc = x.yc;
-      r.curZc = x.zc;
+      r.stop = RunCrossing{x.yc, x.zc, j, x.phi};
       stoppedAtCrossing = true;
       break;
     }
-    topYc = x.yc;
-    topZc = x.zc;
-    topJ = j;
-    topPhi = x.phi;
+    top = RunCrossing{x.yc, x.zc, j, x.phi};
     ++taken;
   }
-  r.i = i;
-  r.base = base;
-  r.yLine = yLine;
-  r.zLine = zLine;
-  r.jPos = jPos;
-  r.jNext = jNext;
-  r.topYc = topYc;
-  r.topZc = topZc;
-  r.topJ = topJ;
-  r.topPhi = topPhi;
+  r.line = at;
+  r.top = top;
   r.taken = taken;
   r.samples = samples;
   return stoppedAtCrossing;
@@ -1232,32 +1224,29 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                      .rowSlope = rowSlope,
                      .switchZc = switchZc,
                      .evenParity = evenParity,
-                     .i = i,
-                     .base = base,
-                     .yLine = yLine,
-                     .zLine = zLine,
-                     .jPos = jPos,
-                     .jNext = jGuess != kNoGuess ? jGuess : floorToInt(jPos),
-                     .topYc = topYc,
-                     .topZc = topZc};
+                     .line = {i, base, yLine, zLine, jPos, jGuess != kNoGuess ? jGuess : floorToInt(jPos)},
+                     .top = {topYc, topZc, 0, 0.0}};
       const bool handedBack = runVisibleCrossings<kXMajor>(run);
       steps += run.samples;
+      const MarchLine& at = run.line;
       if (run.taken > 0) {
-        prev = Crossing{run.topYc, run.topZc, run.topPhi, run.topZc * stretch, level, handedBack ? run.i - sx : run.i,
-                        run.topJ,  false,     Rgb{}};
-        topYc = run.topYc;
-        topZc = run.topZc;
+        const RunCrossing& top = run.top;
+        prev = Crossing{top.yc, top.zc, top.phi, top.zc * stretch, level, handedBack ? at.i - sx : at.i,
+                        top.j,  false,  Rgb{}};
+        topYc = top.yc;
+        topZc = top.zc;
         topChanged = true;
         sinceCheck += run.taken;
       }
-      i = run.i;
-      base = run.base;
-      yLine = run.yLine;
-      zLine = run.zLine;
-      jPos = run.jPos;
-      jGuess = run.jNext;
+      i = at.i;
+      base = at.base;
+      yLine = at.yLine;
+      zLine = at.zLine;
+      jPos = at.jPos;
+      jGuess = at.jNext;
       if (handedBack) {
-        cur = Crossing{run.curYc, run.curZc, run.curPhi, run.curZc * stretch, level, i, run.curJ, false, Rgb{}};
+        const RunCrossing& x = run.stop;
+        cur = Crossing{x.yc, x.zc, x.phi, x.zc * stretch, level, i, x.j, false, Rgb{}};
         solved = true;
       }
     }
