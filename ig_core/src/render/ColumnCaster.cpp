@@ -959,6 +959,65 @@ bool runVisibleCrossings(VisibleRun& r) noexcept {
   return stoppedAtCrossing;
 }
 
+// Two crossings of a column that bound the sub-rows to fill, for the fill loop: the near one's row
+// v0, 1 / (v1 − v0), both crossings' 1 / depth and colours.
+struct CrossingSpan {
+  float v0, invDv, invDepth0, invDepth1;
+  Rgb c0, c1;
+};
+
+// What the fill loop needs of a column, worked out once per column: its sub-row pitch, camera
+// constants in float, and where its pixels and ranges go.
+struct ColumnFill {
+  PixelShader shading;
+  float invS, cy, invFy, xc2;  // sub-row pitch, principal point row, 1/fy, 1 + xc²
+  double invSd;                // the sub-row pitch in double (the march steps vq by it)
+  std::uint8_t* pixels;        // column-major staging: this column's pixel in row 0, or null
+  float* ranges;               // this column's range in row 0, or null
+  std::size_t bytesPerPixel;
+  bool oneSubRow;
+};
+
+// Fills sub-rows q, q−1, ... while their centre vq lies below vStop (the far crossing's row) with
+// the terrain between the two crossings, interpolated perspective-correctly: 1/depth is linear in
+// v, and the colour weight of the far crossing is ts·(1/depth₁)·depth. In float: per pixel one
+// reciprocal and one square root, nothing carried from pixel to pixel. Everything the loop reads is
+// a local: the pixel stores are bytes, which may alias anything, so values read through a
+// reference would be read again after every store. Advances q and vq.
+__attribute__((always_inline)) inline void fillBetweenCrossings(const CrossingSpan span, const ColumnFill& column,
+                                                                ColumnSink& sink, double vStop, int& qInOut,
+                                                                double& vqInOut) noexcept {
+  const PixelShader shading = column.shading;
+  const float invSf = column.invS, cy = column.cy, invFyF = column.invFy, xc2 = column.xc2;
+  const double invS = column.invSd;
+  const float dI = span.invDepth1 - span.invDepth0;
+  std::uint8_t* const pixels = column.pixels;
+  float* const ranges = column.ranges;
+  const std::size_t bpp = column.bytesPerPixel;
+  const bool oneSubRow = column.oneSubRow;
+  int q = qInOut;
+  double vq = vqInOut;
+  while (vq > vStop) {
+    const float vqf = (static_cast<float>(q) + 0.5f) * invSf;
+    const float ts = std::min((vqf - span.v0) * span.invDv, 1.0f);
+    const float depth = 1.0f / (span.invDepth0 + ts * dI);
+    const float tw = std::clamp(ts * span.invDepth1 * depth, 0.0f, 1.0f);
+    const float yc = (cy - vqf) * invFyF;
+    const float rangeM = depth * std::sqrt(xc2 + yc * yc);
+    const Rgb colour = shading.terrain(mix(span.c0, span.c1, tw), rangeM);
+    if (oneSubRow) {
+      if (pixels != nullptr) shading.storePixel(pixels + static_cast<std::size_t>(q) * bpp, colour, 1.0f);
+      if (ranges != nullptr) ranges[q] = rangeM;
+    } else {
+      sink.emit(q, colour, rangeM);
+    }
+    if (--q < 0) break;
+    vq -= invS;
+  }
+  qInOut = q;
+  vqInOut = vq;
+}
+
 // The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
 // sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
 // fill (−1 when the column is done): the march left the terrain, or the rows left look over it.
@@ -1119,12 +1178,16 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   double topYc = prevP->yc;
   double topZc = prevP->depth;
   double vq = (q + 0.5) * invS;
-  const float xc2 = static_cast<float>(1.0 + c.xc * c.xc);
-  const PixelShader shading = f.shading.pixelShader();  // in registers: see the fill loop
-  const bool oneSubRow = sink.s == 1;
-  std::uint8_t* const pixels = sink.pixels;
-  float* const ranges = sink.ranges;
-  const std::size_t bpp = sink.bytesPerPixel;
+  const ColumnFill fill{f.shading.pixelShader(),
+                        static_cast<float>(invS),
+                        static_cast<float>(k.cyPx),
+                        static_cast<float>(1.0 / k.fyPx),
+                        static_cast<float>(1.0 + c.xc * c.xc),
+                        invS,
+                        sink.pixels,
+                        sink.ranges,
+                        sink.bytesPerPixel,
+                        sink.s == 1};
   const double invFy = 1.0 / k.fyPx;
   double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
   int sinceCheck = 0;
@@ -1304,40 +1367,15 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       const double prevV = k.cyPx - k.fyPx * prev.yc * prevInvDepth;
       const double curV = k.cyPx - k.fyPx * cur.yc * curInvDepth;
       // Sub-rows between the highest crossing so far and this one see the terrain between the two
-      // grid lines: perspective-correct interpolation between the crossings. 1/depth is linear in
-      // v, and the colour weight of the far crossing is ts·(1/depth₁)·depth. In float: per pixel
-      // one reciprocal and one square root, nothing carried from pixel to pixel.
-      const auto v0 = static_cast<float>(prevV);
-      const auto invDv = static_cast<float>(1.0 / (curV - prevV));
-      const auto i0 = static_cast<float>(prevInvDepth);
-      const auto i1 = static_cast<float>(curInvDepth);
-      const float dI = i1 - i0;
-      const auto invSf = static_cast<float>(invS);
-      const auto cy = static_cast<float>(k.cyPx);
-      const auto invFyF = static_cast<float>(invFy);
-      // Locals only in this loop: the pixel stores are bytes, which may alias anything, so
-      // anything read through a reference would be read again after every store.
-      const Rgb c0 = crossingColour(f, t, window, c, prev);
-      const Rgb c1 = crossingColour(f, t, window, c, cur);
-      const double vStop = curV;
+      // grid lines.
+      const CrossingSpan span{static_cast<float>(prevV),
+                              static_cast<float>(1.0 / (curV - prevV)),
+                              static_cast<float>(prevInvDepth),
+                              static_cast<float>(curInvDepth),
+                              crossingColour(f, t, window, c, prev),
+                              crossingColour(f, t, window, c, cur)};
       const int qFirst = q;
-      while (vq > vStop) {
-        const float vqf = (static_cast<float>(q) + 0.5f) * invSf;
-        const float ts = std::min((vqf - v0) * invDv, 1.0f);
-        const float depth = 1.0f / (i0 + ts * dI);
-        const float tw = std::clamp(ts * i1 * depth, 0.0f, 1.0f);
-        const float yc = (cy - vqf) * invFyF;
-        const float rangeM = depth * std::sqrt(xc2 + yc * yc);
-        const Rgb colour = shading.terrain(mix(c0, c1, tw), rangeM);
-        if (oneSubRow) {
-          if (pixels != nullptr) shading.storePixel(pixels + static_cast<std::size_t>(q) * bpp, colour, 1.0f);
-          if (ranges != nullptr) ranges[q] = rangeM;
-        } else {
-          sink.emit(q, colour, rangeM);
-        }
-        if (--q < 0) break;
-        vq -= invS;
-      }
+      fillBetweenCrossings(span, fill, sink, curV, q, vq);
       rowSlope = (k.cyPx - vq) * invFy;
       if (grazingLod) {
         stretch = stretchOfRow(q);
