@@ -812,15 +812,6 @@ inline SegmentHit segmentHit(int j, double h0, double h1, double g0, double g1, 
   return {phi, minor, yLine + minor * yMinor + h * upZ, zLine + minor * zMinor + h * fwdZ};
 }
 
-// The next grid line's segment floor(j + φ + drift), for φ = g0 / (g0 − g1) in [0, 1) and
-// |drift| ≤ 1 (the plane's trace runs along the major axis): φ + drift is in [−1, 2), so two
-// comparisons give it without the division. That keeps the division off the chain from one
-// crossing to the next, which bounds the march (it is latency-bound, not instruction-bound).
-inline int nextSegment(int j, double g0, double g1, double drift) noexcept {
-  const double dg = g0 - g1;  // < 0
-  return j + static_cast<int>(g0 <= (1.0 - drift) * dg) - static_cast<int>(g0 > -drift * dg);
-}
-
 // Where the plane march stands: its grid line, that line's accumulators (see marchPlaneAxis) and
 // where the next line's search starts.
 struct MarchLine {

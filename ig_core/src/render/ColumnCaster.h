@@ -92,4 +92,13 @@ void castColumnsPerRay(const CasterFrame& frame, int u0, int u1, CasterThread& t
 /// the columns (first hit by the max pyramid, then grid-line stepping). RT-safe.
 CastResult castRay(const CasterFrame& frame, double u, double v, CasterThread& thread) noexcept;
 
+/// The column plane march's next grid line segment, floor(j + φ + drift), for φ = g0 / (g0 − g1)
+/// in [0, 1) and |drift| ≤ 1 (the plane's trace runs along the major axis): φ + drift is in
+/// [−1, 2), so two comparisons give it without the division. That keeps the division off the
+/// chain from one crossing to the next, which bounds the march (it is latency-bound).
+inline int nextSegment(int j, double g0, double g1, double drift) noexcept {
+  const double dg = g0 - g1;  // < 0
+  return j + static_cast<int>(g0 <= (1.0 - drift) * dg) - static_cast<int>(g0 > -drift * dg);
+}
+
 }  // namespace fieldcast::core

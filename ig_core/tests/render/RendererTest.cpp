@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 namespace fieldcast::core::test {
@@ -109,6 +110,26 @@ TEST(Renderer, GreyFramesAreTheLumaOfColourFrames) {
       EXPECT_NEAR(fg.image.row(y)[x], luma, 1.5);
     }
   }
+}
+
+TEST(ColumnCaster, NextSegmentIsTheFloorOfTheCrossingPlusDrift) {
+  // Random segments with g0 ≤ 0 < g1 and drifts over the whole allowed range, ±1 included.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> g(1e-6, 50.0);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int checked = 0;
+  for (int k = 0; k < 100000; ++k) {
+    const int j = static_cast<int>(rng() % 1000) - 500;
+    const double g0 = k % 97 == 0 ? 0.0 : -g(rng);
+    const double g1 = g(rng);
+    const double drift = k % 50 == 0 ? (k % 100 == 0 ? 1.0 : -1.0) : unit(rng);
+    const double exact = j + g0 / (g0 - g1) + drift;
+    if (std::abs(exact - std::round(exact)) < 1e-9) continue;  // a tie: either side is right
+    EXPECT_EQ(nextSegment(j, g0, g1, drift), static_cast<int>(std::floor(exact)))
+        << "j " << j << " g0 " << g0 << " g1 " << g1 << " drift " << drift;
+    ++checked;
+  }
+  EXPECT_GT(checked, 99000);
 }
 
 TEST(Renderer, OverlappingFramesComeOutInOrderAndIdentical) {
