@@ -1206,7 +1206,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   bool skippedSincePrev = false;
   std::array<int, 4> failedCells;  // per cell size: the last cell that could not be skipped
   failedCells.fill(std::numeric_limits<int>::min());
-  std::uint64_t skippedLines = 0;
   const auto trySkip = [&](int up) __attribute__((always_inline))->bool {
     const int kLevel = std::min(level + up, f.levels - 1);
     const int shiftK = kLevel - level;
@@ -1241,7 +1240,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     const double maxQ = window.tile[l]->maxHeightQ[((y - window.y0[l]) << f.tileShift) + (x - window.x0[l])];
     if (!(maxQ < std::min(zNear, zFar))) return false;
     if (sx > 0 ? iFar > majLast : iFar < majLast) return false;  // near the edge: march normally
-    skippedLines += static_cast<std::uint64_t>(std::abs(iFar - i) + 1);
     i = iFar;
     setLine(i);
     jPos = (nFar + 0.5) / p - 0.5;
