@@ -957,16 +957,12 @@ struct CrossingSpan {
   Rgb c0, c1;
 };
 
-// What the fill loop needs of a column, worked out once per column: its sub-row pitch, camera
-// constants in float, and where its pixels and ranges go.
+// What the fill loop needs of a column besides its sink, worked out once per column: the shading
+// and the sub-row pitch and camera constants in float.
 struct ColumnFill {
   PixelShader shading;
   float invS, cy, invFy, xc2;  // sub-row pitch, principal point row, 1/fy, 1 + xc²
   double invSd;                // the sub-row pitch in double (the march steps vq by it)
-  std::uint8_t* pixels;        // column-major staging: this column's pixel in row 0, or null
-  float* ranges;               // this column's range in row 0, or null
-  std::size_t bytesPerPixel;
-  bool oneSubRow;
 };
 
 // Fills sub-rows q, q−1, ... while their centre vq lies below vStop (the far crossing's row) with
@@ -982,10 +978,10 @@ __attribute__((always_inline)) inline void fillBetweenCrossings(const CrossingSp
   const float invSf = column.invS, cy = column.cy, invFyF = column.invFy, xc2 = column.xc2;
   const double invS = column.invSd;
   const float dI = span.invDepth1 - span.invDepth0;
-  std::uint8_t* const pixels = column.pixels;
-  float* const ranges = column.ranges;
-  const std::size_t bpp = column.bytesPerPixel;
-  const bool oneSubRow = column.oneSubRow;
+  std::uint8_t* const pixels = sink.pixels;
+  float* const ranges = sink.ranges;
+  const std::size_t bpp = sink.bytesPerPixel;
+  const bool oneSubRow = sink.s == 1;
   int q = qInOut;
   double vq = vqInOut;
   while (vq > vStop) {
@@ -1174,11 +1170,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                         static_cast<float>(k.cyPx),
                         static_cast<float>(1.0 / k.fyPx),
                         static_cast<float>(1.0 + c.xc * c.xc),
-                        invS,
-                        sink.pixels,
-                        sink.ranges,
-                        sink.bytesPerPixel,
-                        sink.s == 1};
+                        invS};
   const double invFy = 1.0 / k.fyPx;
   double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
   int sinceCheck = 0;
@@ -1281,10 +1273,12 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       const bool handedBack = runVisibleCrossings<kXMajor>(run);
       steps += run.samples;
       const MarchLine& at = run.line;
+      const auto crossingOf = [&](const RunCrossing& x, int line) {
+        return Crossing{x.yc, x.zc, x.phi, x.zc * stretch, level, line, x.j, false, Rgb{}};
+      };
       if (run.taken > 0) {
         const RunCrossing& top = run.top;
-        prev = Crossing{top.yc, top.zc, top.phi, top.zc * stretch, level, handedBack ? at.i - sx : at.i,
-                        top.j,  false,  Rgb{}};
+        prev = crossingOf(top, handedBack ? at.i - sx : at.i);
         topYc = top.yc;
         topZc = top.zc;
         topChanged = true;
@@ -1297,8 +1291,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       jPos = at.jPos;
       jGuess = at.jNext;
       if (handedBack) {
-        const RunCrossing& x = run.stop;
-        cur = Crossing{x.yc, x.zc, x.phi, x.zc * stretch, level, i, x.j, false, Rgb{}};
+        cur = crossingOf(run.stop, i);
         solved = true;
       }
     }
