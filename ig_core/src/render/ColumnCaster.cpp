@@ -812,144 +812,6 @@ inline SegmentHit segmentHit(int j, double h0, double h1, double g0, double g1, 
   return {phi, minor, yLine + minor * yMinor + h * upZ, zLine + minor * zMinor + h * fwdZ};
 }
 
-// Where the plane march stands: its grid line, that line's accumulators (see marchPlaneAxis) and
-// where the next line's search starts.
-struct MarchLine {
-  int i;
-  double base, yLine, zLine;
-  double jPos;  // predicted minor position of the next crossing
-  int jNext;    // the segment the next line's search starts at (floor(jPos), see nextSegment)
-};
-
-// A crossing the visible run took or stopped at: camera up and forward coordinates, segment j and
-// the fraction along it.
-struct RunCrossing {
-  double yc = 0, zc = 0;
-  int j = 0;
-  double phi = 0;
-};
-
-// The state of a column's plane march that the run of visible crossings below reads and advances.
-struct VisibleRun {
-  // The register tile window (level-L indices of its first voxel, tile size 2^tileShift).
-  const std::uint16_t* tileHeights;
-  int wx0, wy0, tileShift;
-  int sx, majLast;  // major direction and the last grid line the march may take
-  int minLast;      // the last segment start on the minor axis (its voxel j + 1 is the grid's last)
-  // The crossing equation and camera coordinates of the current grid line (see marchPlaneAxis).
-  double gA, nZ, yMinor, zMinor, upZ, fwdZ;
-  double baseStep, yStep, zStep;
-  double drift, rowSlope, switchZc;
-  int evenParity;             // i & 1 on the grid lines where the march may switch to the coarser level
-  MarchLine line;             // advanced by the run
-  RunCrossing top;            // the top crossing, which is also the last one taken
-  int taken = 0;              // visible crossings taken
-  std::uint64_t samples = 0;  // heights read
-  RunCrossing stop{};         // the crossing that stopped the run (when it returns true)
-};
-
-// The common case of the plane march at grazing angles, in a loop of its own so its values stay in
-// registers: the crossings of the next grid lines are visible but raise the column by less than a
-// row, so each only becomes the new top. Reads heights only from the tile window (both voxels of
-// every segment inside it). Returns true when it stopped at a crossing that needs the general path
-// (hidden, or it fills a row), solved on grid line r.i; false when the next grid line needs the
-// general path before it is solved (level switch, tile or grid edge, the view's near plane).
-template <bool kXMajor>
-bool runVisibleCrossings(VisibleRun& r) noexcept {
-  const std::uint16_t* const tile = r.tileHeights;
-  const unsigned size = 1u << r.tileShift;
-  const int maj0 = kXMajor ? r.wx0 : r.wy0;
-  const int min0 = kXMajor ? r.wy0 : r.wx0;
-  // Level-L voxel (major i, minor j) of the window: tile[i·majStride + j·minStride − origin].
-  const std::ptrdiff_t majStride = kXMajor ? 1 : std::ptrdiff_t{1} << r.tileShift;
-  const std::ptrdiff_t minStride = kXMajor ? std::ptrdiff_t{1} << r.tileShift : 1;
-  const std::ptrdiff_t origin = maj0 * majStride + min0 * minStride;
-  const int sx = r.sx;
-  const double gA = r.gA, nZ = r.nZ, yMinor = r.yMinor, zMinor = r.zMinor, upZ = r.upZ, fwdZ = r.fwdZ;
-  const double baseStep = r.baseStep, yStep = r.yStep, zStep = r.zStep, drift = r.drift;
-  const double rowSlope = r.rowSlope, switchZc = r.switchZc;
-  MarchLine at = r.line;
-  RunCrossing top = r.top;
-  int taken = 0;
-  std::uint64_t samples = 0;
-  bool stoppedAtCrossing = false;
-  // Grid lines the run may take: up to the march's last line and the window's edge.
-  const int lastLine = sx > 0 ? std::min(r.majLast, maj0 + static_cast<int>(size) - 1) : std::max(r.majLast, maj0);
-  int linesLeft = (lastLine - at.i) * sx;
-  if (static_cast<unsigned>(at.i - maj0) >= size) linesLeft = 0;  // the window is another tile's (or none)
-  const std::uint16_t* line = linesLeft > 0 ? tile + (at.i * majStride - origin) : tile;  // line i's voxels
-  const std::ptrdiff_t lineStep = sx * majStride;
-  // Segments j .. j+1 inside both the window and the grid (beyond the grid's edge a tile repeats
-  // the edge voxel: the general path stops there).
-  const int jLast = std::min(min0 + static_cast<int>(size) - 2, r.minLast);
-  for (;;) {
-    if (top.zc > switchZc && (at.i & 1) == r.evenParity) break;
-    if (linesLeft <= 0) break;
-    const int iNext = at.i + sx;
-    const double baseNext = at.base + baseStep;
-    int j = at.jNext;
-    if (j < min0 || j > jLast) break;
-    const std::uint16_t* const next = line + lineStep;
-    double h0 = next[j * minStride];
-    double h1 = next[(j + 1) * minStride];
-    double g0 = gA * j + nZ * h0 + baseNext;
-    double g1 = g0 + gA + nZ * (h1 - h0);
-    std::uint64_t read = 2;
-    // g grows along the minor axis: walk to the segment where it changes sign, inside the window.
-    bool inside = true;
-    while (g0 > 0.0) {
-      if (j == min0) {
-        inside = false;
-        break;
-      }
-      --j;
-      h1 = h0;
-      g1 = g0;
-      h0 = next[j * minStride];
-      g0 -= gA + nZ * (h1 - h0);
-      ++read;
-    }
-    while (inside && g1 <= 0.0) {
-      if (j == jLast) {
-        inside = false;
-        break;
-      }
-      ++j;
-      h0 = h1;
-      g0 = g1;
-      h1 = next[(j + 1) * minStride];
-      g1 = g0 + gA + nZ * (h1 - h0);
-      ++read;
-    }
-    if (!inside) break;
-    const SegmentHit x = segmentHit(j, h0, h1, g0, g1, at.yLine + yStep, at.zLine + zStep, yMinor, zMinor, upZ, fwdZ);
-    if (!(x.zc > 1e-6)) break;
-    // Taken: this grid line is done.
-    samples += read;
-    at.i = iNext;
-    line = next;
-    --linesLeft;
-    at.base = baseNext;
-    at.yLine += yStep;
-    at.zLine += zStep;
-    at.jPos = x.minor + drift;
-    at.jNext = nextSegment(j, g0, g1, drift);
-    if (!(x.yc * top.zc > top.yc * x.zc) || x.yc > rowSlope * x.zc) {
-      // Hidden, or it fills a row: the general path takes it from here.
-      r.stop = RunCrossing{x.yc, x.zc, j, x.phi};
-      stoppedAtCrossing = true;
-      break;
-    }
-    top = RunCrossing{x.yc, x.zc, j, x.phi};
-    ++taken;
-  }
-  r.line = at;
-  r.top = top;
-  r.taken = taken;
-  r.samples = samples;
-  return stoppedAtCrossing;
-}
-
 // Two crossings of a column that bound the sub-rows to fill, for the fill loop: the near one's row
 // v0, 1 / (v1 − v0), both crossings' 1 / depth and colours.
 struct CrossingSpan {
@@ -1004,6 +866,14 @@ __attribute__((always_inline)) inline void fillBetweenCrossings(const CrossingSp
   qInOut = q;
   vqInOut = vq;
 }
+
+// Where the ray of the next sub-row ended its march (marchPlaneAxis's advanceRowRay): the grid line
+// and the ray's minor position there (level-L index), or kRayLeavesTerrain.
+struct RowRayEnd {
+  int line;
+  double minor;
+};
+constexpr int kRayLeavesTerrain = std::numeric_limits<int>::min();
 
 // The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
 // sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
@@ -1194,7 +1064,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double ceilSlope = -c.nMaj / c.nMin;  // minor of L_i at the ceiling, per unit of major
   const double ceilOffset = -c.nZ * (f.ceilingQ - c.cZ) / c.nMin;
   bool lastOccluded = false;
-  bool lastSubRow = false;  // the last crossing was visible and filled no row
+  bool lastFilledNothing = false;  // the last crossing filled no row
   bool skippedSincePrev = false;
   std::array<int, 4> failedCells;  // per cell size: the last cell that could not be skipped
   failedCells.fill(std::numeric_limits<int>::min());
@@ -1240,58 +1110,88 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     return true;
   };
   const int evenParity = sx > 0 ? 0 : 1;
+  // The ray of the next sub-row, marched from grid line i on the level's surface as the per-ray
+  // march does: on each line, the height at the ray's minor position against the ray's. While the
+  // ray stays above the terrain, no crossing of those lines reaches the sub-row, so none fills
+  // anything and none needs solving. Each line is two loads and a compare that do not wait on the
+  // line before (a crossing waits on the previous one's segment), so this runs at the loads' rate.
+  // Returns the first line where the ray is below the terrain, or the line where the march must
+  // look itself: a possible level switch (an even line past the switch depth), the grid's edge.
+  const auto advanceRowRay = [&]() __attribute__((always_inline))->RowRayEnd {
+    const double rMaj = c.aMaj + rowSlope * c.bMaj;  // the ray's grid steps per metre of depth
+    if (!(rMaj * sx > 1e-12)) return {i, 0.0};      // it does not run along the march
+    const double invR = 1.0 / rMaj;
+    const double rMin = c.aMin + rowSlope * c.bMin, rZ = c.aZ + rowSlope * c.bZ;
+    const double depth = dMajOf(i) * invR;
+    const double dDepth = sx * p * invR;  // depth per line
+    double minor = (c.cMin + depth * rMin + 0.5) / p - 0.5;  // level-L index
+    double z = c.cZ + depth * rZ;
+    const double dMinor = dDepth * rMin / p;
+    const double dz = dDepth * rZ;
+    int lines = (majLast - i) * sx;
+    bool climbsAway = false;  // it rises above the highest terrain within `lines`
+    if (dz >= 0.0) {
+      // Once above the highest terrain and climbing, it meets nothing.
+      const double below = (f.ceilingQ - z) / dz;
+      if (below < 0.0) return {kRayLeavesTerrain, 0.0};
+      if (below < lines) {
+        lines = static_cast<int>(below) + 1;
+        climbsAway = true;
+      }
+    }
+    if (switchZc < std::numeric_limits<double>::infinity()) {
+      const double before = (switchZc - depth) / dDepth;  // lines before the switch depth
+      int n = before < 1.0 ? 1 : (before < lines ? static_cast<int>(before) + 1 : lines);
+      if (((i + n * sx) & 1) != evenParity) ++n;
+      if (n < lines) {
+        lines = n;
+        climbsAway = false;
+      }
+    }
+    int line = i;
+    for (int n = 0; n < lines; ++n) {
+      line += sx;
+      minor += dMinor;
+      z += dz;
+      const int j = floorToInt(minor);
+      if (j < 0 || j > minLast) return {line, minor};
+      const double h0 = height(level, line, j);
+      const double h1 = height(level, line, j + 1);
+      if (z < h0 + (minor - j) * (h1 - h0)) {
+        steps += 2 * static_cast<std::uint64_t>(n + 1);
+        return {line, minor};
+      }
+    }
+    steps += 2 * static_cast<std::uint64_t>(lines);
+    if (climbsAway) return {kRayLeavesTerrain, 0.0};
+    return {line, minor};
+  };
   for (;;) {
     Crossing& prev = *prevP;
     Crossing& cur = *curP;
     bool solved = false;
-    // After a visible crossing that filled nothing, most next ones are visible and fill nothing
-    // too: taken by a loop of their own until one needs this general path. (Looking down, where
-    // nearly every crossing fills rows, the run would stop at once.)
-    if (lastSubRow) {
-      VisibleRun run{.tileHeights = tileHeights,
-                     .wx0 = wx0,
-                     .wy0 = wy0,
-                     .tileShift = f.tileShift,
-                     .sx = sx,
-                     .majLast = majLast,
-                     .minLast = minLast,
-                     .gA = gA,
-                     .nZ = nZ,
-                     .yMinor = yMinor,
-                     .zMinor = zMinor,
-                     .upZ = upZ,
-                     .fwdZ = fwdZ,
-                     .baseStep = baseStep,
-                     .yStep = yStep,
-                     .zStep = zStep,
-                     .drift = drift,
-                     .rowSlope = rowSlope,
-                     .switchZc = switchZc,
-                     .evenParity = evenParity,
-                     .line = {i, base, yLine, zLine, jPos, jGuess != kNoGuess ? jGuess : floorToInt(jPos)},
-                     .top = {topYc, topZc, 0, 0.0}};
-      const bool handedBack = runVisibleCrossings<kXMajor>(run);
-      steps += run.samples;
-      const MarchLine& at = run.line;
-      const auto crossingOf = [&](const RunCrossing& x, int line) {
-        return Crossing{x.yc, x.zc, x.phi, x.zc * stretch, level, line, x.j, false, Rgb{}};
-      };
-      if (run.taken > 0) {
-        const RunCrossing& top = run.top;
-        prev = crossingOf(top, handedBack ? at.i - sx : at.i);
-        topYc = top.yc;
-        topZc = top.zc;
-        topChanged = true;
-        sinceCheck += run.taken;
+    // After a crossing that filled nothing, the next lines' crossings fill nothing either until the
+    // next sub-row's ray passes below the terrain: found by marching that ray, and only the
+    // crossing of the line where it does is solved (and the one before, if it fills).
+    if (lastFilledNothing && !(prev.depth > switchZc && (i & 1) == evenParity)) {
+      const RowRayEnd end = advanceRowRay();
+      if (end.line == kRayLeavesTerrain) {
+        recordStop(prev);
+        return q;
       }
-      i = at.i;
-      base = at.base;
-      yLine = at.yLine;
-      zLine = at.zLine;
-      jPos = at.jPos;
-      jGuess = at.jNext;
-      if (handedBack) {
-        cur = crossingOf(run.stop, i);
+      if (end.line != i) {
+        sinceCheck += (end.line - i) * sx - 1;
+        if (end.line != i + sx) {
+          jPos = end.minor;
+          jGuess = kNoGuess;
+          skippedSincePrev = true;
+        }
+        i = end.line;
+        setLine(i);
+        if (!solve(cur)) {
+          recordStop(prev);
+          return q;
+        }
         solved = true;
       }
     }
@@ -1321,10 +1221,14 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     // Visible ⇔ above the top ray ⇔ yc/zc > topYc/topZc (both depths are positive).
     const bool visible = cur.yc * topZc > topYc * cur.depth;
     lastOccluded = !visible;
-    if (visible && skippedSincePrev) {
+    // Rows to fill: the next sub-row's ray passes below this crossing (vq > v), without dividing.
+    const bool fills = cur.yc > rowSlope * cur.depth;
+    lastFilledNothing = !fills;
+    if (fills && skippedSincePrev) {
       // The crossing before this one was skipped: solve it now, it bounds the rows to fill.
       const int iHere = i;
-      const double baseHere = base, yLineHere = yLine, zLineHere = zLine;
+      const double baseHere = base, yLineHere = yLine, zLineHere = zLine, jPosHere = jPos;
+      const int jGuessHere = jGuess;
       i -= sx;
       setLine(i);
       jPos = cur.j + cur.phi - drift;
@@ -1335,13 +1239,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       base = baseHere;
       yLine = yLineHere;
       zLine = zLineHere;
-      jPos = cur.j + cur.phi + drift;
-      jGuess = kNoGuess;
+      jPos = jPosHere;
+      jGuess = jGuessHere;
     }
     skippedSincePrev = false;
-    // Rows to fill: the next sub-row's ray passes below this crossing (vq > v), without dividing.
-    const bool fills = visible && cur.yc > rowSlope * cur.depth;
-    lastSubRow = visible && !fills;
     if (fills) {
       // (A crossing that raises the top by less than a row fills nothing and needs no colour.)
       const double prevInvDepth = 1.0 / prev.depth;
