@@ -1031,9 +1031,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     stopped = PlaneStop{true, kXMajor, kXMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj}};
     t.steps += steps;
   };
-  // The highest crossing so far (its row is the top of the filled part of the column).
-  double topYc = prevP->yc;
-  double topZc = prevP->depth;
   double vq = (q + 0.5) * invS;
   const ColumnFill fill{f.shading.pixelShader(),
                         static_cast<float>(invS),
@@ -1043,72 +1040,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                         invS};
   const double invFy = 1.0 / k.fyPx;
   double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
-  int sinceCheck = 0;
-  // Occlusion skipping. The ray through the top crossing (the highest terrain seen so far) meets
-  // grid line i at R; a crossing of line i can only be visible above R on L_i, i.e. where the
-  // terrain reaches at least R's height, between R and the ceiling. When the conservative max mip
-  // of a coarse cell (level + 3, else level + 2) covering that stretch for all the cell's grid
-  // lines is below R, none of them can be seen: they are skipped without solving their crossings.
-  double topMin = 0.0, topZ = 0.0;  // the top ray's minor and height change per unit of major
-  bool topValid = false;
-  bool topChanged = true;  // the top crossing moved since topMin / topZ were set
-  const auto setTopRay = [&]() __attribute__((always_inline)) {
-    topChanged = false;
-    const double yc = topYc / topZc;
-    const double dMajTop = c.aMaj + yc * c.bMaj;
-    topValid = dMajTop * sx > 1e-12;
-    if (!topValid) return;
-    topMin = (c.aMin + yc * c.bMin) / dMajTop;
-    topZ = (c.aZ + yc * c.bZ) / dMajTop;
-  };
-  const double ceilSlope = -c.nMaj / c.nMin;  // minor of L_i at the ceiling, per unit of major
-  const double ceilOffset = -c.nZ * (f.ceilingQ - c.cZ) / c.nMin;
-  bool lastOccluded = false;
   bool lastFilledNothing = false;  // the last crossing filled no row
-  bool skippedSincePrev = false;
-  std::array<int, 4> failedCells;  // per cell size: the last cell that could not be skipped
-  failedCells.fill(std::numeric_limits<int>::min());
-  const auto trySkip = [&](int up) __attribute__((always_inline))->bool {
-    const int kLevel = std::min(level + up, f.levels - 1);
-    const int shiftK = kLevel - level;
-    if (shiftK <= 0) return false;
-    if (topChanged) setTopRay();
-    if (!topValid) return false;
-    const int ci = i >> shiftK;
-    int& failedCell = failedCells[static_cast<std::size_t>(up)];
-    if (ci == failedCell) return false;
-    const int iFar = sx > 0 ? ((ci + 1) << shiftK) - 1 : (ci << shiftK);
-    const double dMaj = dMajOf(i);
-    const double dMajFar = dMajOf(iFar);
-    const double zNear = c.cZ + dMaj * topZ;
-    const double zFar = c.cZ + dMajFar * topZ;
-    const double nNear = c.cMin + dMaj * topMin;
-    const double nFar = c.cMin + dMajFar * topMin;
-    const double cNear = c.cMin + dMaj * ceilSlope + ceilOffset;
-    const double cFar = c.cMin + dMajFar * ceilSlope + ceilOffset;
-    const double lo = std::min({nNear, nFar, cNear, cFar});
-    const double hi = std::max({nNear, nFar, cNear, cFar});
-    const double invCell = pow2(-kLevel);
-    const int cj = floorToInt((lo + 0.5) * invCell);
-    failedCell = ci;
-    if (cj != floorToInt((hi + 0.5) * invCell)) return false;
-    // Do not skip past the depth where the march changes level.
-    const double depthFar = dMajFar * c.fwdMaj + (nFar - c.cMin) * c.fwdMin + (zFar - c.cZ) * c.fwdZ;
-    if (depthFar > switchZc) return false;
-    const int x = kXMajor ? ci : cj;
-    const int y = kXMajor ? cj : ci;
-    if (!windowFor(f, t, window, kLevel, x, y)) return false;
-    const auto l = static_cast<std::size_t>(kLevel);
-    const double maxQ = window.tile[l]->maxHeightQ[((y - window.y0[l]) << f.tileShift) + (x - window.x0[l])];
-    if (!(maxQ < std::min(zNear, zFar))) return false;
-    if (sx > 0 ? iFar > majLast : iFar < majLast) return false;  // near the edge: march normally
-    i = iFar;
-    setLine(i);
-    jPos = (nFar + 0.5) / p - 0.5;
-    jGuess = kNoGuess;
-    skippedSincePrev = true;
-    return true;
-  };
+  bool skippedSincePrev = false;   // grid lines were passed over since the last crossing solved
   const int evenParity = sx > 0 ? 0 : 1;
   // The ray of the next sub-row, marched from grid line i on the level's surface as the per-ray
   // march does: on each line, the height at the ray's minor position against the ray's. While the
@@ -1180,7 +1113,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         return q;
       }
       if (end.line != i) {
-        sinceCheck += (end.line - i) * sx - 1;
         if (end.line != i + sx) {
           jPos = end.minor;
           jGuess = kNoGuess;
@@ -1212,15 +1144,11 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         yLine += yStep;
         zLine += zStep;
       }
-      if (lastOccluded && (trySkip(3) || trySkip(2))) continue;
       if (!solve(cur)) {
         recordStop(prev);
         return q;
       }
     }
-    // Visible ⇔ above the top ray ⇔ yc/zc > topYc/topZc (both depths are positive).
-    const bool visible = cur.yc * topZc > topYc * cur.depth;
-    lastOccluded = !visible;
     // Rows to fill: the next sub-row's ray passes below this crossing (vq > v), without dividing.
     const bool fills = cur.yc > rowSlope * cur.depth;
     lastFilledNothing = !fills;
@@ -1270,27 +1198,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         return -1;
       }
     }
-    if (visible) {
-      topYc = cur.yc;
-      topZc = cur.depth;
-      topChanged = true;
-    }
     std::swap(prevP, curP);
-    // Now and then: do all rows left look upwards, already above the highest terrain?
-    if (++sinceCheck >= 32) {
-      sinceCheck = 0;
-      if (vq < c.vHorizon) {
-        const double above = f.ceilingQ - c.cZ;  // the point of this grid line's L_i at the ceiling
-        const double dMaj = dMajOf(i);
-        const double dMin = -(c.nMaj * dMaj + c.nZ * above) / c.nMin;
-        const double zc = dMaj * c.fwdMaj + dMin * c.fwdMin + above * c.fwdZ;
-        const double yc = dMaj * c.upMaj + dMin * c.upMin + above * c.upZ;
-        if (zc > 0.0 && k.cyPx - k.fyPx * yc / zc >= vq) {
-          recordStop(*prevP);
-          return q;
-        }
-      }
-    }
   }
 }
 
