@@ -1040,8 +1040,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                         invS};
   const double invFy = 1.0 / k.fyPx;
   double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
-  bool lastFilledNothing = false;  // the last crossing filled no row
-  bool skippedSincePrev = false;   // grid lines were passed over since the last crossing solved
+  bool lastFilledNothing = false;           // the last crossing filled no row
+  bool skippedSincePrev = false;            // grid lines were passed over since the last crossing solved
   const int evenParity = sx > 0 ? 0 : 1;
   // The ray of the next sub-row, marched from grid line i on the level's surface as the per-ray
   // march does: on each line, the height at the ray's minor position against the ray's. While the
@@ -1052,11 +1052,11 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   // look itself: a possible level switch (an even line past the switch depth), the grid's edge.
   const auto advanceRowRay = [&]() __attribute__((always_inline))->RowRayEnd {
     const double rMaj = c.aMaj + rowSlope * c.bMaj;  // the ray's grid steps per metre of depth
-    if (!(rMaj * sx > 1e-12)) return {i, 0.0};      // it does not run along the march
+    if (!(rMaj * sx > 1e-12)) return {i, 0.0};       // it does not run along the march
     const double invR = 1.0 / rMaj;
     const double rMin = c.aMin + rowSlope * c.bMin, rZ = c.aZ + rowSlope * c.bZ;
     const double depth = dMajOf(i) * invR;
-    const double dDepth = sx * p * invR;  // depth per line
+    const double dDepth = sx * p * invR;                     // depth per line
     double minor = (c.cMin + depth * rMin + 0.5) / p - 0.5;  // level-L index
     double z = c.cZ + depth * rZ;
     const double dMinor = dDepth * rMin / p;
@@ -1088,8 +1088,19 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       z += dz;
       const int j = floorToInt(minor);
       if (j < 0 || j > minLast) return {line, minor};
-      const double h0 = height(level, line, j);
-      const double h1 = height(level, line, j + 1);
+      double h0, h1;
+      const int x = kXMajor ? line : j;
+      const int y = kXMajor ? j : line;
+      if (static_cast<unsigned>(x - wx0) < tileSize - (kXMajor ? 0 : 1) &&
+          static_cast<unsigned>(y - wy0) < tileSize - (kXMajor ? 1 : 0)) {
+        // Both voxels in the register window: one check for the pair.
+        const std::uint16_t* pair = tileHeights + (((y - wy0) << f.tileShift) + (x - wx0));
+        h0 = pair[0];
+        h1 = pair[kXMajor ? std::ptrdiff_t{1} << f.tileShift : 1];
+      } else {
+        h0 = height(level, line, j);
+        h1 = height(level, line, j + 1);
+      }
       if (z < h0 + (minor - j) * (h1 - h0)) {
         steps += 2 * static_cast<std::uint64_t>(n + 1);
         return {line, minor};
