@@ -1056,10 +1056,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     const double invR = 1.0 / rMaj;
     const double rMin = c.aMin + rowSlope * c.bMin, rZ = c.aZ + rowSlope * c.bZ;
     const double depth = dMajOf(i) * invR;
-    const double dDepth = sx * p * invR;                     // depth per line
-    double minor = (c.cMin + depth * rMin + 0.5) / p - 0.5;  // level-L index
+    const double dDepth = sx * p * invR;                      // depth per line
+    double minor = levelIndex(c.cMin + depth * rMin, level);  // level-L index
     double z = c.cZ + depth * rZ;
-    const double dMinor = dDepth * rMin / p;
+    const double dMinor = sx * invR * rMin;
     const double dz = dDepth * rZ;
     int lines = (majLast - i) * sx;
     bool climbsAway = false;  // it rises above the highest terrain within `lines`
