@@ -1075,7 +1075,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     if (switchZc < std::numeric_limits<double>::infinity()) {
       const double before = (switchZc - depth) / dDepth;  // lines before the switch depth
       int n = before < 1.0 ? 1 : (before < lines ? static_cast<int>(before) + 1 : lines);
-      if (((i + n * sx) & 1) != evenParity) ++n;
+      n += ((i + n * sx) ^ evenParity) & 1;  // onto an even line (no branch: its outcome is random)
       if (n < lines) {
         lines = n;
         climbsAway = false;
