@@ -627,29 +627,11 @@ ColumnPlane columnPlane(const CasterFrame& f, double uc) noexcept {
   return c;
 }
 
-// Colour of a crossing: linear along the grid line at its level, blended with the next level.
-const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                          Crossing& x) noexcept {
-  if (x.haveColour) return x.colour;
+// Blends the next level's colour (bilinear) into crossing x's, by `blend`. Out of line: half the
+// crossings that are coloured need it, and it reads four texels.
+[[gnu::noinline]] void blendNextLevel(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                                      Crossing& x, double blend) noexcept {
   const int l = x.level;
-  std::uint32_t c0, c1;
-  const int vx = c.xMajor ? x.i : x.j;
-  const int vy = c.xMajor ? x.j : x.i;
-  if ((x.j & f.tileMask) != f.tileMask && windowFor(f, t, w, l, vx, vy)) {
-    // Both voxels of the segment lie in one tile: two loads.
-    const auto lv = static_cast<std::size_t>(l);
-    const std::uint32_t* p0 = w.tile[lv]->colourRgba + (((vy - w.y0[lv]) << f.tileShift) + (vx - w.x0[lv]));
-    c0 = p0[0];
-    c1 = p0[c.xMajor ? std::ptrdiff_t{1} << f.tileShift : 1];
-  } else {
-    c0 = windowColour(f, t, w, l, vx, vy);
-    c1 = c.xMajor ? windowColour(f, t, w, l, vx, vy + 1) : windowColour(f, t, w, l, vx + 1, vy);
-  }
-  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
-  x.haveColour = true;
-  if (!f.blend || l + 1 >= f.levels) return x.colour;
-  const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
-  if (blend <= 0.0) return x.colour;
   const double p = pow2(l);
   const double mMaj = (x.i + 0.5) * p - 0.5;
   const double mMin = (x.j + 0.5 + x.phi) * p - 0.5;
@@ -680,6 +662,32 @@ const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
   const Rgb lo = mix(unpackRgb(q00), unpackRgb(q10), fx);
   const Rgb hi = mix(unpackRgb(q01), unpackRgb(q11), fx);
   x.colour = mix(x.colour, mix(lo, hi, fy), static_cast<float>(blend));
+}
+
+// Colour of a crossing: linear along the grid line at its level, blended with the next level.
+// Inline: it is asked for twice per fill, and as a call its set-up cost as much as its work.
+__attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
+                                                                const ColumnPlane& c, Crossing& x) noexcept {
+  if (x.haveColour) return x.colour;
+  const int l = x.level;
+  std::uint32_t c0, c1;
+  const int vx = c.xMajor ? x.i : x.j;
+  const int vy = c.xMajor ? x.j : x.i;
+  if ((x.j & f.tileMask) != f.tileMask && windowFor(f, t, w, l, vx, vy)) {
+    // Both voxels of the segment lie in one tile: two loads.
+    const auto lv = static_cast<std::size_t>(l);
+    const std::uint32_t* p0 = w.tile[lv]->colourRgba + (((vy - w.y0[lv]) << f.tileShift) + (vx - w.x0[lv]));
+    c0 = p0[0];
+    c1 = p0[c.xMajor ? std::ptrdiff_t{1} << f.tileShift : 1];
+  } else {
+    c0 = windowColour(f, t, w, l, vx, vy);
+    c1 = c.xMajor ? windowColour(f, t, w, l, vx, vy + 1) : windowColour(f, t, w, l, vx + 1, vy);
+  }
+  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
+  x.haveColour = true;
+  if (!f.blend || l + 1 >= f.levels) return x.colour;
+  const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
+  if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
   return x.colour;
 }
 
@@ -833,10 +841,12 @@ struct ColumnFill {
 // reciprocal and one square root, nothing carried from pixel to pixel. Everything the loop reads is
 // a local: the pixel stores are bytes, which may alias anything, so values read through a
 // reference would be read again after every store. Advances q and vq.
+template <bool kGrey>
 __attribute__((always_inline)) inline void fillBetweenCrossings(const CrossingSpan span, const ColumnFill& column,
                                                                 ColumnSink& sink, double vStop, int& qInOut,
                                                                 double& vqInOut) noexcept {
-  const PixelShader shading = column.shading;
+  PixelShader shading = column.shading;
+  shading.grey = kGrey;  // a constant here, so the store has no per-pixel branch
   const float invSf = column.invS, cy = column.cy, invFyF = column.invFy, xc2 = column.xc2;
   const double invS = column.invSd;
   const float dI = span.invDepth1 - span.invDepth0;
@@ -1197,7 +1207,11 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                               crossingColour(f, t, window, c, prev),
                               crossingColour(f, t, window, c, cur)};
       const int qFirst = q;
-      fillBetweenCrossings(span, fill, sink, curV, q, vq);
+      if (fill.shading.grey) {
+        fillBetweenCrossings<true>(span, fill, sink, curV, q, vq);
+      } else {
+        fillBetweenCrossings<false>(span, fill, sink, curV, q, vq);
+      }
       rowSlope = (k.cyPx - vq) * invFy;
       if (grazingLod) {
         stretch = stretchOfRow(q);
