@@ -12,4 +12,5 @@ list(APPEND FIELDCAST_CORE_TEST_SOURCES
   tests/render/RenderPoolTest.cpp
   tests/render/RendererTest.cpp
   tests/render/LodSeamTest.cpp
-  tests/render/FrameLayoutTest.cpp)
+  tests/render/FrameLayoutTest.cpp
+  tests/render/PlaneMarchSweepTest.cpp)

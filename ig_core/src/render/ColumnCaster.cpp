@@ -754,6 +754,7 @@ struct PlaneStop {
   bool valid = false;
   bool xMajor = false;  // the plane's major axis
   glm::dvec2 point{0.0};
+  bool overTerrain = false;  // the rows left look over all the terrain: they see the sky
 };
 
 // Per-ray casting of sub-rows q = qFrom, qFrom−1, ... (the rows the plane march cannot take: below
@@ -858,7 +859,7 @@ __attribute__((always_inline)) inline void fillBetweenCrossings(const CrossingSp
   double vq = vqInOut;
   while (vq > vStop) {
     const float vqf = (static_cast<float>(q) + 0.5f) * invSf;
-    const float ts = std::min((vqf - span.v0) * span.invDv, 1.0f);
+    const float ts = std::clamp((vqf - span.v0) * span.invDv, 0.0f, 1.0f);
     const float depth = 1.0f / (span.invDepth0 + ts * dI);
     const float tw = std::clamp(ts * span.invDepth1 * depth, 0.0f, 1.0f);
     const float yc = (cy - vqf) * invFyF;
@@ -880,10 +881,18 @@ __attribute__((always_inline)) inline void fillBetweenCrossings(const CrossingSp
 // Where the ray of the next sub-row ended its march (marchPlaneAxis's advanceRowRay): the grid line
 // and the ray's minor position there (level-L index), or kRayLeavesTerrain.
 struct RowRayEnd {
-  int line;
-  double minor;
+  enum Why {
+    kBelow,          // the ray is below the terrain on `line`: that line's crossing fills the sub-row
+    kLevel,          // `line` is even and the ray is past the switch depth there: the march may switch
+    kEdge,           // `line` is the grid's last, or the ray leaves the grid's minor extent on it
+    kLeavesTerrain,  // the ray is above the highest terrain and climbing: it meets nothing more
+    kNotAlong,       // the ray does not run along the march (near the nadir): not marched
+  };
+  Why why;
+  int line;          // where it stopped
+  double minor;      // the ray's minor position there (level-L index)
+  double minorStep;  // its change per line
 };
-constexpr int kRayLeavesTerrain = std::numeric_limits<int>::min();
 
 // The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
 // sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
@@ -1050,36 +1059,49 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                         invS};
   const double invFy = 1.0 / k.fyPx;
   double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
-  bool lastFilledNothing = false;           // the last crossing filled no row
-  bool skippedSincePrev = false;            // grid lines were passed over since the last crossing solved
+  if (prevP->yc > rowSlope * prevP->depth) {
+    // The first crossing already lies above the next sub-row's ray (the bottom ray hit the grid's
+    // side wall, seen from outside the grid): it cannot bound a fill, the per-ray march takes over.
+    t.steps += steps;
+    return q;
+  }
+  bool lastFilledNothing = false;  // the last crossing filled no row
+  bool skippedSincePrev = false;   // grid lines were passed over since the last crossing solved
+  constexpr double kNoSeed = std::numeric_limits<double>::infinity();
+  double beforeSeed = kNoSeed;     // where to search the line before for its crossing, if known
+  bool rayWaitsForSwitch = false;  // the row ray stopped for a level switch that has not happened
   const int evenParity = sx > 0 ? 0 : 1;
   // The ray of the next sub-row, marched from grid line i on the level's surface as the per-ray
   // march does: on each line, the height at the ray's minor position against the ray's. While the
   // ray stays above the terrain, no crossing of those lines reaches the sub-row, so none fills
   // anything and none needs solving. Each line is two loads and a compare that do not wait on the
   // line before (a crossing waits on the previous one's segment), so this runs at the loads' rate.
-  // Returns the first line where the ray is below the terrain, or the line where the march must
-  // look itself: a possible level switch (an even line past the switch depth), the grid's edge.
+  // It stops on the first line where the ray is below the terrain, or where the march must look
+  // itself (see RowRayEnd). "Past the switch depth" is the ray's depth there; the march switches
+  // on the crossing's, which can be nearer (looking up) or deeper (looking down).
   const auto advanceRowRay = [&]() __attribute__((always_inline))->RowRayEnd {
-    const double rMaj = c.aMaj + rowSlope * c.bMaj;  // the ray's grid steps per metre of depth
-    if (!(rMaj * sx > 1e-12)) return {i, 0.0};       // it does not run along the march
-    const double invR = 1.0 / rMaj;
+    // The ray a + rowSlope·b in grid space, per metre of depth (level-0 units, height quanta).
+    const double rMaj = c.aMaj + rowSlope * c.bMaj;
     const double rMin = c.aMin + rowSlope * c.bMin, rZ = c.aZ + rowSlope * c.bZ;
+    // It must run along the march, and not so steeply across it that its minor index could leave
+    // the int range over the grid (near the nadir).
+    if (!(rMaj * sx > 1e-12 && rMaj * sx > 1e-4 * std::abs(rMin))) return {RowRayEnd::kNotAlong, i, 0.0, 0.0};
+    const double invR = 1.0 / rMaj;
     const double depth = dMajOf(i) * invR;
-    const double dDepth = sx * p * invR;                      // depth per line
+    const double dDepth = sx * p * invR;                      // depth per level-L line
     double minor = levelIndex(c.cMin + depth * rMin, level);  // level-L index
     double z = c.cZ + depth * rZ;
     const double dMinor = sx * invR * rMin;
     const double dz = dDepth * rZ;
     int lines = (majLast - i) * sx;
-    bool climbsAway = false;  // it rises above the highest terrain within `lines`
+    RowRayEnd::Why end = RowRayEnd::kEdge;  // why it stops if it stays above the terrain
     if (dz >= 0.0) {
       // Once above the highest terrain and climbing, it meets nothing.
       const double below = (f.ceilingQ - z) / dz;
-      if (below < 0.0) return {kRayLeavesTerrain, 0.0};
+      if (below < 0.0) return {RowRayEnd::kLeavesTerrain, i, minor, dMinor};
       if (below < lines) {
         lines = static_cast<int>(below) + 1;
-        climbsAway = true;
+        end = RowRayEnd::kLeavesTerrain;
       }
     }
     if (switchZc < std::numeric_limits<double>::infinity()) {
@@ -1088,7 +1110,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       n += ((i + n * sx) ^ evenParity) & 1;  // onto an even line (no branch: its outcome is random)
       if (n < lines) {
         lines = n;
-        climbsAway = false;
+        end = RowRayEnd::kLevel;
       }
     }
     int line = i;
@@ -1097,7 +1119,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       minor += dMinor;
       z += dz;
       const int j = floorToInt(minor);
-      if (j < 0 || j > minLast) return {line, minor};
+      if (j < 0 || j > minLast) return {RowRayEnd::kEdge, line, minor, dMinor};
       double h0, h1;
       const int x = kXMajor ? line : j;
       const int y = kXMajor ? j : line;
@@ -1113,12 +1135,11 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       }
       if (z < h0 + (minor - j) * (h1 - h0)) {
         steps += 2 * static_cast<std::uint64_t>(n + 1);
-        return {line, minor};
+        return {RowRayEnd::kBelow, line, minor, dMinor};
       }
     }
     steps += 2 * static_cast<std::uint64_t>(lines);
-    if (climbsAway) return {kRayLeavesTerrain, 0.0};
-    return {line, minor};
+    return {end, line, minor, dMinor};
   };
   for (;;) {
     Crossing& prev = *prevP;
@@ -1126,18 +1147,27 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     bool solved = false;
     // After a crossing that filled nothing, the next lines' crossings fill nothing either until the
     // next sub-row's ray passes below the terrain: found by marching that ray, and only the
-    // crossing of the line where it does is solved (and the one before, if it fills).
-    if (lastFilledNothing && !(prev.depth > switchZc && (i & 1) == evenParity)) {
+    // crossing of the line where it does is solved (and the one before, if that one fills).
+    if (lastFilledNothing && !rayWaitsForSwitch && !(prev.depth > switchZc && (i & 1) == evenParity)) {
       const RowRayEnd end = advanceRowRay();
-      if (end.line == kRayLeavesTerrain) {
+      if (end.why == RowRayEnd::kLeavesTerrain) {
         recordStop(prev);
+        stopped.overTerrain = true;
         return q;
       }
+      // Looking up, the ray passes the switch depth before the crossings do: after a stop there that
+      // did not switch, the march goes line by line until it does (else it would stop every other
+      // line), and the ray waits for the next level.
+      rayWaitsForSwitch = end.why == RowRayEnd::kLevel;
       if (end.line != i) {
-        if (end.line != i + sx) {
-          jPos = end.minor;
+        const int skipped = (end.line - i) * sx - 1;
+        if (skipped > 0) {
+          // The crossing is near the ray where the ray went below the terrain; otherwise where the
+          // plane's drift takes the last one.
+          jPos = end.why == RowRayEnd::kBelow ? end.minor : jPos + drift * skipped;
           jGuess = kNoGuess;
           skippedSincePrev = true;
+          beforeSeed = end.why == RowRayEnd::kBelow ? end.minor - end.minorStep : kNoSeed;
         }
         i = end.line;
         setLine(i);
@@ -1152,6 +1182,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       // Next grid line: on an even step past the level's depth, the coarser level's line (half a
       // step ahead); otherwise the next line of this level.
       if (prev.depth > switchZc && (i & 1) == evenParity) {
+        rayWaitsForSwitch = false;
         ++level;
         i >>= 1;
         enterLevel(level);
@@ -1171,19 +1202,23 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       }
     }
     // Rows to fill: the next sub-row's ray passes below this crossing (vq > v), without dividing.
+    // (prev lies below that ray: it filled rows up to it, or filled nothing.)
     const bool fills = cur.yc > rowSlope * cur.depth;
     lastFilledNothing = !fills;
     if (fills && skippedSincePrev) {
-      // The crossing before this one was skipped: solve it now, it bounds the rows to fill.
+      // The crossing before this one was skipped: solve it now, it bounds the rows to fill. It is
+      // searched for from the row ray's position on that line, and kept only if it lies below the
+      // row ray as the ray's march found (a grid line may cross the column plane's terrain twice);
+      // otherwise the fill starts from the last crossing solved.
       const int iHere = i;
       const double baseHere = base, yLineHere = yLine, zLineHere = zLine, jPosHere = jPos;
       const int jGuessHere = jGuess;
       i -= sx;
       setLine(i);
-      jPos = cur.j + cur.phi - drift;
+      jPos = beforeSeed != kNoSeed ? beforeSeed : cur.j + cur.phi - drift;
       jGuess = kNoGuess;
       Crossing before{};
-      if (solve(before)) prev = before;
+      if (solve(before) && !(before.yc > rowSlope * before.depth)) prev = before;
       i = iHere;
       base = baseHere;
       yLine = yLineHere;
@@ -1192,6 +1227,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       jGuess = jGuessHere;
     }
     skippedSincePrev = false;
+    beforeSeed = kNoSeed;
     if (fills) {
       // (A crossing that raises the top by less than a row fills nothing and needs no colour.)
       const double prevInvDepth = 1.0 / prev.depth;
@@ -1248,15 +1284,14 @@ void castColumn(const CasterFrame& f, CasterThread& t, int u, std::uint8_t* colu
   if (q < 0) return;
 
   const ColumnPlane c = columnPlane(f, uc);
-  const double invS = 1.0 / s;
-  const auto rowV = [invS](int qq) { return (qq + 0.5) * invS; };
-  const double horizonRow = c.vHorizon;
   PlaneStop stopped;
   q = marchPlane(f, t, sink, c, q, prevHit, hit.at.level, stopped);
   if (q < 0) return;
-  // Beyond the terrain (or above it): rows that look up see the sky; rows that still look down
-  // (over the terrain's edge, where a tilted column may come back over it) are cast one by one.
-  if (rowV(q) < horizonRow) {
+  // Above all the terrain, the rows left see the sky. Otherwise (the march left the grid, or could
+  // not start) they are cast one by one: a row may look over the terrain's edge and a tilted
+  // column come back over it, and a row above the horizon may still meet a slope that rises above
+  // the camera. The per-ray march ends the column with sky at the first climbing ray that misses.
+  if (stopped.overTerrain) {
     castSkyRows(f, t, sink, c.xc, q);
     return;
   }
