@@ -1070,6 +1070,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   constexpr double kNoSeed = std::numeric_limits<double>::infinity();
   double beforeSeed = kNoSeed;     // where to search the line before for its crossing, if known
   bool rayWaitsForSwitch = false;  // the row ray stopped for a level switch that has not happened
+  // i & 1 on the "even" lines, where the march may switch to the coarser level: there the coarser
+  // level's line lies half a step ahead (odd indices when the march runs down the axis).
   const int evenParity = sx > 0 ? 0 : 1;
   // The ray of the next sub-row, marched from grid line i on the level's surface as the per-ray
   // march does: on each line, the height at the ray's minor position against the ray's. While the
