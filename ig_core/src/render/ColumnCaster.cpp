@@ -807,20 +807,6 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
   return -1;
 }
 
-// Where the column plane crosses the terrain on segment j .. j+1 of a grid line, given g (the plane
-// equation) at both ends, g0 ≤ 0 < g1: the fraction φ along the segment and the crossing's camera
-// up and forward coordinates, from the line's yc, zc at minor 0, height 0 and their rates.
-struct SegmentHit {
-  double phi, minor, yc, zc;
-};
-inline SegmentHit segmentHit(int j, double h0, double h1, double g0, double g1, double yLine, double zLine,
-                             double yMinor, double zMinor, double upZ, double fwdZ) noexcept {
-  const double phi = g0 / (g0 - g1);
-  const double minor = j + phi;
-  const double h = h0 + phi * (h1 - h0);
-  return {phi, minor, yLine + minor * yMinor + h * upZ, zLine + minor * zMinor + h * fwdZ};
-}
-
 // Two crossings of a column that bound the sub-rows to fill, for the fill loop: the near one's row
 // v0, 1 / (v1 − v0), both crossings' 1 / depth and colours.
 struct CrossingSpan {
@@ -878,8 +864,7 @@ __attribute__((always_inline)) inline void fillBetweenCrossings(const CrossingSp
   vqInOut = vq;
 }
 
-// Where the ray of the next sub-row ended its march (marchPlaneAxis's advanceRowRay): the grid line
-// and the ray's minor position there (level-L index), or kRayLeavesTerrain.
+// Where the ray of the next sub-row ended its march (marchPlaneAxis's advanceRowRay), and why.
 struct RowRayEnd {
   enum Why {
     kBelow,          // the ray is below the terrain on `line`: that line's crossing fills the sub-row
@@ -1023,17 +1008,21 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       ++samples;
     }
     steps += samples;
-    const SegmentHit x = segmentHit(j, h0, h1, g0, g1, yLine, zLine, yMinor, zMinor, upZ, fwdZ);
-    if (!(x.zc > 1e-6)) return false;
-    out.yc = x.yc;
-    out.depth = x.zc;
-    out.lodDepth = x.zc * stretch;
-    out.phi = x.phi;
+    // The crossing at fraction φ along segment j .. j+1 (g0 ≤ 0 < g1), and its camera coordinates.
+    const double phi = g0 / (g0 - g1);
+    const double minor = j + phi;
+    const double h = h0 + phi * (h1 - h0);
+    const double zc = zLine + minor * zMinor + h * fwdZ;
+    if (!(zc > 1e-6)) return false;
+    out.yc = yLine + minor * yMinor + h * upZ;
+    out.depth = zc;
+    out.lodDepth = zc * stretch;
+    out.phi = phi;
     out.level = level;
     out.i = i;
     out.j = j;
     out.haveColour = false;
-    jPos = x.minor + drift;
+    jPos = minor + drift;
     jGuess = nextSegment(j, g0, g1, drift);
     return true;
   };
@@ -1231,12 +1220,12 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     skippedSincePrev = false;
     beforeSeed = kNoSeed;
     if (fills) {
-      // (A crossing that raises the top by less than a row fills nothing and needs no colour.)
+      // (Only a crossing that fills rows is projected to its row and coloured.)
       const double prevInvDepth = 1.0 / prev.depth;
       const double curInvDepth = 1.0 / cur.depth;
       const double prevV = k.cyPx - k.fyPx * prev.yc * prevInvDepth;
       const double curV = k.cyPx - k.fyPx * cur.yc * curInvDepth;
-      // Sub-rows between the highest crossing so far and this one see the terrain between the two
+      // The sub-rows from the next one up to this crossing's row see the terrain between the two
       // grid lines.
       const CrossingSpan span{static_cast<float>(prevV),
                               static_cast<float>(1.0 / (curV - prevV)),
