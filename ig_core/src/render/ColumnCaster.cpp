@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <tuple>
 #include <utility>
 
@@ -879,13 +880,34 @@ struct RowRayEnd {
   double minorStep;  // its change per line
 };
 
+// What the plane march of a column carries from one grid line to the next, so that it can pause
+// at a depth and resume there. castColumns marches the columns of a staging block in step, depth
+// band by depth band: all but the first then read heights and texels already in L1.
+struct PlaneMarchState {
+  bool started = false;  // false: the march starts from `start` at `level` (marchPlaneAxis)
+  bool paused = false;   // the last call paused (rather than ended)
+  int level = 0, i = 0, q = 0, jGuess = 0, prev = 0;
+  double base = 0, yLine = 0, zLine = 0, jPos = 0, stretch = 1, switchZc = 0, vq = 0, rowSlope = 0;
+  bool lastFilledNothing = false, rayWaitsForSwitch = false;
+  Crossing crossings[2]{};
+};
+
 // The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
 // sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
 // fill (−1 when the column is done): the march left the terrain, or the rows left look over it.
-// `stopped` records its last crossing, where the per-ray march takes the rows left on.
+// `stopped` records its last crossing, where the per-ray march takes the rows left on. Once its
+// last crossing lies deeper than `pauseDepth` it pauses instead (state.paused); called again with
+// the same state, it goes on from there (q, start and level are then the state's).
 template <bool kXMajor>
 int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
-                   const glm::dvec2& start, int level, PlaneStop& stopped) noexcept {
+                   const glm::dvec2& start, int level, PlaneStop& stopped, PlaneMarchState& state, double pauseDepth,
+                   TileWindows& window) noexcept {
+  const bool resuming = state.started;
+  state.paused = false;
+  if (resuming) {
+    q = state.q;
+    level = state.level;
+  }
   const Intrinsics& k = f.geo->intrinsics();
   const int sx = c.sx;
   const double invS = 1.0 / sink.s;
@@ -893,7 +915,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double cMinHalf = 0.5 + c.cMin;
   const auto& majSizes = c.xMajor ? f.levelWidth : f.levelHeight;
   const auto& minSizes = c.xMajor ? f.levelHeight : f.levelWidth;
-  TileWindows window;
   // The tile of the current level the heights come from, kept in registers: a read is two
   // unsigned compares and a load; anything else goes through the window cache.
   const std::uint16_t* tileHeights = nullptr;
@@ -960,11 +981,18 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   constexpr int kNoGuess = std::numeric_limits<int>::min();
   int jGuess = kNoGuess;                       // floor(jPos) when the last solve found it without the division
   const double drift = -c.nMaj / c.nMin * sx;  // minor change of the plane's trace per major step
+  if (resuming) {
+    i = state.i;
+    base = state.base;
+    yLine = state.yLine;
+    zLine = state.zLine;
+    jPos = state.jPos;
+    jGuess = state.jGuess;
+  }
 
   // The last crossing (prev) and the one being found (cur).
-  Crossing crossings[2]{};
-  Crossing* prevP = &crossings[0];
-  Crossing* curP = &crossings[1];
+  Crossing* prevP = &state.crossings[state.prev];
+  Crossing* curP = &state.crossings[1 - state.prev];
   std::uint64_t steps = 0;
   // The grazing-angle stretch of the level of detail (ViewGeometry::lodStretch) for the ray of the
   // next sub-row to fill. It only grows as the rows go up the column, so levels still only go up.
@@ -974,9 +1002,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     return f.geo->lodStretch(c.xc * axes.right + yc * axes.up + axes.forward);
   };
   const bool grazingLod = f.geo->grazingLod();
-  double stretch = grazingLod ? stretchOfRow(q) : 1.0;
+  double stretch = resuming ? state.stretch : (grazingLod ? stretchOfRow(q) : 1.0);
   // The march switches level once a crossing's depth passes switchDepth / stretch.
-  double switchZc = switchDepth / stretch;
+  double switchZc = resuming ? state.switchZc : switchDepth / stretch;
   // Solves the crossing on the current grid line; false when it leaves the grid or the view.
   const auto solve = [&](Crossing & out) __attribute__((always_inline))->bool {
     if (sx > 0 ? i > majLast : i < majLast) return false;
@@ -1027,7 +1055,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     return true;
   };
 
-  if (!solve(*prevP)) {
+  if (!resuming && !solve(*prevP)) {
     t.steps += steps;
     return q;
   }
@@ -1039,7 +1067,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     stopped = PlaneStop{true, kXMajor, kXMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj}};
     t.steps += steps;
   };
-  double vq = (q + 0.5) * invS;
+  double vq = resuming ? state.vq : (q + 0.5) * invS;
   const ColumnFill fill{f.shading.pixelShader(),
                         static_cast<float>(invS),
                         static_cast<float>(k.cyPx),
@@ -1047,18 +1075,18 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                         static_cast<float>(1.0 + c.xc * c.xc),
                         invS};
   const double invFy = 1.0 / k.fyPx;
-  double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
-  if (prevP->yc > rowSlope * prevP->depth) {
+  double rowSlope = resuming ? state.rowSlope : (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
+  if (!resuming && prevP->yc > rowSlope * prevP->depth) {
     // The first crossing already lies above the next sub-row's ray (the bottom ray hit the grid's
     // side wall, seen from outside the grid): it cannot bound a fill, the per-ray march takes over.
     t.steps += steps;
     return q;
   }
-  bool lastFilledNothing = false;  // the last crossing filled no row
-  bool skippedSincePrev = false;   // grid lines were passed over since the last crossing solved
+  bool lastFilledNothing = resuming && state.lastFilledNothing;  // the last crossing filled no row
+  bool skippedSincePrev = false;  // grid lines were passed over since the last crossing solved
   constexpr double kNoSeed = std::numeric_limits<double>::infinity();
-  double beforeSeed = kNoSeed;     // where to search the line before for its crossing, if known
-  bool rayWaitsForSwitch = false;  // the row ray stopped for a level switch that has not happened
+  double beforeSeed = kNoSeed;  // where to search the line before for its crossing, if known
+  bool rayWaitsForSwitch = resuming && state.rayWaitsForSwitch;  // a level switch the row ray waits for
   // i & 1 on the "even" lines, where the march may switch to the coarser level: there the coarser
   // level's line lies half a step ahead (odd indices when the march runs down the axis).
   const int evenParity = sx > 0 ? 0 : 1;
@@ -1133,6 +1161,28 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     return {end, line, minor, dMinor};
   };
   for (;;) {
+    if (prevP->depth > pauseDepth) {
+      // Past the depth band: the next columns march it before this one goes on.
+      state.started = true;
+      state.paused = true;
+      state.level = level;
+      state.i = i;
+      state.q = q;
+      state.jGuess = jGuess;
+      state.prev = static_cast<int>(prevP - state.crossings);
+      state.base = base;
+      state.yLine = yLine;
+      state.zLine = zLine;
+      state.jPos = jPos;
+      state.stretch = stretch;
+      state.switchZc = switchZc;
+      state.vq = vq;
+      state.rowSlope = rowSlope;
+      state.lastFilledNothing = lastFilledNothing;
+      state.rayWaitsForSwitch = rayWaitsForSwitch;
+      t.steps += steps;
+      return q;
+    }
     Crossing& prev = *prevP;
     Crossing& cur = *curP;
     bool solved = false;
@@ -1255,39 +1305,67 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
 }
 
 int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
-               const glm::dvec2& start, int level, PlaneStop& stopped) noexcept {
-  return c.xMajor ? marchPlaneAxis<true>(f, t, sink, c, q, start, level, stopped)
-                  : marchPlaneAxis<false>(f, t, sink, c, q, start, level, stopped);
+               const glm::dvec2& start, int level, PlaneStop& stopped, PlaneMarchState& state, double pauseDepth,
+               TileWindows& window) noexcept {
+  return c.xMajor ? marchPlaneAxis<true>(f, t, sink, c, q, start, level, stopped, state, pauseDepth, window)
+                  : marchPlaneAxis<false>(f, t, sink, c, q, start, level, stopped, state, pauseDepth, window);
 }
 
-void castColumn(const CasterFrame& f, CasterThread& t, int u, std::uint8_t* columnPixels,
-                float* columnRanges) noexcept {
-  const Intrinsics& k = f.geo->intrinsics();
-  const double uc = u + 0.5;
-  const int s = f.supersample;
-  ColumnSink sink(f, s, columnPixels, columnRanges);
-  bool havePrev = false;
-  glm::dvec2 prevHit{0.0};
-  MarchHit hit;
-  RayLine line;
+// One column being cast: the rays below its first hit, its plane march (which can pause at a
+// depth, see castColumns) and the rows the march leaves.
+class ColumnCast {
+ public:
+  ColumnCast(const CasterFrame& f, int u, std::uint8_t* columnPixels, float* columnRanges) noexcept
+      : mSink(f, f.supersample, columnPixels, columnRanges), mUc(u + 0.5) {}
+
   // The bottom rays, one by one until one hits (the first by descending the max pyramid).
-  int q = castRowsPerRay(f, t, sink, uc, s * k.heightPx - 1, true, havePrev, prevHit, hit, line);
-  if (q < 0) return;
-
-  const ColumnPlane c = columnPlane(f, uc);
-  PlaneStop stopped;
-  q = marchPlane(f, t, sink, c, q, prevHit, hit.at.level, stopped);
-  if (q < 0) return;
-  // Above all the terrain, the rows left see the sky. Otherwise (the march left the grid, or could
-  // not start) they are cast one by one: a row may look over the terrain's edge and a tilted
-  // column come back over it, and a row above the horizon may still meet a slope that rises above
-  // the camera. The per-ray march ends the column with sky at the first climbing ray that misses.
-  if (stopped.overTerrain) {
-    castSkyRows(f, t, sink, c.xc, q);
-    return;
+  void castBottomRays(const CasterFrame& f, CasterThread& t) noexcept {
+    const Intrinsics& k = f.geo->intrinsics();
+    mQ = castRowsPerRay(f, t, mSink, mUc, f.supersample * k.heightPx - 1, true, mHavePrev, mPrevHit, mHit, mLine);
+    if (mQ < 0) return;
+    mPlane = columnPlane(f, mUc);
+    mDepth = mHit.m / mLine.aMaj;
   }
-  castRowsPerRay(f, t, sink, uc, q, false, havePrev, prevHit, hit, line, &stopped);
-}
+
+  bool done() const noexcept { return mQ < 0; }
+  // Depth of the last terrain the column saw (its march pauses past a depth).
+  double depth() const noexcept { return mDepth; }
+
+  // Marches the column until its crossings pass `pauseDepth`, or to its end; at the end casts the
+  // rows the march left.
+  void march(const CasterFrame& f, CasterThread& t, double pauseDepth, TileWindows& window) noexcept {
+    const int q = marchPlane(f, t, mSink, mPlane, mQ, mPrevHit, mHit.at.level, mStopped, mMarch, pauseDepth, window);
+    if (mMarch.paused) {
+      mDepth = mMarch.crossings[mMarch.prev].depth;
+      return;
+    }
+    mQ = -1;
+    if (q < 0) return;
+    // Above all the terrain, the rows left see the sky. Otherwise (the march left the grid, or
+    // could not start) they are cast one by one: a row may look over the terrain's edge and a
+    // tilted column come back over it, and a row above the horizon may still meet a slope that
+    // rises above the camera. The per-ray march ends the column with sky at the first climbing ray
+    // that misses.
+    if (mStopped.overTerrain) {
+      castSkyRows(f, t, mSink, mPlane.xc, q);
+      return;
+    }
+    castRowsPerRay(f, t, mSink, mUc, q, false, mHavePrev, mPrevHit, mHit, mLine, &mStopped);
+  }
+
+ private:
+  ColumnSink mSink;
+  double mUc;
+  int mQ = -1;  // the sub-row the march starts from; −1 once the column is done
+  bool mHavePrev = false;
+  glm::dvec2 mPrevHit{0.0};
+  MarchHit mHit;
+  RayLine mLine;
+  ColumnPlane mPlane;
+  PlaneStop mStopped;
+  PlaneMarchState mMarch;
+  double mDepth = 0.0;
+};
 
 // Transposes `columns` staged columns of `rows` elements of Bytes each (column-major) into rows of
 // `dst` (`stride` bytes apart). Bytes is a constant so each copy is one move.
@@ -1328,14 +1406,32 @@ void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept
   // false sharing cost the second worker a third of its gain.
   const int rows = f.geo->intrinsics().heightPx;
   const auto bpp = static_cast<std::size_t>(f.shading.bytesPerPixel());
-  const auto block = static_cast<std::size_t>(CasterThread::kStagingColumns) * static_cast<std::size_t>(rows);
-  if (f.image != nullptr && t.columnPixels.size() < block * bpp) t.columnPixels.resize(block * bpp);
-  if (f.rangeM != nullptr && t.columnRanges.size() < block) t.columnRanges.resize(block);
+  const auto staged = static_cast<std::size_t>(CasterThread::kStagingColumns) * static_cast<std::size_t>(rows);
+  if (f.image != nullptr && t.columnPixels.size() < staged * bpp) t.columnPixels.resize(staged * bpp);
+  if (f.rangeM != nullptr && t.columnRanges.size() < staged) t.columnRanges.resize(staged);
   for (int b0 = u0; b0 < u1; b0 += CasterThread::kStagingColumns) {
     const int b1 = std::min(u1, b0 + CasterThread::kStagingColumns);
+    // The block's columns march in step, one depth band after another: their crossings lie on the
+    // same grid lines, so all but the first read heights and texels already in L1 (one column's
+    // whole march reads more lines than L1 holds).
+    std::array<std::optional<ColumnCast>, CasterThread::kStagingColumns> block;
+    TileWindows window;                                        // the tiles the block's marches read last, one per level
+    double nearest = std::numeric_limits<double>::infinity();  // depth of the column furthest behind
     for (int u = b0; u < b1; ++u) {
       const auto c = static_cast<std::size_t>(u - b0) * static_cast<std::size_t>(rows);
-      castColumn(f, t, u, t.columnPixels.data() + c * bpp, t.columnRanges.data() + c);
+      ColumnCast& column = block[static_cast<std::size_t>(u - b0)].emplace(f, u, t.columnPixels.data() + c * bpp,
+                                                                           t.columnRanges.data() + c);
+      column.castBottomRays(f, t);
+      if (!column.done()) nearest = std::min(nearest, column.depth());
+    }
+    while (nearest < std::numeric_limits<double>::infinity()) {
+      const double pause = nearest * f.marchBand;
+      nearest = std::numeric_limits<double>::infinity();
+      for (std::optional<ColumnCast>& column : block) {
+        if (!column || column->done()) continue;
+        column->march(f, t, pause, window);
+        if (!column->done()) nearest = std::min(nearest, column->depth());
+      }
     }
     flushStaging(f, t, b0, b1 - b0, rows);
   }

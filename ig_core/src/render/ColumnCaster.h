@@ -44,8 +44,11 @@ struct CasterFrame {
   double quantaPerM;                  ///< height quanta per metre
   double ceilingQ;                    ///< highest terrain height, quanta
   double invLodDepth0M;               ///< 1 / ViewGeometry::lodDepth0M()
-  Image* image;                       ///< output pixels (or null)
-  float* rangeM;                      ///< output range per pixel (or null)
+  /// The columns of a staging block march in step, in depth bands this ratio deep (> 1; see
+  /// castColumns). Any value gives the same image; tests set it near 1 to pause at every crossing.
+  double marchBand = 1.5;
+  Image* image;   ///< output pixels (or null)
+  float* rangeM;  ///< output range per pixel (or null)
 };
 
 /// Per-worker state: a tile pointer per level (most lookups are one compare) and counters.
