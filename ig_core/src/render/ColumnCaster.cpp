@@ -548,7 +548,7 @@ struct Crossing {
 };
 
 // One window per level on the tile last read there: most height and colour reads of the column
-// march are two compares and a load.
+// march are two compares and a load. The columns of a staging block share one.
 struct TileWindows {
   std::array<const TerrainTile*, 24> tile{};
   std::array<int, 24> x0{};  // level-L voxel of the tile's corner
@@ -815,7 +815,7 @@ struct CrossingSpan {
   Rgb c0, c1;
 };
 
-// What the fill loop needs of a column besides its sink, worked out once per column: the shading
+// What the fill loop needs of a column besides its sink, worked out once per march call: the shading
 // and the sub-row pitch and camera constants in float.
 struct ColumnFill {
   PixelShader shading;
@@ -883,11 +883,13 @@ struct RowRayEnd {
 // What the plane march of a column carries from one grid line to the next, so that it can pause
 // at a depth and resume there. castColumns marches the columns of a staging block in step, depth
 // band by depth band: all but the first then read heights and texels already in L1.
+// (What the loop recomputes from these, such as the level's steps, the next row's slope and the
+// grazing-angle stretch, is not kept.)
 struct PlaneMarchState {
-  bool started = false;  // false: the march starts from `start` at `level` (marchPlaneAxis)
+  bool started = false;  // the march has paused once: the next call resumes from here
   bool paused = false;   // the last call paused (rather than ended)
   int level = 0, i = 0, q = 0, jGuess = 0, prev = 0;
-  double base = 0, yLine = 0, zLine = 0, jPos = 0, stretch = 1, switchZc = 0, vq = 0, rowSlope = 0;
+  double base = 0, yLine = 0, zLine = 0, jPos = 0, vq = 0;
   bool lastFilledNothing = false, rayWaitsForSwitch = false;
   Crossing crossings[2]{};
 };
@@ -1002,9 +1004,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     return f.geo->lodStretch(c.xc * axes.right + yc * axes.up + axes.forward);
   };
   const bool grazingLod = f.geo->grazingLod();
-  double stretch = resuming ? state.stretch : (grazingLod ? stretchOfRow(q) : 1.0);
+  double stretch = grazingLod ? stretchOfRow(q) : 1.0;
   // The march switches level once a crossing's depth passes switchDepth / stretch.
-  double switchZc = resuming ? state.switchZc : switchDepth / stretch;
+  double switchZc = switchDepth / stretch;
   // Solves the crossing on the current grid line; false when it leaves the grid or the view.
   const auto solve = [&](Crossing & out) __attribute__((always_inline))->bool {
     if (sx > 0 ? i > majLast : i < majLast) return false;
@@ -1075,7 +1077,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                         static_cast<float>(1.0 + c.xc * c.xc),
                         invS};
   const double invFy = 1.0 / k.fyPx;
-  double rowSlope = resuming ? state.rowSlope : (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
+  double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
   if (!resuming && prevP->yc > rowSlope * prevP->depth) {
     // The first crossing already lies above the next sub-row's ray (the bottom ray hit the grid's
     // side wall, seen from outside the grid): it cannot bound a fill, the per-ray march takes over.
@@ -1163,6 +1165,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   for (;;) {
     if (prevP->depth > pauseDepth) {
       // Past the depth band: the next columns march it before this one goes on.
+      ++t.pauses;
       state.started = true;
       state.paused = true;
       state.level = level;
@@ -1174,10 +1177,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       state.yLine = yLine;
       state.zLine = zLine;
       state.jPos = jPos;
-      state.stretch = stretch;
-      state.switchZc = switchZc;
       state.vq = vq;
-      state.rowSlope = rowSlope;
       state.lastFilledNothing = lastFilledNothing;
       state.rayWaitsForSwitch = rayWaitsForSwitch;
       t.steps += steps;
@@ -1311,6 +1311,8 @@ int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const Co
                   : marchPlaneAxis<false>(f, t, sink, c, q, start, level, stopped, state, pauseDepth, window);
 }
 
+inline double finiteOrZero(double x) noexcept { return std::isfinite(x) ? x : 0.0; }
+
 // One column being cast: the rays below its first hit, its plane march (which can pause at a
 // depth, see castColumns) and the rows the march leaves.
 class ColumnCast {
@@ -1324,11 +1326,12 @@ class ColumnCast {
     mQ = castRowsPerRay(f, t, mSink, mUc, f.supersample * k.heightPx - 1, true, mHavePrev, mPrevHit, mHit, mLine);
     if (mQ < 0) return;
     mPlane = columnPlane(f, mUc);
-    mDepth = mHit.m / mLine.aMaj;
+    mDepth = finiteOrZero(mHit.m / mLine.aMaj);
   }
 
   bool done() const noexcept { return mQ < 0; }
-  // Depth of the last terrain the column saw (its march pauses past a depth).
+  // Depth of the last terrain the column saw (its march pauses past a depth). Finite: a column
+  // castColumns could not order would never be marched.
   double depth() const noexcept { return mDepth; }
 
   // Marches the column until its crossings pass `pauseDepth`, or to its end; at the end casts the
@@ -1336,7 +1339,7 @@ class ColumnCast {
   void march(const CasterFrame& f, CasterThread& t, double pauseDepth, TileWindows& window) noexcept {
     const int q = marchPlane(f, t, mSink, mPlane, mQ, mPrevHit, mHit.at.level, mStopped, mMarch, pauseDepth, window);
     if (mMarch.paused) {
-      mDepth = mMarch.crossings[mMarch.prev].depth;
+      mDepth = finiteOrZero(mMarch.crossings[mMarch.prev].depth);
       return;
     }
     mQ = -1;
@@ -1356,7 +1359,7 @@ class ColumnCast {
  private:
   ColumnSink mSink;
   double mUc;
-  int mQ = -1;  // the sub-row the march starts from; −1 once the column is done
+  int mQ = -1;  // the sub-row the march started from (it resumes from its state); −1 once done
   bool mHavePrev = false;
   glm::dvec2 mPrevHit{0.0};
   MarchHit mHit;
@@ -1425,7 +1428,7 @@ void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept
       if (!column.done()) nearest = std::min(nearest, column.depth());
     }
     while (nearest < std::numeric_limits<double>::infinity()) {
-      const double pause = nearest * f.marchBand;
+      const double pause = nearest * std::max(f.marchBand, 1.0);  // ≥ nearest: the nearest column moves on
       nearest = std::numeric_limits<double>::infinity();
       for (std::optional<ColumnCast>& column : block) {
         if (!column || column->done()) continue;

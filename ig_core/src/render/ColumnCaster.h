@@ -44,8 +44,9 @@ struct CasterFrame {
   double quantaPerM;                  ///< height quanta per metre
   double ceilingQ;                    ///< highest terrain height, quanta
   double invLodDepth0M;               ///< 1 / ViewGeometry::lodDepth0M()
-  /// The columns of a staging block march in step, in depth bands this ratio deep (> 1; see
-  /// castColumns). Any value gives the same image; tests set it near 1 to pause at every crossing.
+  /// The columns of a staging block march in step, in depth bands this ratio deep (see
+  /// castColumns; below 1 acts as 1). Any value gives the same image; tests set it near 1 to pause
+  /// at almost every crossing, and to infinity to march each column to its end.
   double marchBand = 1.5;
   Image* image;   ///< output pixels (or null)
   float* rangeM;  ///< output range per pixel (or null)
@@ -65,6 +66,7 @@ struct alignas(64) CasterThread {
   std::uint64_t generic = 0;    ///< generic (slow-path) samples (profiling)
   std::uint64_t retraces = 0;   ///< rays whose start lay below the surface (profiling)
   std::uint64_t firstHits = 0;  ///< max-pyramid descents (profiling)
+  std::uint64_t pauses = 0;     ///< column plane marches paused at a depth band's end (profiling)
   /// Columns are cast into these column-major blocks, then copied into the frame (see castColumns).
   /// They grow to the tallest frame once; after that the worker allocates nothing.
   static constexpr int kStagingColumns = 16;

@@ -147,11 +147,13 @@ TEST(PlaneMarchSweep, AgreesWithRayByRayOnSteepTerrain) {
 }
 
 // The columns of a staging block march in step, pausing at the end of each depth band
-// (CasterFrame::marchBand) and resuming where they were. Pausing after every crossing, at the
-// default bands, and never, must give the same pixels, ranges and counts, byte for byte: a value
-// the pause failed to carry over would show.
+// (CasterFrame::marchBand) and resuming where they were. Pausing after almost every crossing (a
+// band of 1 + 1e-12: every crossing deeper than the last), at the default bands, and never, must
+// give the same pixels, ranges and counts, byte for byte: a value the pause failed to carry over
+// would show.
 void pausingChangesNothing(const TerrainView& view, unsigned seed) {
   std::mt19937 rng(seed);
+  std::uint64_t pauses = 0;
   for (int n = 0; n < 12; ++n) {
     const SweepPose p = randomPose(view, rng);
     RenderSettings settings;
@@ -175,6 +177,9 @@ void pausingChangesNothing(const TerrainView& view, unsigned seed) {
     const Frame b = cast(CasterFrame(view, geo, settings, ceiling, nullptr, nullptr).marchBand, bands);
     const Frame c = cast(std::numeric_limits<double>::infinity(), never);
     SCOPED_TRACE("pose " + std::to_string(n));
+    EXPECT_EQ(never.pauses, 0u);
+    EXPECT_GE(everyCrossing.pauses, bands.pauses);
+    pauses += everyCrossing.pauses;
     EXPECT_TRUE(std::equal(a.image.bytes().begin(), a.image.bytes().end(), c.image.bytes().begin()));
     EXPECT_TRUE(std::equal(b.image.bytes().begin(), b.image.bytes().end(), c.image.bytes().begin()));
     EXPECT_EQ(0, std::memcmp(a.rangeM.data(), c.rangeM.data(), a.rangeM.size() * sizeof(float)));
@@ -182,7 +187,10 @@ void pausingChangesNothing(const TerrainView& view, unsigned seed) {
     EXPECT_EQ(everyCrossing.steps, never.steps);
     EXPECT_EQ(bands.steps, never.steps);
     EXPECT_EQ(everyCrossing.rays, never.rays);
+    EXPECT_EQ(bands.rays, never.rays);
   }
+  // The marches did pause, many times per column.
+  EXPECT_GT(pauses, 12u * 96u * 10u);
 }
 
 TEST(PlaneMarchSweep, PausingTheMarchChangesNothing) {
