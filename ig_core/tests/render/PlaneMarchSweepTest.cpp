@@ -54,19 +54,41 @@ struct SweepResult {
   std::uint64_t perRaySteps = 0;
 };
 
-SweepResult castBoth(const TerrainView& view, const SweepPose& p) {
+// A sweep pose's render settings (range on), its 96 × 72 frame with margins, and its camera; and a
+// blank frame to cast into.
+struct SweepView {
   RenderSettings settings;
-  settings.rangeImage = true;
-  settings.verticalSupersample = p.supersample;
-  settings.maxAnisotropy = p.maxAnisotropy;
-  const FrameLayout l = layoutFrame(Intrinsics::fromHorizontalFov(96, 72, radians(p.fovDeg)), 0.1, 0.0);
-  const ViewGeometry geo(p.pose, l.frame, view.geometry(), settings);
+  FrameLayout layout;
+  ViewGeometry geo;
+  SweepView(const TerrainView& view, const SweepPose& p)
+      : settings(settingsFor(p)),
+        layout(layoutFrame(Intrinsics::fromHorizontalFov(96, 72, radians(p.fovDeg)), 0.1, 0.0)),
+        geo(p.pose, layout.frame, view.geometry(), settings) {}
+  static RenderSettings settingsFor(const SweepPose& p) {
+    RenderSettings s;
+    s.rangeImage = true;
+    s.verticalSupersample = p.supersample;
+    s.maxAnisotropy = p.maxAnisotropy;
+    return s;
+  }
+  Frame blankFrame() const {
+    Frame frame;
+    frame.intrinsics = layout.frame;
+    frame.image.resize(layout.frame.widthPx, layout.frame.heightPx, PixelFormat::Rgb8);
+    frame.rangeM.assign(
+        static_cast<std::size_t>(layout.frame.widthPx) * static_cast<std::size_t>(layout.frame.heightPx), 0.0f);
+    return frame;
+  }
+};
+
+SweepResult castBoth(const TerrainView& view, const SweepPose& p) {
+  const SweepView v(view, p);
+  const RenderSettings& settings = v.settings;
+  const FrameLayout& l = v.layout;
+  const ViewGeometry& geo = v.geo;
   const std::uint16_t ceiling = terrainCeilingQ(view);
-  Frame plane;
+  Frame plane = v.blankFrame();
   plane.pose = p.pose;
-  plane.intrinsics = l.frame;
-  plane.image.resize(l.frame.widthPx, l.frame.heightPx, PixelFormat::Rgb8);
-  plane.rangeM.assign(static_cast<std::size_t>(l.frame.widthPx) * static_cast<std::size_t>(l.frame.heightPx), 0.0f);
   Frame perRay = plane;
   CasterThread planeThread;
   CasterThread perRayThread;
@@ -156,25 +178,18 @@ void pausingChangesNothing(const TerrainView& view, unsigned seed) {
   std::uint64_t pauses = 0;
   for (int n = 0; n < 12; ++n) {
     const SweepPose p = randomPose(view, rng);
-    RenderSettings settings;
-    settings.rangeImage = true;
-    settings.verticalSupersample = p.supersample;
-    settings.maxAnisotropy = p.maxAnisotropy;
-    const FrameLayout l = layoutFrame(Intrinsics::fromHorizontalFov(96, 72, radians(p.fovDeg)), 0.1, 0.0);
-    const ViewGeometry geo(p.pose, l.frame, view.geometry(), settings);
+    const SweepView v(view, p);
     const std::uint16_t ceiling = terrainCeilingQ(view);
     const auto cast = [&](double band, CasterThread& thread) {
-      Frame frame;
-      frame.image.resize(l.frame.widthPx, l.frame.heightPx, PixelFormat::Rgb8);
-      frame.rangeM.assign(static_cast<std::size_t>(l.frame.widthPx) * static_cast<std::size_t>(l.frame.heightPx), 0.0f);
-      CasterFrame caster(view, geo, settings, ceiling, &frame.image, frame.rangeM.data());
+      Frame frame = v.blankFrame();
+      CasterFrame caster(view, v.geo, v.settings, ceiling, &frame.image, frame.rangeM.data());
       caster.marchBand = band;
-      castColumns(caster, 0, l.frame.widthPx, thread);
+      castColumns(caster, 0, v.layout.frame.widthPx, thread);
       return frame;
     };
     CasterThread everyCrossing, bands, never;
     const Frame a = cast(1.0 + 1e-12, everyCrossing);
-    const Frame b = cast(CasterFrame(view, geo, settings, ceiling, nullptr, nullptr).marchBand, bands);
+    const Frame b = cast(CasterFrame(view, v.geo, v.settings, ceiling, nullptr, nullptr).marchBand, bands);
     const Frame c = cast(std::numeric_limits<double>::infinity(), never);
     SCOPED_TRACE("pose " + std::to_string(n));
     EXPECT_EQ(never.pauses, 0u);
