@@ -63,8 +63,9 @@ std::string RtpVideoSink::sdp(const StreamFormat& format, const RtpVideoSinkOpti
     << "o=- " << (static_cast<std::uint64_t>(MonotonicClock::now().time_since_epoch().count()) / 1000000) << " 1 IN "
     << family << ' ' << (v6 ? "::1" : "127.0.0.1") << "\r\n"
     << "s=Fieldcast raw video\r\n"
-    << "c=IN " << family << ' ' << options.address << (multicast ? "/" + std::to_string(options.multicastTtl) : "")
-    << "\r\n"
+    << "c=IN " << family << ' ' << options.address;
+  if (multicast) s << '/' << options.multicastTtl;  // (a string concatenation here set off GCC 12's -Wrestrict)
+  s << "\r\n"
     << "t=0 0\r\n"
     << "m=video " << options.port << " RTP/AVP " << options.payloadType << "\r\n"
     << "a=rtpmap:" << options.payloadType << " raw/90000\r\n"
