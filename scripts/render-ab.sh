@@ -54,6 +54,6 @@ for bin in "$@"; do
   m=$(echo "${times[n]}" | median)
   [[ -n "$first" ]] || first=$m
   printf '%s  %-40s median %6.2f ms  ratio %.3f  runs:%s\n' "$view" "$bin" "$m" \
-    "$(echo "$m / $first" | bc -l)" "$(echo "${times[n]}" | tr ' ' '\n' | grep . | sort -n | tr '\n' ' ' | sed 's/^/ /')"
+    "$(awk -v m="$m" -v f="$first" 'BEGIN {print m / f}')" "$(echo "${times[n]}" | tr ' ' '\n' | grep . | sort -n | tr '\n' ' ' | sed 's/^/ /')"
   n=$((n + 1))
 done
