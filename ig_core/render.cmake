@@ -13,4 +13,5 @@ list(APPEND FIELDCAST_CORE_TEST_SOURCES
   tests/render/RendererTest.cpp
   tests/render/LodSeamTest.cpp
   tests/render/FrameLayoutTest.cpp
-  tests/render/PlaneMarchSweepTest.cpp)
+  tests/render/PlaneMarchSweepTest.cpp
+  tests/render/SpanFillTest.cpp)

@@ -11,6 +11,7 @@
 // at level L the grid lines lie at level-0 coordinate (i + ½)·2^L − ½, so one step is 2^L units.
 // Minor positions are level-L voxel indices in 32.32 fixed point; heights are quanta in 48.16.
 #include "ColumnCaster.h"
+#include "SpanFill.h"
 
 #include <glm/geometric.hpp>
 
@@ -808,58 +809,17 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
   return -1;
 }
 
-// Two crossings of a column that bound the sub-rows to fill, for the fill loop: the near one's row
-// v0, 1 / (v1 − v0), both crossings' 1 / depth and colours.
-struct CrossingSpan {
-  float v0, invDv, invDepth0, invDepth1;
-  Rgb c0, c1;
-};
-
-// What the fill loop needs of a column besides its sink, worked out once per march call: the shading
-// and the sub-row pitch and camera constants in float.
-struct ColumnFill {
-  PixelShader shading;
-  float invS, cy, invFy, xc2;  // sub-row pitch, principal point row, 1/fy, 1 + xc²
-  double invSd;                // the sub-row pitch in double (the march steps vq by it)
-};
-
-// Fills sub-rows q, q−1, ... while their centre vq lies below vStop (the far crossing's row) with
-// the terrain between the two crossings, interpolated perspective-correctly: 1/depth is linear in
-// v, and the colour weight of the far crossing is ts·(1/depth₁)·depth. In float: per pixel one
-// reciprocal and one square root, nothing carried from pixel to pixel. Everything the loop reads is
-// a local: the pixel stores are bytes, which may alias anything, so values read through a
-// reference would be read again after every store. Advances q and vq.
-template <bool kGrey>
-__attribute__((always_inline)) inline void fillBetweenCrossings(const CrossingSpan span, const ColumnFill& column,
-                                                                ColumnSink& sink, double vStop, int& qInOut,
-                                                                double& vqInOut) noexcept {
-  PixelShader shading = column.shading;
-  shading.grey = kGrey;  // a constant here, so the store has no per-pixel branch
-  const float invSf = column.invS, cy = column.cy, invFyF = column.invFy, xc2 = column.xc2;
-  const double invS = column.invSd;
-  const float dI = span.invDepth1 - span.invDepth0;
-  std::uint8_t* const pixels = sink.pixels;
-  float* const ranges = sink.ranges;
-  const std::size_t bpp = sink.bytesPerPixel;
-  const bool oneSubRow = sink.s == 1;
+// Fills the sub-rows of a supersampled column (several per pixel) between two crossings, as
+// fillSpanReference does for one per pixel; the sink averages them into pixels.
+void fillSpanSubRows(const CrossingSpan& span, const ColumnFill& column, ColumnSink& sink, double vStop, int& qInOut,
+                     double& vqInOut) noexcept {
   int q = qInOut;
   double vq = vqInOut;
   while (vq > vStop) {
-    const float vqf = (static_cast<float>(q) + 0.5f) * invSf;
-    const float ts = std::clamp((vqf - span.v0) * span.invDv, 0.0f, 1.0f);
-    const float depth = 1.0f / (span.invDepth0 + ts * dI);
-    const float tw = std::clamp(ts * span.invDepth1 * depth, 0.0f, 1.0f);
-    const float yc = (cy - vqf) * invFyF;
-    const float rangeM = depth * std::sqrt(xc2 + yc * yc);
-    const Rgb colour = shading.terrain(mix(span.c0, span.c1, tw), rangeM);
-    if (oneSubRow) {
-      if (pixels != nullptr) shading.storePixel(pixels + static_cast<std::size_t>(q) * bpp, colour, 1.0f);
-      if (ranges != nullptr) ranges[q] = rangeM;
-    } else {
-      sink.emit(q, colour, rangeM);
-    }
+    const SpanPixel p = spanPixel(span, column, column.shading, q);
+    sink.emit(q, p.colour, p.rangeM);
     if (--q < 0) break;
-    vq -= invS;
+    vq -= column.invSd;
   }
   qInOut = q;
   vqInOut = vq;
@@ -1284,10 +1244,12 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                               crossingColour(f, t, window, c, prev),
                               crossingColour(f, t, window, c, cur)};
       const int qFirst = q;
-      if (fill.shading.grey) {
-        fillBetweenCrossings<true>(span, fill, sink, curV, q, vq);
+      if (sink.s != 1) {
+        fillSpanSubRows(span, fill, sink, curV, q, vq);
+      } else if (fill.shading.grey) {
+        fillSpan<true>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, curV, q, vq);
       } else {
-        fillBetweenCrossings<false>(span, fill, sink, curV, q, vq);
+        fillSpan<false>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, curV, q, vq);
       }
       rowSlope = (k.cyPx - vq) * invFy;
       if (grazingLod) {
