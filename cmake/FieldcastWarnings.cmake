@@ -1,5 +1,6 @@
 # fieldcast::warnings — the warning set every Fieldcast target compiles with (PRIVATE link).
-# fieldcast::arch — the instruction-set choice: generic x86-64 unless FIELDCAST_NATIVE is on.
+# fieldcast::arch — the instruction-set choice (generic x86-64 unless FIELDCAST_NATIVE is on) and
+# floating-point contraction off.
 add_library(fieldcast_warnings INTERFACE)
 add_library(fieldcast::warnings ALIAS fieldcast_warnings)
 target_compile_options(fieldcast_warnings INTERFACE
@@ -12,6 +13,10 @@ endif()
 
 add_library(fieldcast_arch INTERFACE)
 add_library(fieldcast::arch ALIAS fieldcast_arch)
+# No fused multiply-adds behind the code's back: with -march=native GCC and Clang would fuse some
+# a·b + c and not others, so the caster's SIMD and scalar paths (tested to agree to the bit) and
+# the golden images would differ between a native and a portable build.
+target_compile_options(fieldcast_arch INTERFACE -ffp-contract=off)
 if(FIELDCAST_NATIVE)
   target_compile_options(fieldcast_arch INTERFACE -march=native)
 endif()

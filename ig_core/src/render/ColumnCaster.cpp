@@ -810,16 +810,19 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
 }
 
 // Fills the sub-rows of a supersampled column (several per pixel) between two crossings, as
-// fillSpanReference does for one per pixel; the sink averages them into pixels.
-void fillSpanSubRows(const CrossingSpan& span, const ColumnFill& column, ColumnSink& sink, double vStop, int& qInOut,
-                     double& vqInOut) noexcept {
+// fillSpanReference does for one per pixel; the sink averages them into pixels. Its constants are
+// copied to locals: the sink's stores would otherwise make them be read again after each one.
+__attribute__((always_inline)) inline void fillSpanSubRows(const CrossingSpan span, const ColumnFill& column,
+                                                           ColumnSink& sink, double vStop, int& qInOut,
+                                                           double& vqInOut) noexcept {
+  const ColumnFill local = column;
   int q = qInOut;
   double vq = vqInOut;
   while (vq > vStop) {
-    const SpanPixel p = spanPixel(span, column, column.shading, q);
+    const SpanPixel p = spanPixel(span, local, local.shading, q);
     sink.emit(q, p.colour, p.rangeM);
     if (--q < 0) break;
-    vq -= column.invSd;
+    vq -= local.invSd;
   }
   qInOut = q;
   vqInOut = vq;

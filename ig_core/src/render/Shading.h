@@ -65,7 +65,8 @@ struct PixelShader {
   /// Terrain colour at range `rangeM` (metres). RT-safe.
   Rgb terrain(const Rgb& colour, float rangeM) const noexcept {
     if (!hazeOn) return colour;
-    const float x = std::min(rangeM * invStepM, lastStep);
+    const float steps = rangeM * invStepM;
+    const float x = steps < lastStep ? steps : lastStep;  // a NaN range reads the last entry
     return mix(colour, horizon, haze[static_cast<std::size_t>(x)]);
   }
 

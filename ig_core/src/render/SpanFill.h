@@ -10,6 +10,7 @@
 #include "Shading.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -56,20 +57,15 @@ inline SpanPixel spanPixel(const CrossingSpan& span, const ColumnFill& column, c
 }
 
 /// A column with one sub-row per pixel: its pixel and its range in row 0 (rows are consecutive);
-/// either may be null.
+/// either may be null. Bytes per pixel: 1 for grey, 3 for colour.
 struct ColumnPixels {
   std::uint8_t* pixels;
   float* ranges;
   std::size_t bytesPerPixel;
-
-  void put(const PixelShader& shading, int row, const Rgb& colour, float rangeM) const noexcept {
-    if (pixels != nullptr) shading.storePixel(pixels + static_cast<std::size_t>(row) * bytesPerPixel, colour, 1.0f);
-    if (ranges != nullptr) ranges[row] = rangeM;
-  }
 };
 
 /// Fills sub-rows q, q−1, ... while their centre vq lies below vStop (the far crossing's row), one
-/// at a time; advances q and vq. The reference for fillSpan. Everything the loop reads is a local:
+/// at a time; advances q and vq. q ≥ 0 on entry. The reference for fillSpan. Everything the loop reads is a local:
 /// the pixel stores are bytes, which may alias anything, so values read through a reference would
 /// be read again after every store.
 template <bool kGrey>
@@ -96,8 +92,8 @@ __attribute__((always_inline)) inline void fillSpanReference(const CrossingSpan 
 #if defined(__SSE2__)
 namespace span_lanes {
 
-// std::clamp(x, 0, 1) and std::min(x, hi) lane by lane with the same results (minps and maxps
-// return their second operand on a tie or a NaN, as the scalar comparisons do here).
+// std::clamp(x, 0, 1) lane by lane with the same results, NaN and −0 included: maxps and minps
+// return their second operand on a tie or a NaN, as std::clamp's comparisons do.
 inline __m128 clampUnit(__m128 x) noexcept { return _mm_min_ps(_mm_set1_ps(1.0f), _mm_max_ps(_mm_setzero_ps(), x)); }
 
 // Lane k of a colour channel's register is sub-row q − k.
@@ -121,13 +117,15 @@ inline __m128i roundLanes(__m128 x) noexcept {
 #endif
 
 /// fillSpanReference with four sub-rows at a time: lane k is sub-row q − k, and each colour
-/// channel has a register of its own. Same pixels and ranges, same q and vq afterwards. RT-safe.
+/// channel has a register of its own. Same pixels and ranges, same q and vq afterwards; q ≥ 0 on
+/// entry, and out.bytesPerPixel is kGrey ? 1 : 3. RT-safe.
 template <bool kGrey>
 __attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, const ColumnFill& column,
                                                     const ColumnPixels out, double vStop, int& qInOut,
                                                     double& vqInOut) noexcept {
 #if defined(__SSE2__)
   using namespace span_lanes;
+  assert(qInOut >= 0 && out.bytesPerPixel == (kGrey ? 1u : 3u));
   if (!(vqInOut - vStop > 2.0 * column.invSd)) {
     // A span of one or two sub-rows (most of them where the terrain is minified): the lanes'
     // set-up would cost more than they save.
@@ -156,10 +154,11 @@ __attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, con
     const __m128 rangeM = _mm_mul_ps(depth, _mm_sqrt_ps(_mm_add_ps(_mm_set1_ps(local.xc2), _mm_mul_ps(yc, yc))));
     Channels colour = mixLanes(c0, c1MinusC0, tw);
     if (shading.hazeOn) {
-      // The haze table's entries (a NaN range would read the last one, never one outside it).
+      // The haze table's entries, capped as PixelShader::terrain caps them (minps(x, last) is
+      // x < last ? x : last: a NaN range reads the last entry).
       alignas(16) std::int32_t index[4];
       const __m128 x = _mm_min_ps(_mm_mul_ps(rangeM, _mm_set1_ps(shading.invStepM)), _mm_set1_ps(shading.lastStep));
-      _mm_store_si128(reinterpret_cast<__m128i*>(index), _mm_cvttps_epi32(_mm_max_ps(_mm_setzero_ps(), x)));
+      _mm_store_si128(reinterpret_cast<__m128i*>(index), _mm_cvttps_epi32(x));
       const __m128 haze =
           _mm_set_ps(shading.haze[index[3]], shading.haze[index[2]], shading.haze[index[1]], shading.haze[index[0]]);
       const Channels horizon{_mm_set1_ps(shading.horizon.v[0]), _mm_set1_ps(shading.horizon.v[1]),

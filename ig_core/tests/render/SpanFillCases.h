@@ -29,13 +29,27 @@ inline ColumnFill columnFillFor(const Shading& shading, double xc, double cyPx, 
                     1.0};
 }
 
-/// `count` spans in a column of `rows` pixels, each covering 0 to `maxSpanRows` sub-rows (some
-/// run past sub-row 0), at depths from 5 m to 8 km, with random crossing colours.
-inline std::vector<SpanFillCase> makeSpanFillCases(std::uint32_t seed, int count, int rows, int maxSpanRows) {
+/// What the spans look like.
+struct SpanFillShape {
+  int minRows = 1;  ///< sub-rows a span covers from its start (fewer where it runs past sub-row 0)
+  int maxRows = 4;
+  /// Spans the march does not make, to drive every clamp: the near crossing's row above the
+  /// start, the far crossing's row off the stop row, the far crossing nearer than the near one,
+  /// and colours outside 0..255.
+  bool wild = false;
+};
+
+/// `count` spans in a column of `rows` pixels at depths from 5 m to 8 km, with random crossing
+/// colours.
+inline std::vector<SpanFillCase> makeSpanFillCases(std::uint32_t seed, int count, int rows, SpanFillShape shape) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::uniform_int_distribution<int> row(0, rows - 1), spanRows(0, maxSpanRows), byte(0, 255);
+  std::uniform_int_distribution<int> row(0, rows - 1), spanRows(shape.minRows, shape.maxRows), byte(0, 255);
   const auto colour = [&] {
+    if (shape.wild) {
+      const auto channel = [&] { return static_cast<float>(-40.0 + 340.0 * unit(rng)); };
+      return Rgb(channel(), channel(), channel());
+    }
     return unpackRgb(static_cast<std::uint32_t>(byte(rng)) | static_cast<std::uint32_t>(byte(rng)) << 8 |
                      static_cast<std::uint32_t>(byte(rng)) << 16);
   };
@@ -44,15 +58,22 @@ inline std::vector<SpanFillCase> makeSpanFillCases(std::uint32_t seed, int count
   for (int n = 0; n < count; ++n) {
     SpanFillCase c{};
     c.q = row(rng);
-    // The march's row centre drifts from (q + ½) by its running sum; the near crossing lies within
-    // a sub-row below it, the far one a whole number of sub-rows and a fraction above.
-    c.vq = c.q + 0.5 + (unit(rng) - 0.5) * 1e-9;
-    const double v0 = c.vq + unit(rng);
-    c.vStop = c.vq - spanRows(rng) - unit(rng);
-    const double depth0 = 5.0 * std::pow(1600.0, unit(rng));
-    const double depth1 = depth0 * (1.0 + 0.3 * unit(rng));
+    // With one sub-row per pixel the march's row centre is exactly q + ½. The near crossing lies
+    // within a sub-row below it; the stop row leaves `covered` centres below it.
+    c.vq = c.q + 0.5;
+    const int covered = spanRows(rng);
+    c.vStop = c.vq - covered + unit(rng);
+    double v0 = c.vq + unit(rng);
+    double v1 = c.vStop;
+    double depth0 = 5.0 * std::pow(1600.0, unit(rng));
+    double depth1 = depth0 * (1.0 + 0.3 * unit(rng));
+    if (shape.wild) {
+      v0 += 2.0 * unit(rng) - 1.5;
+      v1 += 2.0 * unit(rng) - 1.0;
+      if (unit(rng) < 0.5) std::swap(depth0, depth1);
+    }
     c.span = CrossingSpan{static_cast<float>(v0),
-                          static_cast<float>(1.0 / (c.vStop - v0)),
+                          static_cast<float>(1.0 / (v1 - v0)),
                           static_cast<float>(1.0 / depth0),
                           static_cast<float>(1.0 / depth1),
                           colour(),

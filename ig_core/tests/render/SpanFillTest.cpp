@@ -1,5 +1,6 @@
 // The four-lane span fill against the one-pixel-at-a-time reference: the same bytes, ranges, last
-// sub-row and row centre, for colour and grey, with and without haze, ranges and pixels.
+// sub-row and row centre, for colour and grey, with and without haze, ranges and pixels, on the
+// spans the march makes and on spans made to drive every clamp.
 #include "SpanFillCases.h"
 
 #include <gtest/gtest.h>
@@ -38,17 +39,25 @@ FillOutput fill(bool fast, const SpanFillCase& c, const ColumnFill& column, bool
   return out;
 }
 
+struct Setup {
+  double hazeRangeM = 3000.0;
+  bool withPixels = true;
+  bool withRanges = true;
+  int spans = 4000;
+  SpanFillShape shape{0, 12, false};
+};
+
 template <bool kGrey>
-void expectSameAsReference(bool haze, bool withPixels, bool withRanges) {
+void expectSameAsReference(const Setup& setup) {
   RenderSettings settings;
   settings.colourMode = kGrey ? FrameColour::Grey : FrameColour::Rgb;
-  settings.hazeRangeM = haze ? 3000.0 : 0.0;
+  settings.hazeRangeM = setup.hazeRangeM;
   const Shading shading(settings);
   const ColumnFill column = columnFillFor(shading, -0.37, 292.0, 640.0);
-  int filled = 0, pastTop = 0;
-  for (const SpanFillCase& c : makeSpanFillCases(20261202, 4000, kRows, 12)) {
-    const FillOutput reference = fill<kGrey>(false, c, column, withPixels, withRanges);
-    const FillOutput fast = fill<kGrey>(true, c, column, withPixels, withRanges);
+  int filled = 0, pastTop = 0, inLanes = 0;
+  for (const SpanFillCase& c : makeSpanFillCases(20261202, setup.spans, kRows, setup.shape)) {
+    const FillOutput reference = fill<kGrey>(false, c, column, setup.withPixels, setup.withRanges);
+    const FillOutput fast = fill<kGrey>(true, c, column, setup.withPixels, setup.withRanges);
     const std::string where = "span from sub-row " + std::to_string(c.q) + " to row " + std::to_string(c.vStop);
     ASSERT_EQ(fast.q, reference.q) << where;
     ASSERT_EQ(std::memcmp(&fast.vq, &reference.vq, sizeof(double)), 0) << where;
@@ -56,16 +65,32 @@ void expectSameAsReference(bool haze, bool withPixels, bool withRanges) {
     ASSERT_EQ(std::memcmp(fast.ranges.data(), reference.ranges.data(), kRows * sizeof(float)), 0) << where;
     filled += c.q - reference.q;
     if (reference.q < 0) ++pastTop;
+    if (c.q - reference.q > 2) ++inLanes;
   }
-  // The cases cover what they claim: many sub-rows filled, and spans that run past sub-row 0.
-  EXPECT_GT(filled, 10000);
+  // The cases cover what they claim: many sub-rows filled, most spans long enough for the lanes,
+  // and spans that run past sub-row 0.
+  EXPECT_GT(filled, setup.spans);
+  EXPECT_GT(inLanes, setup.spans / 2);
   EXPECT_GT(pastTop, 5);
 }
 
-TEST(SpanFill, ColourWithHazeAndRangesMatchesReference) { expectSameAsReference<false>(true, true, true); }
-TEST(SpanFill, ColourWithoutHazeMatchesReference) { expectSameAsReference<false>(false, true, false); }
-TEST(SpanFill, GreyWithHazeMatchesReference) { expectSameAsReference<true>(true, true, true); }
-TEST(SpanFill, RangesOnlyMatchReference) { expectSameAsReference<false>(true, false, true); }
+TEST(SpanFill, ColourWithHazeAndRangesMatchesReference) { expectSameAsReference<false>({}); }
+TEST(SpanFill, ColourWithoutHazeMatchesReference) { expectSameAsReference<false>({0.0, true, false}); }
+TEST(SpanFill, GreyWithHazeMatchesReference) { expectSameAsReference<true>({}); }
+// The luma sum's order shows in a few pixels in a million: many spans, no haze to soften it.
+TEST(SpanFill, GreyWithoutHazeMatchesReference) { expectSameAsReference<true>({0.0, true, false, 200000}); }
+TEST(SpanFill, RangesOnlyMatchReference) { expectSameAsReference<false>({3000.0, false, true}); }
+TEST(SpanFill, GreyRangesOnlyMatchReference) { expectSameAsReference<true>({3000.0, false, true}); }
+// Rows past the ends of the span's crossings, crossings in either depth order, colours beyond
+// 0..255, and haze so short that most ranges pass the end of its table.
+TEST(SpanFill, ClampsMatchReferenceInColour) {
+  expectSameAsReference<false>({20.0, true, true, 20000, {0, 12, true}});
+  expectSameAsReference<false>({300.0, true, true, 20000, {0, 12, true}});
+}
+TEST(SpanFill, ClampsMatchReferenceInGrey) {
+  expectSameAsReference<true>({20.0, true, true, 20000, {0, 12, true}});
+  expectSameAsReference<true>({300.0, true, true, 20000, {0, 12, true}});
+}
 
 }  // namespace
 }  // namespace fieldcast::core::test
