@@ -2,6 +2,7 @@
 target_sources(fieldcast_core PRIVATE
   src/render/ColumnCaster.cpp
   src/render/FrameTimeController.cpp
+  src/render/PlaneMarch.cpp
   src/render/RayMarch.cpp
   src/render/ReferenceRenderer.cpp
   src/render/RenderPool.cpp

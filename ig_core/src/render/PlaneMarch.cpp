@@ -1,0 +1,602 @@
+// The column-plane march (PlaneMarch.h): vertical ray coherence (Cohen-Or, Rich, Lerner,
+// Shenkar: "A real-time photo-realistic visual flythrough", 1996) done exactly for tilted columns.
+#include "PlaneMarch.h"
+
+#include "RayMarch.h"
+#include "SpanFill.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace fieldcast::core::plane_march {
+
+using namespace ray_march;  // the grid helpers and the per-tile fallbacks
+
+namespace {
+
+// Tile of voxel (x, y) at `level` into the window; false when it is outside the grid or missing.
+inline bool windowFor(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x, int y) noexcept {
+  const auto l = static_cast<std::size_t>(level);
+  const unsigned size = 1u << f.tileShift;
+  if (static_cast<unsigned>(x - w.x0[l]) < size && static_cast<unsigned>(y - w.y0[l]) < size) return true;
+  if (x < 0 || y < 0 || x >= f.levelWidth[l] || y >= f.levelHeight[l]) return false;
+  const TerrainTile* tile = tileAt(f, t, level, x >> f.tileShift, y >> f.tileShift);
+  if (tile == nullptr) return false;
+  w.tile[l] = tile;
+  w.x0[l] = (x >> f.tileShift) << f.tileShift;
+  w.y0[l] = (y >> f.tileShift) << f.tileShift;
+  return true;
+}
+
+inline std::uint16_t windowHeight(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
+                                  int y) noexcept {
+  if (!windowFor(f, t, w, level, x, y)) return heightAt(f, t, level, x, y);  // clamped / coarser fallback
+  const auto l = static_cast<std::size_t>(level);
+  return w.tile[l]->heightQ[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
+}
+
+inline std::uint32_t windowColour(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
+                                  int y) noexcept {
+  if (!windowFor(f, t, w, level, x, y)) return colourAt(f, t, level, x, y);
+  const auto l = static_cast<std::size_t>(level);
+  return w.tile[l]->colourRgba[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
+}
+
+// Blends the next level's colour (bilinear) into crossing x's, by `blend`. Out of line: half the
+// crossings that are coloured need it, and it reads four texels.
+[[gnu::noinline]] void blendNextLevel(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                                      Crossing& x, double blend) noexcept {
+  const int l = x.level;
+  const double p = pow2(l);
+  const double mMaj = (x.i + 0.5) * p - 0.5;
+  const double mMin = (x.j + 0.5 + x.phi) * p - 0.5;
+  const double ux = levelIndex(c.xMajor ? mMaj : mMin, l + 1);
+  const double uy = levelIndex(c.xMajor ? mMin : mMaj, l + 1);
+  const int x0 = floorToInt(ux);
+  const int y0 = floorToInt(uy);
+  const auto fx = static_cast<float>(ux - x0);
+  const auto fy = static_cast<float>(uy - y0);
+  const int up = l + 1;
+  std::uint32_t q00, q10, q01, q11;
+  const int mask = f.tileMask;
+  if ((x0 & mask) != mask && (y0 & mask) != mask && windowFor(f, t, w, up, x0, y0)) {
+    // The 2×2 block lies in one tile: four loads.
+    const auto lv = static_cast<std::size_t>(up);
+    const std::uint32_t* p00 = w.tile[lv]->colourRgba + (((y0 - w.y0[lv]) << f.tileShift) + (x0 - w.x0[lv]));
+    const std::ptrdiff_t row = std::ptrdiff_t{1} << f.tileShift;
+    q00 = p00[0];
+    q10 = p00[1];
+    q01 = p00[row];
+    q11 = p00[row + 1];
+  } else {
+    q00 = windowColour(f, t, w, up, x0, y0);
+    q10 = windowColour(f, t, w, up, x0 + 1, y0);
+    q01 = windowColour(f, t, w, up, x0, y0 + 1);
+    q11 = windowColour(f, t, w, up, x0 + 1, y0 + 1);
+  }
+  const Rgb lo = mix(unpackRgb(q00), unpackRgb(q10), fx);
+  const Rgb hi = mix(unpackRgb(q01), unpackRgb(q11), fx);
+  x.colour = mix(x.colour, mix(lo, hi, fy), static_cast<float>(blend));
+}
+
+// Colour of a crossing: linear along the grid line at its level, blended with the next level.
+// Inline: it is asked for twice per fill, and as a call its set-up cost as much as its work.
+__attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
+                                                                const ColumnPlane& c, Crossing& x) noexcept {
+  if (x.haveColour) return x.colour;
+  const int l = x.level;
+  std::uint32_t c0, c1;
+  const int vx = c.xMajor ? x.i : x.j;
+  const int vy = c.xMajor ? x.j : x.i;
+  if ((x.j & f.tileMask) != f.tileMask && windowFor(f, t, w, l, vx, vy)) {
+    // Both voxels of the segment lie in one tile: two loads.
+    const auto lv = static_cast<std::size_t>(l);
+    const std::uint32_t* p0 = w.tile[lv]->colourRgba + (((vy - w.y0[lv]) << f.tileShift) + (vx - w.x0[lv]));
+    c0 = p0[0];
+    c1 = p0[c.xMajor ? std::ptrdiff_t{1} << f.tileShift : 1];
+  } else {
+    c0 = windowColour(f, t, w, l, vx, vy);
+    c1 = c.xMajor ? windowColour(f, t, w, l, vx, vy + 1) : windowColour(f, t, w, l, vx + 1, vy);
+  }
+  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
+  x.haveColour = true;
+  if (!f.blend || l + 1 >= f.levels) return x.colour;
+  const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
+  if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
+  return x.colour;
+}
+
+// Fills the sub-rows of a supersampled column (several per pixel) between two crossings, as
+// fillSpanReference does for one per pixel; the sink averages them into pixels. Its constants are
+// copied to locals: the sink's stores would otherwise make them be read again after each one.
+__attribute__((always_inline)) inline void fillSpanSubRows(const CrossingSpan span, const ColumnFill& column,
+                                                           ColumnSink& sink, double vStop, int& qInOut,
+                                                           double& vqInOut) noexcept {
+  const ColumnFill local = column;
+  int q = qInOut;
+  double vq = vqInOut;
+  while (vq > vStop) {
+    const SpanPixel p = spanPixel(span, local, local.shading, q);
+    sink.emit(q, p.colour, p.rangeM);
+    if (--q < 0) break;
+    vq -= local.invSd;
+  }
+  qInOut = q;
+  vqInOut = vq;
+}
+
+// Where the ray of the next sub-row ended its march (marchPlaneAxis's advanceRowRay), and why.
+struct RowRayEnd {
+  enum Why {
+    kBelow,          // the ray is below the terrain on `line`: that line's crossing fills the sub-row
+    kLevel,          // `line` is even and the ray is past the switch depth there: the march may switch
+    kEdge,           // `line` is the grid's last, or the ray leaves the grid's minor extent on it
+    kLeavesTerrain,  // the ray is above the highest terrain and climbing: it meets nothing more
+    kNotAlong,       // the ray does not run along the march (near the nadir): not marched
+  };
+  Why why;
+  int line;          // where it stopped
+  double minor;      // the ray's minor position there (level-L index)
+  double minorStep;  // its change per line
+};
+
+template <bool kXMajor>
+int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
+                   const glm::dvec2& start, int level, PlaneStop& stopped, PlaneMarchState& state, double pauseDepth,
+                   TileWindows& window) noexcept {
+  const bool resuming = state.started;
+  state.paused = false;
+  if (resuming) {
+    q = state.q;
+    level = state.level;
+  }
+  const Intrinsics& k = f.geo->intrinsics();
+  const int sx = c.sx;
+  const double invS = 1.0 / sink.s;
+  const double lodDepth = f.geo->lodDepth0M();
+  const double cMinHalf = 0.5 + c.cMin;
+  const auto& majSizes = c.xMajor ? f.levelWidth : f.levelHeight;
+  const auto& minSizes = c.xMajor ? f.levelHeight : f.levelWidth;
+  // The tile of the current level the heights come from, kept in registers: a read is two
+  // unsigned compares and a load; anything else goes through the window cache.
+  const std::uint16_t* tileHeights = nullptr;
+  int wx0 = std::numeric_limits<int>::min() / 4;
+  int wy0 = std::numeric_limits<int>::min() / 4;
+  const unsigned tileSize = 1u << f.tileShift;
+  const auto height = [&](int lv, int i, int j) __attribute__((always_inline))->double {
+    const int x = kXMajor ? i : j;
+    const int y = kXMajor ? j : i;
+    if (static_cast<unsigned>(x - wx0) < tileSize && static_cast<unsigned>(y - wy0) < tileSize) {
+      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
+    }
+    if (windowFor(f, t, window, lv, x, y)) {
+      const auto l = static_cast<std::size_t>(lv);
+      tileHeights = window.tile[l]->heightQ;
+      wx0 = window.x0[l];
+      wy0 = window.y0[l];
+      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
+    }
+    return heightAt(f, t, lv, x, y);  // outside the grid (clamped) or tile missing (coarser level)
+  };
+
+  // The crossing on grid line i at minor position j + φ (level units) solves g = gA·(j + φ) + nZ·h +
+  // base = 0; its camera coordinates are yc = yLine + (j + φ)·yMinor + h·upZ and zc likewise. base,
+  // yLine and zLine carry the grid line's major position and grow by a constant step per line, so
+  // the hot loop keeps few values live (more than the 16 vector registers made it spill).
+  const double nZ = c.nZ, upZ = c.upZ, fwdZ = c.fwdZ;
+  double p = 0, gA = 0, baseStep = 0, minOffset = 0, yMinor = 0, zMinor = 0, yStep = 0, zStep = 0;
+  double switchDepth = 0;
+  int majLast = 0, minLast = 0;
+  const auto enterLevel = [&](int lv) __attribute__((always_inline)) {
+    p = pow2(lv);
+    gA = c.nMin * p;
+    baseStep = c.nMaj * sx * p;
+    minOffset = 0.5 * p - cMinHalf;  // minor offset from the camera of segment 0's start
+    yMinor = c.upMin * p;
+    zMinor = c.fwdMin * p;
+    yStep = c.upMaj * sx * p;
+    zStep = c.fwdMaj * sx * p;
+    switchDepth = lv + 1 < f.levels ? lodDepth * p : std::numeric_limits<double>::infinity();
+    // The register window belongs to the old level.
+    tileHeights = nullptr;
+    wx0 = std::numeric_limits<int>::min() / 4;
+    wy0 = std::numeric_limits<int>::min() / 4;
+    // Last grid line inside both the level's grid and the hull of the level-0 voxel centres.
+    const int hullLast = sx > 0 ? floorToInt(levelIndex(c.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
+    majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
+    minLast = minSizes[static_cast<std::size_t>(lv)] - 2;
+  };
+  const double startMaj = c.xMajor ? start.x : start.y;
+  const double startMin = c.xMajor ? start.y : start.x;
+  enterLevel(level);
+  int i = sx > 0 ? floorToInt(levelIndex(startMaj, level)) : ceilToInt(levelIndex(startMaj, level));
+  const auto dMajOf = [&](int line) { return (line + 0.5) * p - 0.5 - c.cMaj; };
+  double base = 0, yLine = 0, zLine = 0;
+  const auto setLine = [&](int line) __attribute__((always_inline)) {
+    const double dMaj = dMajOf(line);
+    base = c.nMaj * dMaj + c.nMin * minOffset - c.nZ * c.cZ;
+    yLine = dMaj * c.upMaj + minOffset * c.upMin - c.cZ * upZ;
+    zLine = dMaj * c.fwdMaj + minOffset * c.fwdMin - c.cZ * fwdZ;
+  };
+  setLine(i);
+  double jPos = levelIndex(startMin, level);  // predicted minor position of the next crossing
+  constexpr int kNoGuess = std::numeric_limits<int>::min();
+  int jGuess = kNoGuess;                       // floor(jPos) when the last solve found it without the division
+  const double drift = -c.nMaj / c.nMin * sx;  // minor change of the plane's trace per major step
+  if (resuming) {
+    i = state.i;
+    base = state.base;
+    yLine = state.yLine;
+    zLine = state.zLine;
+    jPos = state.jPos;
+    jGuess = state.jGuess;
+  }
+
+  // The last crossing (prev) and the one being found (cur).
+  Crossing* prevP = &state.crossings[state.prev];
+  Crossing* curP = &state.crossings[1 - state.prev];
+  std::uint64_t steps = 0;
+  // The grazing-angle stretch of the level of detail (ViewGeometry::lodStretch) for the ray of the
+  // next sub-row to fill. It only grows as the rows go up the column, so levels still only go up.
+  const CameraAxes& axes = f.geo->axes();
+  const auto stretchOfRow = [&](int row) __attribute__((always_inline)) {
+    const double yc = (k.cyPx - (row + 0.5) * invS) / k.fyPx;
+    return f.geo->lodStretch(c.xc * axes.right + yc * axes.up + axes.forward);
+  };
+  const bool grazingLod = f.geo->grazingLod();
+  double stretch = grazingLod ? stretchOfRow(q) : 1.0;
+  // The march switches level once a crossing's depth passes switchDepth / stretch.
+  double switchZc = switchDepth / stretch;
+  // Solves the crossing on the current grid line; false when it leaves the grid or the view.
+  const auto solve = [&](Crossing & out) __attribute__((always_inline))->bool {
+    if (sx > 0 ? i > majLast : i < majLast) return false;
+    if (minLast < 0) return false;
+    int j = jGuess != kNoGuess ? jGuess : floorToInt(jPos);
+    j = j < 0 ? 0 : (j > minLast ? minLast : j);
+    double h0 = height(level, i, j);
+    double h1 = height(level, i, j + 1);
+    double g0 = gA * j + nZ * h0 + base;
+    double g1 = g0 + gA + nZ * (h1 - h0);
+    std::uint64_t samples = 2;
+    // g grows along the minor axis: walk to the segment where it changes sign.
+    while (g0 > 0.0) {
+      if (j == 0) return false;
+      --j;
+      h1 = h0;
+      g1 = g0;
+      h0 = height(level, i, j);
+      g0 -= gA + nZ * (h1 - h0);
+      ++samples;
+    }
+    while (g1 <= 0.0) {
+      if (j == minLast) return false;
+      ++j;
+      h0 = h1;
+      g0 = g1;
+      h1 = height(level, i, j + 1);
+      g1 = g0 + gA + nZ * (h1 - h0);
+      ++samples;
+    }
+    steps += samples;
+    // The crossing at fraction φ along segment j .. j+1 (g0 ≤ 0 < g1), and its camera coordinates.
+    const double phi = g0 / (g0 - g1);
+    const double minor = j + phi;
+    const double h = h0 + phi * (h1 - h0);
+    const double zc = zLine + minor * zMinor + h * fwdZ;
+    if (!(zc > 1e-6)) return false;
+    out.yc = yLine + minor * yMinor + h * upZ;
+    out.depth = zc;
+    out.lodDepth = zc * stretch;
+    out.phi = phi;
+    out.level = level;
+    out.i = i;
+    out.j = j;
+    out.haveColour = false;
+    jPos = minor + drift;
+    jGuess = nextSegment(j, g0, g1, drift);
+    return true;
+  };
+
+  if (!resuming && !solve(*prevP)) {
+    t.steps += steps;
+    return q;
+  }
+  // Where the march stopped: the last crossing solved, in level-0 x, y.
+  const auto recordStop = [&](const Crossing& last) __attribute__((always_inline)) {
+    const double lp = pow2(last.level);
+    const double maj = (last.i + 0.5) * lp - 0.5;
+    const double min = (last.j + 0.5 + last.phi) * lp - 0.5;
+    stopped = PlaneStop{true, kXMajor, kXMajor ? glm::dvec2{maj, min} : glm::dvec2{min, maj}};
+    t.steps += steps;
+  };
+  double vq = resuming ? state.vq : (q + 0.5) * invS;
+  const ColumnFill fill{f.shading.pixelShader(),
+                        static_cast<float>(invS),
+                        static_cast<float>(k.cyPx),
+                        static_cast<float>(1.0 / k.fyPx),
+                        static_cast<float>(1.0 + c.xc * c.xc),
+                        invS};
+  const double invFy = 1.0 / k.fyPx;
+  double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
+  if (!resuming && prevP->yc > rowSlope * prevP->depth) {
+    // The first crossing already lies above the next sub-row's ray (the bottom ray hit the grid's
+    // side wall, seen from outside the grid): it cannot bound a fill, the per-ray march takes over.
+    t.steps += steps;
+    return q;
+  }
+  bool lastFilledNothing = resuming && state.lastFilledNothing;  // the last crossing filled no row
+  bool skippedSincePrev = false;  // grid lines were passed over since the last crossing solved
+  constexpr double kNoSeed = std::numeric_limits<double>::infinity();
+  double beforeSeed = kNoSeed;  // where to search the line before for its crossing, if known
+  bool rayWaitsForSwitch = resuming && state.rayWaitsForSwitch;  // a level switch the row ray waits for
+  // i & 1 on the "even" lines, where the march may switch to the coarser level: there the coarser
+  // level's line lies half a step ahead (odd indices when the march runs down the axis).
+  const int evenParity = sx > 0 ? 0 : 1;
+  // The ray of the next sub-row, marched from grid line i on the level's surface as the per-ray
+  // march does: on each line, the height at the ray's minor position against the ray's. While the
+  // ray stays above the terrain, no crossing of those lines reaches the sub-row, so none fills
+  // anything and none needs solving. Each line is two loads and a compare that do not wait on the
+  // line before (a crossing waits on the previous one's segment), so this runs at the loads' rate.
+  // It stops on the first line where the ray is below the terrain, or where the march must look
+  // itself (see RowRayEnd). "Past the switch depth" is the ray's depth there; the march switches
+  // on the crossing's, which can be nearer (looking up) or deeper (looking down).
+  const auto advanceRowRay = [&]() __attribute__((always_inline))->RowRayEnd {
+    // The ray a + rowSlope·b in grid space, per metre of depth (level-0 units, height quanta).
+    const double rMaj = c.aMaj + rowSlope * c.bMaj;
+    const double rMin = c.aMin + rowSlope * c.bMin, rZ = c.aZ + rowSlope * c.bZ;
+    // It must run along the march, and not so steeply across it that its minor index could leave
+    // the int range over the grid (near the nadir).
+    if (!(rMaj * sx > 1e-12 && rMaj * sx > 1e-4 * std::abs(rMin))) return {RowRayEnd::kNotAlong, i, 0.0, 0.0};
+    const double invR = 1.0 / rMaj;
+    const double depth = dMajOf(i) * invR;
+    const double dDepth = sx * p * invR;                      // depth per level-L line
+    double minor = levelIndex(c.cMin + depth * rMin, level);  // level-L index
+    double z = c.cZ + depth * rZ;
+    const double dMinor = sx * invR * rMin;
+    const double dz = dDepth * rZ;
+    int lines = (majLast - i) * sx;
+    RowRayEnd::Why end = RowRayEnd::kEdge;  // why it stops if it stays above the terrain
+    if (dz >= 0.0) {
+      // Once above the highest terrain and climbing, it meets nothing.
+      const double below = (f.ceilingQ - z) / dz;
+      if (below < 0.0) return {RowRayEnd::kLeavesTerrain, i, minor, dMinor};
+      if (below < lines) {
+        lines = static_cast<int>(below) + 1;
+        end = RowRayEnd::kLeavesTerrain;
+      }
+    }
+    if (switchZc < std::numeric_limits<double>::infinity()) {
+      const double before = (switchZc - depth) / dDepth;  // lines before the switch depth
+      int n = before < 1.0 ? 1 : (before < lines ? static_cast<int>(before) + 1 : lines);
+      n += ((i + n * sx) ^ evenParity) & 1;  // onto an even line (no branch: its outcome is random)
+      if (n < lines) {
+        lines = n;
+        end = RowRayEnd::kLevel;
+      }
+    }
+    int line = i;
+    for (int n = 0; n < lines; ++n) {
+      line += sx;
+      minor += dMinor;
+      z += dz;
+      const int j = floorToInt(minor);
+      if (j < 0 || j > minLast) return {RowRayEnd::kEdge, line, minor, dMinor};
+      double h0, h1;
+      const int x = kXMajor ? line : j;
+      const int y = kXMajor ? j : line;
+      if (static_cast<unsigned>(x - wx0) < tileSize - (kXMajor ? 0 : 1) &&
+          static_cast<unsigned>(y - wy0) < tileSize - (kXMajor ? 1 : 0)) {
+        // Both voxels in the register window: one check for the pair.
+        const std::uint16_t* pair = tileHeights + (((y - wy0) << f.tileShift) + (x - wx0));
+        h0 = pair[0];
+        h1 = pair[kXMajor ? std::ptrdiff_t{1} << f.tileShift : 1];
+      } else {
+        h0 = height(level, line, j);
+        h1 = height(level, line, j + 1);
+      }
+      if (z < h0 + (minor - j) * (h1 - h0)) {
+        steps += 2 * static_cast<std::uint64_t>(n + 1);
+        return {RowRayEnd::kBelow, line, minor, dMinor};
+      }
+    }
+    steps += 2 * static_cast<std::uint64_t>(lines);
+    return {end, line, minor, dMinor};
+  };
+  for (;;) {
+    if (prevP->depth > pauseDepth) {
+      // Past the depth band: the next columns march it before this one goes on.
+      ++t.pauses;
+      state.started = true;
+      state.paused = true;
+      state.level = level;
+      state.i = i;
+      state.q = q;
+      state.jGuess = jGuess;
+      state.prev = static_cast<int>(prevP - state.crossings);
+      state.base = base;
+      state.yLine = yLine;
+      state.zLine = zLine;
+      state.jPos = jPos;
+      state.vq = vq;
+      state.lastFilledNothing = lastFilledNothing;
+      state.rayWaitsForSwitch = rayWaitsForSwitch;
+      t.steps += steps;
+      return q;
+    }
+    Crossing& prev = *prevP;
+    Crossing& cur = *curP;
+    bool solved = false;
+    // After a crossing that filled nothing, the next lines' crossings fill nothing either until the
+    // next sub-row's ray passes below the terrain: found by marching that ray, and only the
+    // crossing of the line where it does is solved (and the one before, if that one fills).
+    if (lastFilledNothing && !rayWaitsForSwitch && !(prev.depth > switchZc && (i & 1) == evenParity)) {
+      const RowRayEnd end = advanceRowRay();
+      if (end.why == RowRayEnd::kLeavesTerrain) {
+        recordStop(prev);
+        stopped.overTerrain = true;
+        return q;
+      }
+      // Looking up, the ray passes the switch depth before the crossings do: after a stop there that
+      // did not switch, the march goes line by line until it does (else it would stop every other
+      // line), and the ray waits for the next level.
+      rayWaitsForSwitch = end.why == RowRayEnd::kLevel;
+      if (end.line != i) {
+        const int skipped = (end.line - i) * sx - 1;
+        if (skipped > 0) {
+          // The crossing is near the ray where the ray went below the terrain; otherwise where the
+          // plane's drift takes the last one.
+          jPos = end.why == RowRayEnd::kBelow ? end.minor : jPos + drift * skipped;
+          jGuess = kNoGuess;
+          skippedSincePrev = true;
+          beforeSeed = end.why == RowRayEnd::kBelow ? end.minor - end.minorStep : kNoSeed;
+        }
+        i = end.line;
+        setLine(i);
+        if (!solve(cur)) {
+          recordStop(prev);
+          return q;
+        }
+        solved = true;
+      }
+    }
+    if (!solved) {
+      // Next grid line: on an even step past the level's depth, the coarser level's line (half a
+      // step ahead); otherwise the next line of this level.
+      if (prev.depth > switchZc && (i & 1) == evenParity) {
+        rayWaitsForSwitch = false;
+        ++level;
+        i >>= 1;
+        enterLevel(level);
+        switchZc = switchDepth / stretch;
+        setLine(i);
+        jPos = (jPos + 0.5) * 0.5 - 0.5;
+        jGuess = kNoGuess;
+      } else {
+        i += sx;
+        base += baseStep;
+        yLine += yStep;
+        zLine += zStep;
+      }
+      if (!solve(cur)) {
+        recordStop(prev);
+        return q;
+      }
+    }
+    // Rows to fill: the next sub-row's ray passes below this crossing (vq > v), without dividing.
+    // (prev lies below that ray: it filled rows up to it, or filled nothing.)
+    const bool fills = cur.yc > rowSlope * cur.depth;
+    lastFilledNothing = !fills;
+    if (fills && skippedSincePrev) {
+      // The crossing before this one was skipped: solve it now, it bounds the rows to fill. It is
+      // searched for from the row ray's position on that line, and kept only if it lies below the
+      // row ray as the ray's march found (a grid line may cross the column plane's terrain twice);
+      // otherwise the fill starts from the last crossing solved.
+      const int iHere = i;
+      const double baseHere = base, yLineHere = yLine, zLineHere = zLine, jPosHere = jPos;
+      const int jGuessHere = jGuess;
+      i -= sx;
+      setLine(i);
+      jPos = beforeSeed != kNoSeed ? beforeSeed : cur.j + cur.phi - drift;
+      jGuess = kNoGuess;
+      Crossing before{};
+      if (solve(before) && !(before.yc > rowSlope * before.depth)) prev = before;
+      i = iHere;
+      base = baseHere;
+      yLine = yLineHere;
+      zLine = zLineHere;
+      jPos = jPosHere;
+      jGuess = jGuessHere;
+    }
+    skippedSincePrev = false;
+    beforeSeed = kNoSeed;
+    if (fills) {
+      // (Only a crossing that fills rows is projected to its row and coloured.)
+      const double prevInvDepth = 1.0 / prev.depth;
+      const double curInvDepth = 1.0 / cur.depth;
+      const double prevV = k.cyPx - k.fyPx * prev.yc * prevInvDepth;
+      const double curV = k.cyPx - k.fyPx * cur.yc * curInvDepth;
+      // The sub-rows from the next one up to this crossing's row see the terrain between the two
+      // grid lines.
+      const CrossingSpan span{static_cast<float>(prevV),
+                              static_cast<float>(1.0 / (curV - prevV)),
+                              static_cast<float>(prevInvDepth),
+                              static_cast<float>(curInvDepth),
+                              crossingColour(f, t, window, c, prev),
+                              crossingColour(f, t, window, c, cur)};
+      const int qFirst = q;
+      if (sink.s != 1) {
+        fillSpanSubRows(span, fill, sink, curV, q, vq);
+      } else if (fill.shading.grey) {
+        fillSpan<true>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, curV, q, vq);
+      } else {
+        fillSpan<false>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, curV, q, vq);
+      }
+      rowSlope = (k.cyPx - vq) * invFy;
+      if (grazingLod) {
+        stretch = stretchOfRow(q);
+        switchZc = switchDepth / stretch;
+      }
+      t.rays += static_cast<std::uint64_t>(qFirst - q);
+      if (q < 0) {
+        recordStop(cur);
+        return -1;
+      }
+    }
+    std::swap(prevP, curP);
+  }
+}
+
+}  // namespace
+
+ColumnPlane columnPlane(const CasterFrame& f, double uc) noexcept {
+  const ViewGeometry& geo = *f.geo;
+  const Intrinsics& k = geo.intrinsics();
+  const CameraAxes& ax = geo.axes();
+  ColumnPlane c;
+  c.xc = (uc - k.cxPx) / k.fxPx;
+  const double sp = 1.0 / f.unitsPerM;
+  const double hs = 1.0 / f.quantaPerM;
+  // Plane directions in grid space: the column's central direction and the camera's up axis.
+  const glm::dvec3 aw = c.xc * ax.right + ax.forward;
+  const glm::dvec3 a{aw.x * f.unitsPerM, aw.y * f.unitsPerM, aw.z * f.quantaPerM};
+  const glm::dvec3 b{ax.up.x * f.unitsPerM, ax.up.y * f.unitsPerM, ax.up.z * f.quantaPerM};
+  glm::dvec3 n = glm::cross(a, b);
+  c.xMajor = std::abs(n.y) >= std::abs(n.x);  // the plane's ground trace runs along (n.y, −n.x)
+  const double nMin = c.xMajor ? n.y : n.x;
+  if (nMin < 0.0) n = -n;
+  // (major, minor) components of a horizontal vector, by the plane's major axis.
+  const auto majMin = [&c](double x, double y) { return c.xMajor ? std::pair{x, y} : std::pair{y, x}; };
+  std::tie(c.nMaj, c.nMin) = majMin(n.x, n.y);
+  c.nZ = n.z;
+  std::tie(c.cMaj, c.cMin) = majMin(f.camX, f.camY);
+  c.cZ = f.camZq;
+  std::tie(c.aMaj, c.aMin) = majMin(a.x, a.y);
+  c.aZ = a.z;
+  std::tie(c.bMaj, c.bMin) = majMin(b.x, b.y);
+  c.bZ = b.z;
+  std::tie(c.upMaj, c.upMin) = majMin(ax.up.x * sp, ax.up.y * sp);
+  c.upZ = ax.up.z * hs;
+  std::tie(c.fwdMaj, c.fwdMin) = majMin(ax.forward.x * sp, ax.forward.y * sp);
+  c.fwdZ = ax.forward.z * hs;
+  c.vHorizon = ax.up.z > 1e-12 ? k.cyPx + k.fyPx * aw.z / ax.up.z : (aw.z > 0 ? 1e30 : -1e30);
+  std::tie(c.majSize, c.minSize) =
+      c.xMajor ? std::pair{f.levelWidth[0], f.levelHeight[0]} : std::pair{f.levelHeight[0], f.levelWidth[0]};
+  // Rows go up the image as the ground point moves along up_z·d_h − d_z·up_h (d: a ray of the
+  // column; the direction is the same for every ray that looks down).
+  const glm::dvec3 d = a + (-0.5) * b;  // a ray below the centre row
+  const double dirMaj = b.z * (c.xMajor ? d.x : d.y) - d.z * (c.xMajor ? b.x : b.y);
+  c.sx = dirMaj >= 0.0 ? 1 : -1;
+  return c;
+}
+
+int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
+               const glm::dvec2& start, int level, PlaneStop& stopped, PlaneMarchState& state, double pauseDepth,
+               TileWindows& window) noexcept {
+  return c.xMajor ? marchPlaneAxis<true>(f, t, sink, c, q, start, level, stopped, state, pauseDepth, window)
+                  : marchPlaneAxis<false>(f, t, sink, c, q, start, level, stopped, state, pauseDepth, window);
+}
+
+}  // namespace fieldcast::core::plane_march

@@ -1,0 +1,145 @@
+#pragma once
+// The column-plane march. All rays of an image column lie in one plane Π through the camera (for
+// a pitched camera Π is tilted, not vertical). On each grid line M = M_i of the column's major
+// axis, Π cuts a line L_i; where L_i crosses the terrain profile of that grid line (linear between
+// voxel centres along the minor axis) is the one terrain point of this grid line that the column
+// sees, and projecting it gives the image row v_i where it appears. Walking the grid lines away
+// from the camera, the rows between the highest crossing so far and v_i see the terrain between
+// grid lines i−1 and i: they are filled by interpolating the two crossings (perspective-correct).
+// This is the vertical coherence of the seed paper done exactly for tilted columns: every ray of
+// the column is tested at every grid line, yet the work is one crossing per grid line plus one
+// fill per pixel, with no per-ray set-up.
+//
+// castColumns (ColumnCaster.cpp) drives it: a column's march can pause at a depth and resume, so
+// the columns of a staging block march in step. Private to ig_core.
+
+#include "ColumnCaster.h"
+
+#include <glm/vec2.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+namespace fieldcast::core::plane_march {
+
+/// Grid space: x, y in level-0 voxel units, z in height quanta.
+struct ColumnPlane {
+  bool xMajor = true;
+  int sx = 1;                               // march direction along the major axis (rows go up)
+  double nMaj = 0, nMin = 1, nZ = 0;        // plane normal in grid space, oriented so nMin > 0
+  double cMaj = 0, cMin = 0, cZ = 0;        // camera in grid space
+  double upMaj = 0, upMin = 0, upZ = 0;     // camera up axis, grid deltas → metres
+  double fwdMaj = 0, fwdMin = 0, fwdZ = 0;  // camera forward axis, grid deltas → metres
+  double aMaj = 0, aMin = 0, aZ = 0;        // the column ray at yc = 0, grid space: ray(yc) = a + yc·b
+  double bMaj = 0, bMin = 0, bZ = 0;        // the camera up axis, grid space
+  double vHorizon = 0;                      // rows above this (smaller v) look upwards
+  double xc = 0;                            // camera-space x of the column (ray = (xc, yc, 1))
+  int majSize = 0, minSize = 0;             // level-0 grid size along major / minor
+};
+
+/// The terrain point of one grid line that the column sees. It is kept in camera space (yc, zc):
+/// most crossings at low pitch raise the column by less than a row, and telling that (and whether
+/// a crossing is hidden) takes a multiply, not a division. Only a crossing that bounds a fill is
+/// projected to its image row; only one that colours a pixel gets a colour.
+struct Crossing {
+  double yc = 0;        // camera up coordinate (metres)
+  double depth = 0;     // camera forward coordinate zc (metres)
+  double phi = 0;       // fraction along the segment
+  double lodDepth = 0;  // depth the level of detail is chosen for (depth × lodStretch)
+  int level = 0;
+  int i = 0;  // level-L major index of the grid line
+  int j = 0;  // minor segment j .. j+1 (level-L indices)
+  bool haveColour = false;
+  Rgb colour;
+};
+
+/// One window per level on the tile last read there: most height and colour reads of the column
+/// march are two compares and a load. The columns of a staging block share one.
+struct TileWindows {
+  std::array<const TerrainTile*, 24> tile{};
+  std::array<int, 24> x0{};  // level-L voxel of the tile's corner
+  std::array<int, 24> y0{};
+  TileWindows() {
+    x0.fill(std::numeric_limits<int>::min() / 4);
+    y0.fill(std::numeric_limits<int>::min() / 4);
+  }
+};
+
+/// The plane of the column through pixel column centre uc, in grid space.
+ColumnPlane columnPlane(const CasterFrame& f, double uc) noexcept;
+
+/// Collects the sub-rows of a column (bottom to top) into pixels of a column-major staging block.
+struct ColumnSink {
+  const CasterFrame& f;
+  int s;
+  float scale;
+  Rgb sum;
+  float range = std::numeric_limits<float>::infinity();
+  std::uint8_t* pixels = nullptr;  // this column's pixel in row 0 (rows are consecutive)
+  std::size_t bytesPerPixel = 0;
+  float* ranges = nullptr;  // this column's range in row 0 (rows are consecutive)
+
+  ColumnSink(const CasterFrame& frame, int subRows, std::uint8_t* columnPixels, float* columnRanges) noexcept
+      : f(frame), s(subRows), scale(1.0f / static_cast<float>(subRows)) {
+    if (f.image != nullptr) {
+      bytesPerPixel = static_cast<std::size_t>(f.shading.bytesPerPixel());
+      pixels = columnPixels;
+    }
+    if (f.rangeM != nullptr) ranges = columnRanges;
+  }
+
+  void put(int v, const Rgb& c, float rangeM, float k) const noexcept {
+    if (pixels != nullptr) f.shading.storePixel(pixels + static_cast<std::size_t>(v) * bytesPerPixel, c, k);
+    if (ranges != nullptr) ranges[v] = rangeM;
+  }
+
+  void emit(int q, const Rgb& c, float rangeM) noexcept {
+    if (s == 1) {
+      put(q, c, rangeM, 1.0f);
+      return;
+    }
+    sum += c;
+    const int sub = q % s;
+    if (sub == s / 2) range = rangeM;
+    if (sub != 0) return;
+    put(q / s, sum, range, scale);
+    sum = Rgb{};
+    range = std::numeric_limits<float>::infinity();
+  }
+};
+
+/// Where the column plane march stopped: the level-0 x, y of its last crossing, on a grid line of its
+/// major axis. The rays of the rows it left pass above all the terrain of the grid lines before.
+struct PlaneStop {
+  bool valid = false;
+  bool xMajor = false;  // the plane's major axis
+  glm::dvec2 point{0.0};
+  bool overTerrain = false;  // the rows left look over all the terrain: they see the sky
+};
+
+/// What the plane march of a column carries from one grid line to the next, so that it can pause
+/// at a depth and resume there. castColumns marches the columns of a staging block in step, depth
+/// band by depth band: all but the first then read heights and texels already in L1.
+/// (What the loop recomputes from these, such as the level's steps, the next row's slope and the
+/// grazing-angle stretch, is not kept.)
+struct PlaneMarchState {
+  bool started = false;  // the march has paused once: the next call resumes from here
+  bool paused = false;   // the last call paused (rather than ended)
+  int level = 0, i = 0, q = 0, jGuess = 0, prev = 0;
+  double base = 0, yLine = 0, zLine = 0, jPos = 0, vq = 0;
+  bool lastFilledNothing = false, rayWaitsForSwitch = false;
+  Crossing crossings[2]{};
+};
+
+/// The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
+/// sub-row q+1) at `level`, filling sub-rows q, q−1, ... Returns the first sub-row it could not
+/// fill (−1 when the column is done): the march left the terrain, or the rows left look over it.
+/// `stopped` records its last crossing, where the per-ray march takes the rows left on. Once its
+/// last crossing lies deeper than `pauseDepth` it pauses instead (state.paused); called again with
+/// the same state, it goes on from there (q, start and level are then the state's).
+int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
+               const glm::dvec2& start, int level, PlaneStop& stopped, PlaneMarchState& state, double pauseDepth,
+               TileWindows& window) noexcept;
+
+}  // namespace fieldcast::core::plane_march
