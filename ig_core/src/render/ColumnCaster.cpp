@@ -301,7 +301,7 @@ CastResult castRay(const CasterFrame& f, double u, double v, CasterThread& t) no
   RayLine r;
   CastResult out;
   if (!setupLine(f, d, r)) return out;
-  const MarchHit h = march(f, t, r, firstHitStart(f, r));
+  const MarchHit h = ray_march::march(f, t, r, firstHitStart(f, r));
   if (!h.hit) return out;
   out.hit = true;
   out.level = h.at.level;

@@ -1,6 +1,6 @@
 #pragma once
-// The fast ray caster: one image column at a time, bottom to top, each ray starting where the ray
-// below it hit (vertical ray coherence), stepping grid line by grid line in fixed point.
+// The fast ray caster's entry points, and the frame and worker state its two marches share (the
+// column-plane march, PlaneMarch.h, and the per-ray march, RayMarch.h).
 // Private to ig_core; Renderer drives it through the RenderPool.
 
 #include "Shading.h"
@@ -15,7 +15,6 @@
 
 #include <array>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 namespace fieldcast::core {
@@ -96,14 +95,5 @@ void castColumnsPerRay(const CasterFrame& frame, int u0, int u1, CasterThread& t
 /// Casts one ray through continuous frame pixel (u, v) from the camera, with the same march as
 /// the columns (first hit by the max pyramid, then grid-line stepping). RT-safe.
 CastResult castRay(const CasterFrame& frame, double u, double v, CasterThread& thread) noexcept;
-
-/// The column plane march's next grid line segment, floor(j + φ + drift), for φ = g0 / (g0 − g1)
-/// in [0, 1) and |drift| ≤ 1 (the plane's trace runs along the major axis): φ + drift is in
-/// [−1, 2), so two comparisons give it without the division. That keeps the division off the
-/// chain from one crossing to the next, which bounds the march (it is latency-bound).
-inline int nextSegment(int j, double g0, double g1, double drift) noexcept {
-  const double dg = g0 - g1;  // < 0
-  return j + static_cast<int>(g0 <= (1.0 - drift) * dg) - static_cast<int>(g0 > -drift * dg);
-}
 
 }  // namespace fieldcast::core

@@ -9,11 +9,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <tuple>
 #include <utility>
 
 namespace fieldcast::core::plane_march {
 
-using namespace ray_march;  // the grid helpers and the per-tile fallbacks
+// The grid helpers and the tile access it shares with the per-ray march (it never marches a ray
+// of its own).
+using ray_march::ceilToInt;
+using ray_march::colourAt;
+using ray_march::floorToInt;
+using ray_march::heightAt;
+using ray_march::levelIndex;
+using ray_march::pow2;
+using ray_march::tileAt;
 
 namespace {
 
@@ -29,13 +39,6 @@ inline bool windowFor(const CasterFrame& f, CasterThread& t, TileWindows& w, int
   w.x0[l] = (x >> f.tileShift) << f.tileShift;
   w.y0[l] = (y >> f.tileShift) << f.tileShift;
   return true;
-}
-
-inline std::uint16_t windowHeight(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
-                                  int y) noexcept {
-  if (!windowFor(f, t, w, level, x, y)) return heightAt(f, t, level, x, y);  // clamped / coarser fallback
-  const auto l = static_cast<std::size_t>(level);
-  return w.tile[l]->heightQ[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
 }
 
 inline std::uint32_t windowColour(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
@@ -143,6 +146,7 @@ struct RowRayEnd {
   double minorStep;  // its change per line
 };
 
+// marchPlane (PlaneMarch.h) along one major axis.
 template <bool kXMajor>
 int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
                    const glm::dvec2& start, int level, PlaneStop& stopped, PlaneMarchState& state, double pauseDepth,

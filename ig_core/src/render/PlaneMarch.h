@@ -6,7 +6,8 @@
 // sees, and projecting it gives the image row v_i where it appears. Walking the grid lines away
 // from the camera, the rows between the highest crossing so far and v_i see the terrain between
 // grid lines i−1 and i: they are filled by interpolating the two crossings (perspective-correct).
-// This is the vertical coherence of the seed paper done exactly for tilted columns: every ray of
+// This is the vertical coherence of Cohen-Or, Rich, Lerner and Shenkar ("A real-time
+// photo-realistic visual flythrough", 1996) done exactly for tilted columns: every ray of
 // the column is tested at every grid line, yet the work is one crossing per grid line plus one
 // fill per pixel, with no per-ray set-up.
 //
@@ -17,25 +18,27 @@
 
 #include <glm/vec2.hpp>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 
 namespace fieldcast::core::plane_march {
 
-/// Grid space: x, y in level-0 voxel units, z in height quanta.
+/// The plane Π of one image column, with the camera axes and the column ray, in grid space:
+/// x, y in level-0 voxel units, z in height quanta.
 struct ColumnPlane {
   bool xMajor = true;
-  int sx = 1;                               // march direction along the major axis (rows go up)
-  double nMaj = 0, nMin = 1, nZ = 0;        // plane normal in grid space, oriented so nMin > 0
-  double cMaj = 0, cMin = 0, cZ = 0;        // camera in grid space
-  double upMaj = 0, upMin = 0, upZ = 0;     // camera up axis, grid deltas → metres
-  double fwdMaj = 0, fwdMin = 0, fwdZ = 0;  // camera forward axis, grid deltas → metres
-  double aMaj = 0, aMin = 0, aZ = 0;        // the column ray at yc = 0, grid space: ray(yc) = a + yc·b
-  double bMaj = 0, bMin = 0, bZ = 0;        // the camera up axis, grid space
-  double vHorizon = 0;                      // rows above this (smaller v) look upwards
-  double xc = 0;                            // camera-space x of the column (ray = (xc, yc, 1))
-  int majSize = 0, minSize = 0;             // level-0 grid size along major / minor
+  int sx = 1;                               ///< march direction along the major axis (rows go up)
+  double nMaj = 0, nMin = 1, nZ = 0;        ///< plane normal in grid space, oriented so nMin > 0
+  double cMaj = 0, cMin = 0, cZ = 0;        ///< camera in grid space
+  double upMaj = 0, upMin = 0, upZ = 0;     ///< camera up axis, grid deltas → metres
+  double fwdMaj = 0, fwdMin = 0, fwdZ = 0;  ///< camera forward axis, grid deltas → metres
+  double aMaj = 0, aMin = 0, aZ = 0;        ///< the column ray at yc = 0, grid space: ray(yc) = a + yc·b
+  double bMaj = 0, bMin = 0, bZ = 0;        ///< the camera up axis, grid space
+  double vHorizon = 0;                      ///< rows above this (smaller v) look upwards
+  double xc = 0;                            ///< camera-space x of the column (ray = (xc, yc, 1))
+  int majSize = 0, minSize = 0;             ///< level-0 grid size along major / minor
 };
 
 /// The terrain point of one grid line that the column sees. It is kept in camera space (yc, zc):
@@ -43,13 +46,13 @@ struct ColumnPlane {
 /// a crossing is hidden) takes a multiply, not a division. Only a crossing that bounds a fill is
 /// projected to its image row; only one that colours a pixel gets a colour.
 struct Crossing {
-  double yc = 0;        // camera up coordinate (metres)
-  double depth = 0;     // camera forward coordinate zc (metres)
-  double phi = 0;       // fraction along the segment
-  double lodDepth = 0;  // depth the level of detail is chosen for (depth × lodStretch)
+  double yc = 0;        ///< camera up coordinate (metres)
+  double depth = 0;     ///< camera forward coordinate zc (metres)
+  double phi = 0;       ///< fraction along the segment
+  double lodDepth = 0;  ///< depth the level of detail is chosen for (depth × lodStretch)
   int level = 0;
-  int i = 0;  // level-L major index of the grid line
-  int j = 0;  // minor segment j .. j+1 (level-L indices)
+  int i = 0;  ///< level-L major index of the grid line
+  int j = 0;  ///< minor segment j .. j+1 (level-L indices)
   bool haveColour = false;
   Rgb colour;
 };
@@ -58,7 +61,7 @@ struct Crossing {
 /// march are two compares and a load. The columns of a staging block share one.
 struct TileWindows {
   std::array<const TerrainTile*, 24> tile{};
-  std::array<int, 24> x0{};  // level-L voxel of the tile's corner
+  std::array<int, 24> x0{};  ///< level-L voxel of the tile's corner
   std::array<int, 24> y0{};
   TileWindows() {
     x0.fill(std::numeric_limits<int>::min() / 4);
@@ -76,9 +79,9 @@ struct ColumnSink {
   float scale;
   Rgb sum;
   float range = std::numeric_limits<float>::infinity();
-  std::uint8_t* pixels = nullptr;  // this column's pixel in row 0 (rows are consecutive)
+  std::uint8_t* pixels = nullptr;  ///< this column's pixel in row 0 (rows are consecutive)
   std::size_t bytesPerPixel = 0;
-  float* ranges = nullptr;  // this column's range in row 0 (rows are consecutive)
+  float* ranges = nullptr;  ///< this column's range in row 0 (rows are consecutive)
 
   ColumnSink(const CasterFrame& frame, int subRows, std::uint8_t* columnPixels, float* columnRanges) noexcept
       : f(frame), s(subRows), scale(1.0f / static_cast<float>(subRows)) {
@@ -89,11 +92,14 @@ struct ColumnSink {
     if (f.rangeM != nullptr) ranges = columnRanges;
   }
 
+  /// Writes pixel v: colour `c` × `k`, and its range.
   void put(int v, const Rgb& c, float rangeM, float k) const noexcept {
     if (pixels != nullptr) f.shading.storePixel(pixels + static_cast<std::size_t>(v) * bytesPerPixel, c, k);
     if (ranges != nullptr) ranges[v] = rangeM;
   }
 
+  /// Takes sub-row q (bottom to top); with s sub-rows per pixel, a pixel gets the mean of its
+  /// colours and its middle sub-row's range once its top sub-row is in.
   void emit(int q, const Rgb& c, float rangeM) noexcept {
     if (s == 1) {
       put(q, c, rangeM, 1.0f);
@@ -113,9 +119,9 @@ struct ColumnSink {
 /// major axis. The rays of the rows it left pass above all the terrain of the grid lines before.
 struct PlaneStop {
   bool valid = false;
-  bool xMajor = false;  // the plane's major axis
+  bool xMajor = false;  ///< the plane's major axis
   glm::dvec2 point{0.0};
-  bool overTerrain = false;  // the rows left look over all the terrain: they see the sky
+  bool overTerrain = false;  ///< the rows left look over all the terrain: they see the sky
 };
 
 /// What the plane march of a column carries from one grid line to the next, so that it can pause
@@ -124,8 +130,8 @@ struct PlaneStop {
 /// (What the loop recomputes from these, such as the level's steps, the next row's slope and the
 /// grazing-angle stretch, is not kept.)
 struct PlaneMarchState {
-  bool started = false;  // the march has paused once: the next call resumes from here
-  bool paused = false;   // the last call paused (rather than ended)
+  bool started = false;  ///< the march has paused once: the next call resumes from here
+  bool paused = false;   ///< the last call paused (rather than ended)
   int level = 0, i = 0, q = 0, jGuess = 0, prev = 0;
   double base = 0, yLine = 0, zLine = 0, jPos = 0, vq = 0;
   bool lastFilledNothing = false, rayWaitsForSwitch = false;
@@ -141,5 +147,14 @@ struct PlaneMarchState {
 int marchPlane(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
                const glm::dvec2& start, int level, PlaneStop& stopped, PlaneMarchState& state, double pauseDepth,
                TileWindows& window) noexcept;
+
+/// The column plane march's next grid line segment, floor(j + φ + drift), for φ = g0 / (g0 − g1)
+/// in [0, 1) and |drift| ≤ 1 (the plane's trace runs along the major axis): φ + drift is in
+/// [−1, 2), so two comparisons give it without the division. That keeps the division off the
+/// chain from one crossing to the next, which bounds the march (it is latency-bound).
+inline int nextSegment(int j, double g0, double g1, double drift) noexcept {
+  const double dg = g0 - g1;  ///< < 0
+  return j + static_cast<int>(g0 <= (1.0 - drift) * dg) - static_cast<int>(g0 > -drift * dg);
+}
 
 }  // namespace fieldcast::core::plane_march

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace fieldcast::core::ray_march {
@@ -206,7 +207,7 @@ bool setupLine(const CasterFrame& f, const glm::dvec3& d, RayLine& r) noexcept {
   return r.mEnter <= r.mExit;
 }
 
-const TerrainTile* tileAt(const CasterFrame& f, CasterThread& t, int level, int tx, int ty) noexcept {
+[[gnu::noinline]] const TerrainTile* tileAt(const CasterFrame& f, CasterThread& t, int level, int tx, int ty) noexcept {
   CasterThread::CachedTile& c = t.tiles[static_cast<std::size_t>(level)];
   if (c.tx == tx && c.ty == ty) return c.tile;
   const TerrainGeometry& g = f.view->geometry();

@@ -1,6 +1,7 @@
 // The Renderer entry point: frames identical for any thread count, frame metadata, control points,
 // grey output, overlapping frames, and the plane march against the ray-by-ray march.
 #include "../../src/render/ColumnCaster.h"
+#include "../../src/render/PlaneMarch.h"
 #include "RenderTestUtil.h"
 
 #include <ig_core/FrameTimeController.h>
@@ -112,7 +113,7 @@ TEST(Renderer, GreyFramesAreTheLumaOfColourFrames) {
   }
 }
 
-TEST(ColumnCaster, NextSegmentIsTheFloorOfTheCrossingPlusDrift) {
+TEST(PlaneMarch, NextSegmentIsTheFloorOfTheCrossingPlusDrift) {
   // Random segments with g0 ≤ 0 < g1 and drifts over the whole allowed range, ±1 included.
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> g(1e-6, 50.0);
@@ -125,7 +126,7 @@ TEST(ColumnCaster, NextSegmentIsTheFloorOfTheCrossingPlusDrift) {
     const double drift = k % 50 == 0 ? (k % 100 == 0 ? 1.0 : -1.0) : unit(rng);
     const double exact = j + g0 / (g0 - g1) + drift;
     if (std::abs(exact - std::round(exact)) < 1e-9) continue;  // a tie: either side is right
-    EXPECT_EQ(nextSegment(j, g0, g1, drift), static_cast<int>(std::floor(exact)))
+    EXPECT_EQ(plane_march::nextSegment(j, g0, g1, drift), static_cast<int>(std::floor(exact)))
         << "j " << j << " g0 " << g0 << " g1 " << g1 << " drift " << drift;
     ++checked;
   }
