@@ -65,9 +65,9 @@ struct ColumnPixels {
 };
 
 /// Fills sub-rows q, q−1, ... while their centre vq lies below vStop (the far crossing's row), one
-/// at a time; advances q and vq. q ≥ 0 on entry. The reference for fillSpan. Everything the loop reads is a local:
-/// the pixel stores are bytes, which may alias anything, so values read through a reference would
-/// be read again after every store.
+/// at a time; advances q and vq. q ≥ 0 on entry. The reference for fillSpan. Everything the loop
+/// reads is a local: the pixel stores are bytes, which may alias anything, so values read through
+/// a reference would be read again after every store.
 template <bool kGrey>
 __attribute__((always_inline)) inline void fillSpanReference(const CrossingSpan span, const ColumnFill& column,
                                                              const ColumnPixels out, double vStop, int& qInOut,
