@@ -59,11 +59,20 @@ Frame greyFrame(const Pose& pose, TimePoint poseTime) {
   return f;
 }
 
+// A 64×48 UYVY field raster, quadratic warp, the other settings at their defaults.
+warp::FieldWarperConfig smallWarper() {
+  warp::FieldWarperConfig config;
+  config.rasterWidthPx = 64;
+  config.rasterHeightPx = 48;
+  config.outputFormat = PixelFormat::Uyvy422;
+  return config;
+}
+
 struct Rig {
   VirtualClock clock{TimePoint{1s}};
   warp::FieldClockConfig clockConfig;
   std::unique_ptr<warp::FieldClock> fieldClock;
-  warp::FieldWarper warper{warp::FieldWarperConfig{warp::WarpKind::Quadratic, 64, 48, PixelFormat::Uyvy422}};
+  warp::FieldWarper warper{smallWarper()};
   warp::FrameHandover frames;
   Pose pose{{0, 0, 100}, 0.0, radians(-30.0), 0.0};
   warp::FunctionPoseSource poses{[this](TimePoint) noexcept { return pose; }};

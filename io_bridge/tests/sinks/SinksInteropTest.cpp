@@ -18,10 +18,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <map>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 namespace fieldcast::io {
 namespace {
@@ -46,8 +46,12 @@ std::string run(const std::string& command) {
 }
 
 std::string readAll(const fs::path& p) {
+  // Through a string stream: the istreambuf_iterator form set off GCC 12's -Wnull-dereference
+  // inside libstdc++ in every build.
   std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return std::move(bytes).str();
 }
 
 fs::path scratchDir() { return fs::temp_directory_path() / ("fieldcast_interop_" + std::to_string(::getpid())); }

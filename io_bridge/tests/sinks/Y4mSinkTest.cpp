@@ -6,7 +6,8 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <sstream>
+#include <utility>
 
 namespace fieldcast::io {
 namespace {
@@ -15,8 +16,12 @@ using testing::makeField;
 using testing::testFormat;
 
 std::string readAll(const std::filesystem::path& p) {
+  // Through a string stream: the istreambuf_iterator form set off GCC 12's -Wnull-dereference
+  // inside libstdc++ in every build.
   std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return std::move(bytes).str();
 }
 
 std::filesystem::path tempPath(const std::string& name) {
