@@ -183,7 +183,7 @@ class ColumnCast {
 };
 
 // Transposes `columns` staged columns of `rows` elements of Bytes each (column-major) into rows of
-// `dst` (`stride` bytes apart). Bytes is a constant so each copy is one move.
+// `dst` (`stride` bytes apart). Bytes is a constant so each copy is a move or two.
 template <std::size_t Bytes>
 void transposeStaging(const std::uint8_t* src, std::size_t rows, std::size_t columns, std::uint8_t* dst,
                       std::size_t stride) noexcept {

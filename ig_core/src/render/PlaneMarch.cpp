@@ -113,22 +113,13 @@ __attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFram
 }
 
 // Fills the sub-rows of a supersampled column (several per pixel) between two crossings, as
-// fillSpanReference does for one per pixel; the sink averages them into pixels. Its constants are
-// copied to locals: the sink's stores would otherwise make them be read again after each one.
+// fillSpanReference does for one per pixel; the sink averages them into pixels.
 __attribute__((always_inline)) inline void fillSpanSubRows(const CrossingSpan span, const ColumnFill& column,
                                                            ColumnSink& sink, double vStop, int& qInOut,
                                                            double& vqInOut) noexcept {
-  const ColumnFill local = column;
-  int q = qInOut;
-  double vq = vqInOut;
-  while (vq > vStop) {
-    const SpanPixel p = spanPixel(span, local, local.shading, q);
-    sink.emit(q, p.colour, p.rangeM);
-    if (--q < 0) break;
-    vq -= local.invSd;
-  }
-  qInOut = q;
-  vqInOut = vq;
+  const PixelShader shading = column.shading;
+  forEachSpanRow(span, column, shading, vStop, qInOut, vqInOut,
+                 [&](int q, const SpanPixel& p) { sink.emit(q, p.colour, p.rangeM); });
 }
 
 // Where the ray of the next sub-row ended its march (marchPlaneAxis's advanceRowRay), and why.

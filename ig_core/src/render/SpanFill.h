@@ -64,29 +64,40 @@ struct ColumnPixels {
   std::size_t bytesPerPixel;
 };
 
-/// Fills sub-rows q, q−1, ... while their centre vq lies below vStop (the far crossing's row), one
-/// at a time; advances q and vq. q ≥ 0 on entry. The reference for fillSpan. Everything the loop
-/// reads is a local: the pixel stores are bytes, which may alias anything, so values read through
-/// a reference would be read again after every store.
+/// Calls put(q, pixel) with spanPixel for sub-rows q, q−1, ... while their centre vq lies below
+/// vStop (the far crossing's row), one at a time; advances q and vq as the march steps them (vq
+/// by the sub-row pitch, and not past sub-row 0). q ≥ 0 on entry. Everything the loop reads is a
+/// local: pixel stores are bytes, which may alias anything, so values read through a reference
+/// would be read again after every store.
+template <typename Put>
+__attribute__((always_inline)) inline void forEachSpanRow(const CrossingSpan span, const ColumnFill& column,
+                                                          const PixelShader& shading, double vStop, int& qInOut,
+                                                          double& vqInOut, Put&& put) noexcept {
+  const ColumnFill local = column;
+  int q = qInOut;
+  double vq = vqInOut;
+  while (vq > vStop) {
+    put(q, spanPixel(span, local, shading, q));
+    if (--q < 0) break;
+    vq -= local.invSd;
+  }
+  qInOut = q;
+  vqInOut = vq;
+}
+
+/// Fills the span's sub-rows of a column with one sub-row per pixel, one at a time (forEachSpanRow).
+/// The reference for fillSpan.
 template <bool kGrey>
 __attribute__((always_inline)) inline void fillSpanReference(const CrossingSpan span, const ColumnFill& column,
                                                              const ColumnPixels out, double vStop, int& qInOut,
                                                              double& vqInOut) noexcept {
   PixelShader shading = column.shading;
   shading.grey = kGrey;  // a constant here, so the store has no per-pixel branch
-  const ColumnFill local = column;
-  int q = qInOut;
-  double vq = vqInOut;
-  while (vq > vStop) {
-    const SpanPixel p = spanPixel(span, local, shading, q);
+  forEachSpanRow(span, column, shading, vStop, qInOut, vqInOut, [&](int q, const SpanPixel& p) {
     if (out.pixels != nullptr)
       shading.storePixel(out.pixels + static_cast<std::size_t>(q) * out.bytesPerPixel, p.colour, 1.0f);
     if (out.ranges != nullptr) out.ranges[q] = p.rangeM;
-    if (--q < 0) break;
-    vq -= local.invSd;
-  }
-  qInOut = q;
-  vqInOut = vq;
+  });
 }
 
 #if defined(__SSE2__)
@@ -132,8 +143,7 @@ __attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, con
     fillSpanReference<kGrey>(span, column, out, vStop, qInOut, vqInOut);
     return;
   }
-  PixelShader shading = column.shading;
-  shading.grey = kGrey;
+  const PixelShader shading = column.shading;
   const ColumnFill local = column;
   const double step = column.invSd;
   const __m128 v0 = _mm_set1_ps(span.v0), invDv = _mm_set1_ps(span.invDv);
