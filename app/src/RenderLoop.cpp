@@ -49,7 +49,7 @@ void RenderLoop::finish(InFlight& frame) {
   publish(std::move(done), stats);
 }
 
-void RenderLoop::publish(Frame&& frame, const core::RenderStats&) {
+void RenderLoop::publish(Frame&& frame, const core::RenderStats& stats) {
   const Nanoseconds took = frame.renderEnd - frame.renderStart;
   mMetrics.record(Measure::RenderTime, took);
   // Smooth the submit → ready latency (renderStart is the submit; with frames overlapping it
@@ -58,6 +58,7 @@ void RenderLoop::publish(Frame&& frame, const core::RenderStats&) {
   mFrames.back() = std::move(frame);
   mFrames.publish();
   mPublished.fetch_add(1, std::memory_order_release);
+  mMetrics.recordFrameKnobs(stats.quality, stats.maxAnisotropy > 0.0);
   mMetrics.counters.framesRendered.fetch_add(1, std::memory_order_relaxed);
   if (mPacing.controller.target.count() > 0) {
     const double q = mController.update(took);

@@ -21,6 +21,10 @@ nlohmann::json toJson(const DurationSummary& s) {
           {"mean_ms", s.meanS * 1e3}};
 }
 
+double mean(std::uint64_t sum, std::uint64_t count) {
+  return count > 0 ? static_cast<double>(sum) / static_cast<double>(count) : 0.0;
+}
+
 }  // namespace
 
 ServiceMetrics::ServiceMetrics() : mStart(MonotonicClock::now()), mLast(mStart) {}
@@ -31,6 +35,8 @@ std::string ServiceMetrics::intervalLine(TimePoint now) {
   const auto fields = counters.fieldsEmitted.load(std::memory_order_relaxed);
   const auto missed = counters.fieldsMissed.load(std::memory_order_relaxed);
   const auto margin = counters.marginViolations.load(std::memory_order_relaxed);
+  const auto qualityMilli = counters.qualityMilliSum.load(std::memory_order_relaxed);
+  const auto grazing = counters.framesGrazing.load(std::memory_order_relaxed);
 
   DurationSummary s[static_cast<int>(Measure::kCount)];
   for (int m = 0; m < static_cast<int>(Measure::kCount); ++m) {
@@ -46,6 +52,15 @@ std::string ServiceMetrics::intervalLine(TimePoint now) {
       static_cast<unsigned long long>(missed - mLastMissed), static_cast<unsigned long long>(margin - mLastMargin),
       ms(s[static_cast<int>(Measure::WarpTime)].p50S).c_str(), ms(s[static_cast<int>(Measure::WarpTime)].p99S).c_str());
   std::string result = line;
+  if (const auto rendered = frames - mLastFrames; rendered > 0) {
+    // What the frame-time controller chose: the mean knob, and how often the grazing rule was on.
+    std::snprintf(line, sizeof line, " | quality %.2f", mean(qualityMilli - mLastQualityMilli, rendered) / 1000.0);
+    result += line;
+    if (grazing > mLastGrazing) {
+      std::snprintf(line, sizeof line, " grazing %.0f%%", 100.0 * mean(grazing - mLastGrazing, rendered));
+      result += line;
+    }
+  }
   const DurationSummary& age = s[static_cast<int>(Measure::FrameAge)];
   if (age.count > 0) result += " | frame age " + ms(age.p50S) + "/" + ms(age.p99S) + " ms";
   const DurationSummary& stick = s[static_cast<int>(Measure::StickLatency)];
@@ -56,6 +71,8 @@ std::string ServiceMetrics::intervalLine(TimePoint now) {
   mLastFields = fields;
   mLastMissed = missed;
   mLastMargin = margin;
+  mLastQualityMilli = qualityMilli;
+  mLastGrazing = grazing;
   return result;
 }
 
@@ -72,6 +89,8 @@ ServiceFigures ServiceMetrics::figures(TimePoint now) {
   f.fieldsMissed = counters.fieldsMissed.load();
   f.marginViolations = counters.marginViolations.load();
   f.warpFallbacks = counters.warpFallbacks.load();
+  f.meanQuality = mean(counters.qualityMilliSum.load(), f.framesRendered) / 1000.0;
+  f.framesGrazing = counters.framesGrazing.load();
   f.render = mTotal[static_cast<int>(Measure::RenderTime)].summary();
   f.warp = mTotal[static_cast<int>(Measure::WarpTime)].summary();
   f.frameAge = mTotal[static_cast<int>(Measure::FrameAge)].summary();
@@ -89,6 +108,8 @@ nlohmann::json toJson(const ServiceFigures& f) {
           {"fields_missed", f.fieldsMissed},
           {"margin_violation_px", f.marginViolations},
           {"warp_fallbacks", f.warpFallbacks},
+          {"mean_quality", f.meanQuality},
+          {"frames_grazing", f.framesGrazing},
           {"render_time", toJson(f.render)},
           {"warp_time", toJson(f.warp)},
           {"frame_age", toJson(f.frameAge)},
@@ -112,6 +133,11 @@ std::string describe(const ServiceFigures& f) {
                 ms(f.frameAge.p99S).c_str(), ms(f.jitter.p50S).c_str(), ms(f.jitter.p99S).c_str(),
                 ms(f.jitter.maxS).c_str());
   std::string result = text;
+  if (f.framesRendered > 0) {
+    std::snprintf(text, sizeof text, "\n  quality knob mean %.2f, grazing-angle rule on for %llu of the frames",
+                  f.meanQuality, static_cast<unsigned long long>(f.framesGrazing));
+    result += text;
+  }
   if (f.stickLatency.count > 0) {
     result += "\n  stick→field ms p50 " + ms(f.stickLatency.p50S) + " p99 " + ms(f.stickLatency.p99S);
   }

@@ -10,6 +10,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -34,6 +35,8 @@ struct ServiceCounters {
   std::atomic<std::uint64_t> fieldsMissed{0};      ///< deadlines passed without a field
   std::atomic<std::uint64_t> marginViolations{0};  ///< output pixels sampled outside the frame
   std::atomic<std::uint64_t> warpFallbacks{0};     ///< fields warped by the rotation-only fallback
+  std::atomic<std::uint64_t> qualityMilliSum{0};   ///< frames' quality knobs × 1000, summed (see recordFrameKnobs)
+  std::atomic<std::uint64_t> framesGrazing{0};     ///< frames rendered with the grazing-angle rule on
 };
 
 /// Figures of the whole run, for --summary and the end-of-run log.
@@ -45,6 +48,8 @@ struct ServiceFigures {
   std::uint64_t fieldsMissed = 0;
   std::uint64_t marginViolations = 0;
   std::uint64_t warpFallbacks = 0;
+  double meanQuality = 0.0;  ///< mean quality knob over the frames rendered (0 when none)
+  std::uint64_t framesGrazing = 0;
   DurationSummary render, warp, frameAge, jitter, stickLatency;
 };
 
@@ -61,8 +66,17 @@ class ServiceMetrics {
   /// Records a duration. Any thread; wait-free, RT-safe.
   void record(Measure m, Nanoseconds d) noexcept { mInterval[static_cast<int>(m)].record(d); }
 
+  /// Counts a rendered frame's knobs (RenderStats): the frame-time controller's quality and whether
+  /// the grazing-angle rule was on. Call with framesRendered. Any thread; wait-free, RT-safe.
+  void recordFrameKnobs(double quality, bool grazing) noexcept {
+    counters.qualityMilliSum.fetch_add(static_cast<std::uint64_t>(std::lround(quality * 1000.0)),
+                                       std::memory_order_relaxed);
+    if (grazing) counters.framesGrazing.fetch_add(1, std::memory_order_relaxed);
+  }
+
   /// The line for the log since the previous call (render Hz, fields, missed, margin, warp
-  /// p50/p99, frame age, stick latency when any), then folds the interval into the totals.
+  /// p50/p99, frame age, stick latency when any, the mean quality knob and grazing-rule share when
+  /// frames were rendered), then folds the interval into the totals.
   /// Call from one thread (the metrics/main thread).
   std::string intervalLine(TimePoint now);
 
@@ -82,6 +96,8 @@ class ServiceMetrics {
   std::uint64_t mLastFields = 0;
   std::uint64_t mLastMissed = 0;
   std::uint64_t mLastMargin = 0;
+  std::uint64_t mLastQualityMilli = 0;
+  std::uint64_t mLastGrazing = 0;
   double mLastRenderHz = 0.0;
 };
 

@@ -14,6 +14,8 @@ class Renderer::InFlight {
  public:
   InFlight(Renderer& r, const ViewRequest& request, const RenderSettings& s, Frame&& recycle)
       : renderer(r),
+        quality(s.quality),
+        maxAnisotropy(s.maxAnisotropy),
         frame(frameShell(request, s, s.rangeImage, std::move(recycle))),
         geometry(frame.pose, frame.intrinsics, r.mView.geometry(), s),
         caster(r.mView, geometry, s, r.mCeilingQ, &frame.image, s.rangeImage ? frame.rangeM.data() : nullptr) {
@@ -37,6 +39,8 @@ class Renderer::InFlight {
   }
 
   Renderer& renderer;
+  double quality;        // the settings that change from frame to frame, for RenderStats
+  double maxAnisotropy;
   Frame frame;
   ViewGeometry geometry;
   CasterFrame caster;
@@ -85,6 +89,8 @@ Frame Renderer::finish(Ticket f, RenderStats* stats) {
     stats->rays = f->rays.load(std::memory_order_relaxed);
     stats->pixels = static_cast<std::uint64_t>(f->frame.intrinsics.widthPx) *
                     static_cast<std::uint64_t>(f->frame.intrinsics.heightPx);
+    stats->quality = f->quality;
+    stats->maxAnisotropy = f->maxAnisotropy;
   }
   return std::move(f->frame);
 }

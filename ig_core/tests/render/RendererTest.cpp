@@ -150,6 +150,28 @@ TEST(Renderer, OverlappingFramesComeOutInOrderAndIdentical) {
   EXPECT_TRUE(f1.image == f3.image);
 }
 
+TEST(Renderer, StatsReportTheKnobsEachFrameWasSubmittedWith) {
+  // The frame-time controller turns the knobs while frames are in flight: each frame's statistics
+  // must name its own, not the renderer's current ones.
+  const TerrainView& view = hills().view();
+  Renderer renderer(view, RenderSettings{}, 2);
+  const ViewRequest r = someView(view, 30, -30, 120);
+  renderer.setQuality(2.5);
+  auto coarse = renderer.submit(r);
+  renderer.setQuality(0.75);
+  renderer.setMaxAnisotropy(2.0);
+  auto grazing = renderer.submit(r);
+  renderer.setQuality(1.0);
+  renderer.setMaxAnisotropy(0.0);
+  RenderStats first, second;
+  renderer.finish(std::move(coarse), &first);
+  renderer.finish(std::move(grazing), &second);
+  EXPECT_EQ(first.quality, 2.5);
+  EXPECT_EQ(first.maxAnisotropy, 0.0);
+  EXPECT_EQ(second.quality, 0.75);
+  EXPECT_EQ(second.maxAnisotropy, 2.0);
+}
+
 // Pixels whose hit lies more than one voxel (at its level) outside the hull of the grid's voxel
 // centres: terrain the database does not have.
 int hitsBeyondTheGrid(const Frame& f, const TerrainGeometry& g, const RenderSettings& settings) {
