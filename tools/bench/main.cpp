@@ -95,8 +95,8 @@ int run(int argc, char** argv) {
     }
     if (baselineWarp == 0.0) baselineWarp = median(warp50);
     std::printf("%-34s %9.1f %8.0f %7.0f %7.2fms %7.2fms %8.2fx %7.2fms %7.2fms %7.1fms %8.2f\n", c.name.c_str(),
-                median(hz), median(fields), median(missed), median(warp50), median(warp99), median(warp50) / baselineWarp,
-                median(jitter99), median(jitterMax), median(age50), median(quality));
+                median(hz), median(fields), median(missed), median(warp50), median(warp99),
+                median(warp50) / baselineWarp, median(jitter99), median(jitterMax), median(age50), median(quality));
     std::fflush(stdout);
   }
   std::printf(

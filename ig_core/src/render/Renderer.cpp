@@ -39,7 +39,7 @@ class Renderer::InFlight {
   }
 
   Renderer& renderer;
-  double quality;        // the settings that change from frame to frame, for RenderStats
+  double quality;  // the settings that change from frame to frame, for RenderStats
   double maxAnisotropy;
   Frame frame;
   ViewGeometry geometry;
