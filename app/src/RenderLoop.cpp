@@ -50,7 +50,9 @@ void RenderLoop::finish(InFlight& frame) {
 }
 
 void RenderLoop::publish(Frame&& frame, const core::RenderStats& stats) {
-  const Nanoseconds took = frame.renderEnd - frame.renderStart;
+  const TimePoint submitted = frame.renderStart;
+  const TimePoint completed = frame.renderEnd;
+  const Nanoseconds took = completed - submitted;
   mMetrics.record(Measure::RenderTime, took);
   // Smooth the submit → ready latency (renderStart is the submit; with frames overlapping it
   // exceeds the frame's own work).
@@ -61,7 +63,8 @@ void RenderLoop::publish(Frame&& frame, const core::RenderStats& stats) {
   mMetrics.recordFrameKnobs(stats.quality, stats.maxAnisotropy > 0.0);
   mMetrics.counters.framesRendered.fetch_add(1, std::memory_order_relaxed);
   if (mPacing.controller.target.count() > 0) {
-    const double q = mController.update(took);
+    // Not `took`: with two frames in flight that is about two frame times (see update()).
+    const double q = mController.update(submitted, completed);
     mRenderer.setQuality(q);
     if (mPacing.controller.grazingAnisotropy > 0.0) mRenderer.setMaxAnisotropy(mController.maxAnisotropy());
     mQuality.store(q, std::memory_order_relaxed);

@@ -7,9 +7,14 @@
 // The built-in terrain (8192² voxels at 2 m) is generated into the cache folder on first use;
 // --terrain=synthetic uses the procedural test hills (4096² at 2 m) instead.
 //
+// render_held: the same poses at 720×486 on 2 threads with the frame-time controller holding
+// 4 ms (the grazing-angle rule first, then the quality knob, as the service does): the frame time
+// it holds and the knob it settles on.
+//
 // Counters: frame_ms (per frame), ns_per_px (frame time / frame pixels), steps_per_px (height
 // samples per pixel), ref_ns_per_px (reference renderer, one thread, sampled pixels), speedup
 // (reference ns/px over this run's ns/px × threads: the per-core speed-up).
+#include <ig_core/FrameTimeController.h>
 #include <ig_core/OpenTerrain.h>
 #include <ig_core/ReferenceRenderer.h>
 #include <ig_core/Renderer.h>
@@ -141,6 +146,49 @@ void BM_Render(benchmark::State& state) {
   state.counters["speedup"] = refNs / (1e9 * median * threads / px);
 }
 
+// The frame-time controller on one pose: it settles over the warm-up frames, then every
+// iteration renders a frame and feeds its time back, as the service's render loop does.
+void BM_RenderHeld(benchmark::State& state) {
+  const int pose = static_cast<int>(state.range(0));
+  const auto targetMs = static_cast<double>(state.range(1));
+  state.SetLabel(std::string(kPoses[static_cast<std::size_t>(pose)].name));
+  FrameTimeControllerConfig config;
+  config.target = fromSeconds(targetMs * 1e-3);
+  config.grazingAnisotropy = 2.0;  // the service's default controller_anisotropy
+  FrameTimeController controller(config);
+  Renderer renderer(terrain().view(), RenderSettings{}, 2);
+  const ViewRequest request = requestFor(pose, 0);
+  if (terrain().cache) {
+    const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
+    terrain().cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
+    terrain().cache->waitIdle(std::chrono::seconds(120));
+  }
+  FrameLease lease;
+  if (terrain().cache) lease = terrain().cache->lease();
+  Frame frame;
+  const auto renderOnce = [&] {
+    const auto start = std::chrono::steady_clock::now();
+    frame = renderer.render(request, nullptr, std::move(frame));
+    const auto took = std::chrono::steady_clock::now() - start;
+    renderer.setQuality(controller.update(std::chrono::duration_cast<Nanoseconds>(took)));
+    renderer.setMaxAnisotropy(controller.maxAnisotropy());
+    return std::chrono::duration<double>(took).count();
+  };
+  for (int i = 0; i < 150; ++i) renderOnce();  // settle
+  std::vector<double> seconds, quality;
+  for (auto _ : state) {
+    quality.push_back(renderer.settings().quality);
+    seconds.push_back(renderOnce());
+    benchmark::DoNotOptimize(frame.image.bytes().data());
+  }
+  std::sort(seconds.begin(), seconds.end());
+  std::sort(quality.begin(), quality.end());
+  state.counters["frame_ms"] = 1e3 * seconds[seconds.size() / 2];
+  state.counters["target_ms"] = targetMs;
+  state.counters["quality"] = quality[quality.size() / 2];
+  state.counters["grazing"] = controller.maxAnisotropy() > 0.0 ? 1 : 0;
+}
+
 void registerAll() {
   for (int size = 0; size < 2; ++size) {
     for (int anisotropy : {0, 2}) {
@@ -154,6 +202,13 @@ void registerAll() {
         }
       }
     }
+  }
+  for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
+    benchmark::RegisterBenchmark("render_held", BM_RenderHeld)
+        ->Args({pose, 4})
+        ->ArgNames({"pose", "target_ms"})
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
   }
 }
 

@@ -35,6 +35,12 @@ class FrameTimeController {
 
   /// Feeds the time the last frame took; returns the knob to use for the next frame.
   double update(Nanoseconds frameTime) noexcept;
+  /// The same for frames that overlap (Renderer::submit before the last is finished): feeds a
+  /// frame's submission and completion, in the order they complete. Such a frame waits behind the
+  /// one before, so its submission → completion time is about two frame times; what it cost is the
+  /// time from its submission or the previous completion, whichever is later: the render period
+  /// when free-running, the frame's own time when frames do not overlap.
+  double update(TimePoint submitted, TimePoint completed) noexcept;
   double quality() const noexcept { return mQuality; }
   /// RenderSettings::maxAnisotropy to use with quality(): grazingAnisotropy while the controller
   /// has the rule on, else 0.
@@ -48,6 +54,7 @@ class FrameTimeController {
   double mSmoothed = 0.0;
   bool mGrazing = false;         ///< the grazing-angle rule is on
   double mGrazingQuality = 0.0;  ///< the knob when the rule went on
+  TimePoint mLastCompleted{};    ///< of the frame fed last by submission and completion
 };
 
 }  // namespace fieldcast::core

@@ -10,6 +10,12 @@ namespace fieldcast::core {
 FrameTimeController::FrameTimeController(const FrameTimeControllerConfig& config, double initialQuality) noexcept
     : mConfig(config), mQuality(std::clamp(initialQuality, config.minQuality, config.maxQuality)) {}
 
+double FrameTimeController::update(TimePoint submitted, TimePoint completed) noexcept {
+  const TimePoint from = std::max(submitted, mLastCompleted);
+  mLastCompleted = completed;
+  return update(completed - from);
+}
+
 double FrameTimeController::update(Nanoseconds frameTime) noexcept {
   const double target = toSeconds(mConfig.target);
   if (!(target > 0.0)) return mQuality;

@@ -275,6 +275,44 @@ TEST(FrameTimeController, HoldsTheTargetWithoutHunting) {
   EXPECT_LE(toSeconds(cheap(q)), 0.008);
 }
 
+TEST(FrameTimeController, HoldsTheFrameTimeOfOverlappingFramesNotTheirLatency) {
+  // Two frames in flight, as the service's render loop keeps them: frame k is submitted when
+  // frame k−2 comes back and completes one frame time after frame k−1, so its submission →
+  // completion time is two frame times. The target is the frame time (the render rate).
+  FrameTimeControllerConfig config;
+  config.target = fromSeconds(0.008);
+  FrameTimeController controller(config, 1.0);
+  const auto cost = [](double q) { return fromSeconds(0.002 + 0.018 / (q * q)); };
+  double q = 1.0;
+  TimePoint completed[2] = {TimePoint{} + std::chrono::seconds(1), TimePoint{} + std::chrono::seconds(1)};
+  Nanoseconds frameTime{};
+  Nanoseconds latency{};
+  for (int frame = 0; frame < 120; ++frame) {
+    const TimePoint submitted = completed[0];  // frame k−2's completion
+    frameTime = cost(q);
+    const TimePoint done = completed[1] + frameTime;
+    latency = done - submitted;
+    completed[0] = completed[1];
+    completed[1] = done;
+    q = controller.update(submitted, done);
+  }
+  EXPECT_LE(toSeconds(frameTime), 0.008 * 1.02);
+  EXPECT_GE(toSeconds(frameTime), 0.008 * 0.6);  // not coarsened to halve the latency
+  EXPECT_GT(toSeconds(latency), 0.008 * 1.2);
+  // Frames that do not overlap (a capped rate): each one's own time is held.
+  FrameTimeController capped(config, 1.0);
+  q = 1.0;
+  TimePoint now = TimePoint{} + std::chrono::seconds(1);
+  for (int frame = 0; frame < 120; ++frame) {
+    now += std::chrono::milliseconds(100);  // idle until the cap lets the next frame start
+    frameTime = cost(q);
+    q = capped.update(now, now + frameTime);
+    now += frameTime;
+  }
+  EXPECT_LE(toSeconds(frameTime), 0.008 * 1.02);
+  EXPECT_GE(toSeconds(frameTime), 0.008 * 0.6);
+}
+
 TEST(FrameTimeController, TurnsOnTheGrazingRuleBeforeCoarseningQuality) {
   // Low views: t = (2 ms + 18 ms / quality²), halved by the grazing-angle rule.
   FrameTimeControllerConfig config;
