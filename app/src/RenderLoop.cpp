@@ -18,8 +18,10 @@ RenderLoop::RenderLoop(core::Renderer& renderer, const motion::MotionSource& mot
       mPacing(pacing),
       mTiles(tiles),
       mController(pacing.controller, pacing.initialQuality),
-      mQuality(pacing.initialQuality) {
-  mRenderer.setQuality(pacing.initialQuality);
+      // With the controller on, frames start from its knob (clamped to its range): it counts
+      // only frames rendered with its own knobs.
+      mQuality(pacing.controller.target.count() > 0 ? mController.quality() : pacing.initialQuality) {
+  mRenderer.setQuality(mQuality.load());
 }
 
 RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
@@ -64,7 +66,7 @@ void RenderLoop::publish(Frame&& frame, const core::RenderStats& stats) {
   mMetrics.counters.framesRendered.fetch_add(1, std::memory_order_relaxed);
   if (mPacing.controller.target.count() > 0) {
     // Not `took`: with two frames in flight that is about two frame times (see update()).
-    const double q = mController.update(submitted, completed);
+    const double q = mController.update(core::RenderedFrame{submitted, completed, stats.quality, stats.maxAnisotropy});
     mRenderer.setQuality(q);
     if (mPacing.controller.grazingAnisotropy > 0.0) mRenderer.setMaxAnisotropy(mController.maxAnisotropy());
     mQuality.store(q, std::memory_order_relaxed);

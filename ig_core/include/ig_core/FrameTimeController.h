@@ -28,6 +28,15 @@ struct FrameTimeControllerConfig {
   double grazingOffBelow = 0.4;
 };
 
+/// A frame as the controller sees it: when it was submitted and completed, and the knobs it was
+/// rendered with (RenderStats).
+struct RenderedFrame {
+  TimePoint submitted{};
+  TimePoint completed{};
+  double quality = 1.0;
+  double maxAnisotropy = 0.0;
+};
+
 /// Turns measured frame times into a quality knob. Not thread-safe; RT-safe (no allocation).
 class FrameTimeController {
  public:
@@ -35,12 +44,13 @@ class FrameTimeController {
 
   /// Feeds the time the last frame took; returns the knob to use for the next frame.
   double update(Nanoseconds frameTime) noexcept;
-  /// The same for frames that overlap (Renderer::submit before the last is finished): feeds a
-  /// frame's submission and completion, in the order they complete. Such a frame waits behind the
-  /// one before, so its submission → completion time is about two frame times; what it cost is the
-  /// time from its submission or the previous completion, whichever is later: the render period
-  /// when free-running, the frame's own time when frames do not overlap.
-  double update(TimePoint submitted, TimePoint completed) noexcept;
+  /// The same for a renderer with frames in flight (the service's render loop), fed in the order
+  /// the frames complete. Such a frame waits behind the one before, so its submission →
+  /// completion time is about two frame times; what it cost is the time from its submission or
+  /// the previous completion, whichever is later: the render period when free-running, the
+  /// frame's own time when frames do not overlap. A frame rendered with other knobs than the
+  /// current ones (submitted before the last change) is not counted: it says nothing of them.
+  double update(const RenderedFrame& frame) noexcept;
   double quality() const noexcept { return mQuality; }
   /// RenderSettings::maxAnisotropy to use with quality(): grazingAnisotropy while the controller
   /// has the rule on, else 0.

@@ -10,10 +10,13 @@ namespace fieldcast::core {
 FrameTimeController::FrameTimeController(const FrameTimeControllerConfig& config, double initialQuality) noexcept
     : mConfig(config), mQuality(std::clamp(initialQuality, config.minQuality, config.maxQuality)) {}
 
-double FrameTimeController::update(TimePoint submitted, TimePoint completed) noexcept {
-  const TimePoint from = std::max(submitted, mLastCompleted);
-  mLastCompleted = completed;
-  return update(completed - from);
+double FrameTimeController::update(const RenderedFrame& frame) noexcept {
+  const TimePoint from = std::max(frame.submitted, mLastCompleted);
+  mLastCompleted = frame.completed;
+  // (The grazing rule is compared only when it is the controller's to turn.)
+  const bool grazingCurrent = !(mConfig.grazingAnisotropy > 0.0) || frame.maxAnisotropy == maxAnisotropy();
+  if (frame.quality != mQuality || !grazingCurrent) return mQuality;
+  return update(frame.completed - from);
 }
 
 double FrameTimeController::update(Nanoseconds frameTime) noexcept {
@@ -31,8 +34,11 @@ double FrameTimeController::update(Nanoseconds frameTime) noexcept {
       mSmoothed = 0.0;
       return mQuality;
     }
-    // Over budget: coarsen in proportion to the overrun, bounded per frame.
+    // Over budget: coarsen in proportion to the overrun, bounded per frame. The smoothing
+    // restarts: the smoothed time lags, and still over budget once the frames are not, it would
+    // coarsen again for them (it held the oblique bench view at quality 5.5 where 4 did).
     mQuality *= std::min(std::sqrt(mSmoothed / target) * 1.02, mConfig.maxStepRatio);
+    mSmoothed = 0.0;
   } else if (mSmoothed < mConfig.refineBelow * target) {
     if (mGrazing && mQuality <= mGrazingQuality) {
       // Back where the rule went on: turn it off once there is room for it, else hold.

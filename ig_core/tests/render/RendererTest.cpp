@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -276,41 +277,71 @@ TEST(FrameTimeController, HoldsTheTargetWithoutHunting) {
 }
 
 TEST(FrameTimeController, HoldsTheFrameTimeOfOverlappingFramesNotTheirLatency) {
-  // Two frames in flight, as the service's render loop keeps them: frame k is submitted when
-  // frame k−2 comes back and completes one frame time after frame k−1, so its submission →
-  // completion time is two frame times. The target is the frame time (the render rate).
+  // Two frames in flight, as the service's render loop keeps them: frame k+1 is submitted (with
+  // the knob of the moment) just before frame k completes, and each completes one frame time
+  // after the one before, so a frame's submission → completion time is two frame times and it
+  // was rendered with the knob from before the last update. The target is the frame time.
   FrameTimeControllerConfig config;
   config.target = fromSeconds(0.008);
   FrameTimeController controller(config, 1.0);
   const auto cost = [](double q) { return fromSeconds(0.002 + 0.018 / (q * q)); };
-  double q = 1.0;
+  double knob = 1.0;      // the renderer's knob now
+  double inFlight = 1.0;  // the knob frame k was submitted with
   TimePoint completed[2] = {TimePoint{} + std::chrono::seconds(1), TimePoint{} + std::chrono::seconds(1)};
   Nanoseconds frameTime{};
   Nanoseconds latency{};
+  std::vector<double> knobs;
   for (int frame = 0; frame < 120; ++frame) {
-    const TimePoint submitted = completed[0];  // frame k−2's completion
-    frameTime = cost(q);
+    const double mine = inFlight;
+    inFlight = knob;                           // frame k+1 goes in first
+    const TimePoint submitted = completed[0];  // frame k went in as frame k−2 came out
+    frameTime = cost(mine);
     const TimePoint done = completed[1] + frameTime;
     latency = done - submitted;
     completed[0] = completed[1];
     completed[1] = done;
-    q = controller.update(submitted, done);
+    knob = controller.update(RenderedFrame{submitted, done, mine, 0.0});
+    knobs.push_back(knob);
   }
+  // Held near the target: neither coarsened to halve the latency, nor overshot by counting frames
+  // of the knob before (the knob that holds 8 ms is √3 = 1.73).
   EXPECT_LE(toSeconds(frameTime), 0.008 * 1.02);
-  EXPECT_GE(toSeconds(frameTime), 0.008 * 0.6);  // not coarsened to halve the latency
+  EXPECT_GE(toSeconds(frameTime), 0.008 * 0.85);
   EXPECT_GT(toSeconds(latency), 0.008 * 1.2);
+  EXPECT_LT(*std::max_element(knobs.begin(), knobs.end()), 1.73 * 1.1);
   // Frames that do not overlap (a capped rate): each one's own time is held.
   FrameTimeController capped(config, 1.0);
-  q = 1.0;
+  knob = 1.0;
   TimePoint now = TimePoint{} + std::chrono::seconds(1);
   for (int frame = 0; frame < 120; ++frame) {
     now += std::chrono::milliseconds(100);  // idle until the cap lets the next frame start
-    frameTime = cost(q);
-    q = capped.update(now, now + frameTime);
+    frameTime = cost(knob);
+    knob = capped.update(RenderedFrame{now, now + frameTime, knob, 0.0});
     now += frameTime;
   }
   EXPECT_LE(toSeconds(frameTime), 0.008 * 1.02);
-  EXPECT_GE(toSeconds(frameTime), 0.008 * 0.6);
+  EXPECT_GE(toSeconds(frameTime), 0.008 * 0.85);
+}
+
+TEST(FrameTimeController, CountsOnlyFramesRenderedWithItsCurrentKnobs) {
+  FrameTimeControllerConfig config;
+  config.target = fromSeconds(0.008);
+  config.grazingAnisotropy = 2.0;
+  FrameTimeController controller(config, 1.0);
+  TimePoint t = TimePoint{} + std::chrono::seconds(1);
+  const auto frame = [&](double ms, double quality, double anisotropy) {
+    const TimePoint submitted = t;
+    t += fromSeconds(ms * 1e-3);
+    return controller.update(RenderedFrame{submitted, t, quality, anisotropy});
+  };
+  frame(20.0, 1.0, 0.0);  // over budget: the grazing rule goes on
+  ASSERT_EQ(controller.maxAnisotropy(), 2.0);
+  // Frames still in flight without the rule, or with another knob, are not counted.
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(frame(20.0, 1.0, 0.0), 1.0);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(frame(20.0, 1.3, 2.0), 1.0);
+  EXPECT_EQ(controller.maxAnisotropy(), 2.0);
+  // The first frame with the rule and the knob counts: still over budget, the knob coarsens.
+  EXPECT_GT(frame(20.0, 1.0, 2.0), 1.0);
 }
 
 TEST(FrameTimeController, TurnsOnTheGrazingRuleBeforeCoarseningQuality) {
