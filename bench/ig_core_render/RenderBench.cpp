@@ -8,8 +8,8 @@
 // --terrain=synthetic uses the procedural test hills (4096² at 2 m) instead.
 //
 // render_held: the same poses at 720×486 on 2 threads with the frame-time controller holding
-// 4 or 6 ms (the grazing-angle rule first, then the quality knob, as the service does): the frame time
-// it holds and the knob it settles on.
+// 4 or 6 ms (the grazing-angle rule first, then the quality knob, as the service does): the
+// frame time it holds and the knob it settles on.
 //
 // Counters: frame_ms (per frame), ns_per_px (frame time / frame pixels), steps_per_px (height
 // samples per pixel), ref_ns_per_px (reference renderer, one thread, sampled pixels), speedup
