@@ -18,8 +18,8 @@ RenderLoop::RenderLoop(core::Renderer& renderer, const motion::MotionSource& mot
       mPacing(pacing),
       mTiles(tiles),
       mController(pacing.controller, pacing.initialQuality),
-      // With the controller on, frames start from its knob (clamped to its range): it counts
-      // only frames rendered with its own knobs.
+      // With the controller on, frames start from its knob (clamped to its range), not from a
+      // knob it would replace after the first frame.
       mQuality(pacing.controller.target.count() > 0 ? mController.quality() : pacing.initialQuality) {
   mRenderer.setQuality(mQuality.load());
 }

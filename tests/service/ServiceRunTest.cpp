@@ -143,6 +143,24 @@ TEST_F(ServiceRun, SigtermMidRunStopsCleanlyWithACompleteFile) {
   EXPECT_EQ((s.at("fields_emitted").get<int>() + s.at("fields_missed").get<int>() + 1) / 2, frames);
 }
 
+TEST_F(ServiceRun, FrameTimeControllerCoarsensAndTheSummarySaysHowFar) {
+  // Without a target every frame is rendered at the configured knob.
+  const RunResult fixed = run("--config " + config() + " --duration 2");
+  ASSERT_EQ(fixed.exitCode, 0) << fixed.output;
+  EXPECT_EQ(summary().at("mean_quality").get<double>(), 1.0) << summary().dump(2);
+  EXPECT_EQ(summary().at("frames_grazing").get<int>(), 0);
+  // A target no frame can meet: the controller turns the grazing rule on and coarsens, though it
+  // counts only the frames rendered with its current knobs (two are in flight at each change) and
+  // the configured knob, 0.25, lies below its floor of 0.5.
+  const RunResult held =
+      run("--config " + config() + " --set render.quality=0.25 --set render.target_frame_ms=0.1 --duration 2");
+  ASSERT_EQ(held.exitCode, 0) << held.output;
+  const nlohmann::json s = summary();
+  EXPECT_GT(s.at("mean_quality").get<double>(), 2.0) << s.dump(2);
+  EXPECT_GT(s.at("frames_grazing").get<int>(), 0) << s.dump(2);
+  EXPECT_NE(held.output.find("grazing-angle rule on for"), std::string::npos) << held.output;
+}
+
 TEST_F(ServiceRun, BadConfigurationsFailWithOneClearLine) {
   struct Case {
     const char* what;
