@@ -108,6 +108,15 @@ double referenceNsPerPixel(int pose, int size) {
   return cache[key] = ns / count;
 }
 
+// Pages in everything a view needs, and holds it: the figures are of rendering, not of loading.
+FrameLease pageIn(const ViewRequest& request) {
+  if (!terrain().cache) return {};
+  const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
+  terrain().cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
+  terrain().cache->waitIdle(std::chrono::seconds(120));
+  return terrain().cache->lease();
+}
+
 void BM_Render(benchmark::State& state) {
   const int pose = static_cast<int>(state.range(0));
   const int size = static_cast<int>(state.range(1));
@@ -118,14 +127,7 @@ void BM_Render(benchmark::State& state) {
   const double refNs = referenceNsPerPixel(pose, size);  // the reference with the rule off
   Renderer renderer(terrain().view(), settings, threads);
   const ViewRequest request = requestFor(pose, size);
-  if (terrain().cache) {
-    // Page in everything this view needs first: the figures are of rendering, not of loading.
-    const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
-    terrain().cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
-    terrain().cache->waitIdle(std::chrono::seconds(120));
-  }
-  FrameLease lease;
-  if (terrain().cache) lease = terrain().cache->lease();
+  const FrameLease lease = pageIn(request);
   RenderStats stats;
   Frame frame = renderer.render(request, &stats);  // warm up
   std::vector<double> seconds;
@@ -158,13 +160,7 @@ void BM_RenderHeld(benchmark::State& state) {
   FrameTimeController controller(config);
   Renderer renderer(terrain().view(), RenderSettings{}, 2);
   const ViewRequest request = requestFor(pose, 0);
-  if (terrain().cache) {
-    const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
-    terrain().cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
-    terrain().cache->waitIdle(std::chrono::seconds(120));
-  }
-  FrameLease lease;
-  if (terrain().cache) lease = terrain().cache->lease();
+  const FrameLease lease = pageIn(request);
   Frame frame;
   const auto renderOnce = [&] {
     const auto start = std::chrono::steady_clock::now();
