@@ -18,10 +18,8 @@ RenderLoop::RenderLoop(core::Renderer& renderer, const motion::MotionSource& mot
       mPacing(pacing),
       mTiles(tiles),
       mController(pacing.controller, pacing.initialQuality),
-      // With the controller on, frames start from its knob (clamped to its range), not from a
-      // knob it would replace after the first frame.
-      mQuality(pacing.controller.target.count() > 0 ? mController.quality() : pacing.initialQuality) {
-  mRenderer.setQuality(mQuality.load());
+      mQuality(pacing.initialQuality) {
+  mRenderer.setQuality(pacing.initialQuality);
 }
 
 RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
@@ -62,8 +60,7 @@ void RenderLoop::publish(Frame&& frame, const core::RenderStats& stats) {
   mFrames.back() = std::move(frame);
   mFrames.publish();
   mPublished.fetch_add(1, std::memory_order_release);
-  mMetrics.recordFrameKnobs(stats.quality, stats.maxAnisotropy > 0.0);
-  mMetrics.counters.framesRendered.fetch_add(1, std::memory_order_relaxed);
+  mMetrics.recordFrame(stats.quality, stats.maxAnisotropy > 0.0);
   if (mPacing.controller.target.count() > 0) {
     // Not `took`: with two frames in flight that is about two frame times (see update()).
     const double q = mController.update(core::RenderedFrame{submitted, completed, stats.quality, stats.maxAnisotropy});

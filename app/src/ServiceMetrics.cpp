@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace fieldcast::app {
@@ -31,12 +32,13 @@ ServiceMetrics::ServiceMetrics() : mStart(MonotonicClock::now()), mLast(mStart) 
 
 std::string ServiceMetrics::intervalLine(TimePoint now) {
   const double seconds = std::max(1e-9, toSeconds(now - mLast));
+  // The knobs first (see recordFrame): every frame they count is then in `frames`.
+  const auto qualityMilli = counters.qualityMilliSum.load(std::memory_order_acquire);
+  const auto grazing = counters.framesGrazing.load(std::memory_order_acquire);
   const auto frames = counters.framesRendered.load(std::memory_order_relaxed);
   const auto fields = counters.fieldsEmitted.load(std::memory_order_relaxed);
   const auto missed = counters.fieldsMissed.load(std::memory_order_relaxed);
   const auto margin = counters.marginViolations.load(std::memory_order_relaxed);
-  const auto qualityMilli = counters.qualityMilliSum.load(std::memory_order_relaxed);
-  const auto grazing = counters.framesGrazing.load(std::memory_order_relaxed);
 
   DurationSummary s[static_cast<int>(Measure::kCount)];
   for (int m = 0; m < static_cast<int>(Measure::kCount); ++m) {
@@ -57,7 +59,8 @@ std::string ServiceMetrics::intervalLine(TimePoint now) {
     std::snprintf(line, sizeof line, " | quality %.2f", mean(qualityMilli - mLastQualityMilli, rendered) / 1000.0);
     result += line;
     if (grazing > mLastGrazing) {
-      std::snprintf(line, sizeof line, " grazing %.0f%%", 100.0 * mean(grazing - mLastGrazing, rendered));
+      std::snprintf(line, sizeof line, " grazing %.0f%%",
+                    100.0 * std::min(1.0, mean(grazing - mLastGrazing, rendered)));
       result += line;
     }
   }
@@ -134,8 +137,9 @@ std::string describe(const ServiceFigures& f) {
                 ms(f.jitter.maxS).c_str());
   std::string result = text;
   if (f.framesRendered > 0) {
-    std::snprintf(text, sizeof text, "\n  quality knob mean %.2f, grazing-angle rule on for %llu of the frames",
-                  f.meanQuality, static_cast<unsigned long long>(f.framesGrazing));
+    std::snprintf(text, sizeof text, "\n  quality knob mean %.2f, grazing-angle rule on for %llu of %llu frames",
+                  f.meanQuality, static_cast<unsigned long long>(f.framesGrazing),
+                  static_cast<unsigned long long>(f.framesRendered));
     result += text;
   }
   if (f.stickLatency.count > 0) {

@@ -35,7 +35,7 @@ struct ServiceCounters {
   std::atomic<std::uint64_t> fieldsMissed{0};      ///< deadlines passed without a field
   std::atomic<std::uint64_t> marginViolations{0};  ///< output pixels sampled outside the frame
   std::atomic<std::uint64_t> warpFallbacks{0};     ///< fields warped by the rotation-only fallback
-  std::atomic<std::uint64_t> qualityMilliSum{0};   ///< frames' quality knobs × 1000, summed (see recordFrameKnobs)
+  std::atomic<std::uint64_t> qualityMilliSum{0};   ///< frames' quality knobs × 1000, summed (see recordFrame)
   std::atomic<std::uint64_t> framesGrazing{0};     ///< frames rendered with the grazing-angle rule on
 };
 
@@ -66,12 +66,15 @@ class ServiceMetrics {
   /// Records a duration. Any thread; wait-free, RT-safe.
   void record(Measure m, Nanoseconds d) noexcept { mInterval[static_cast<int>(m)].record(d); }
 
-  /// Counts a rendered frame's knobs (RenderStats): the frame-time controller's quality and whether
-  /// the grazing-angle rule was on. Call with framesRendered. Any thread; wait-free, RT-safe.
-  void recordFrameKnobs(double quality, bool grazing) noexcept {
+  /// Counts a rendered frame (framesRendered) with its knobs (RenderStats): the frame-time
+  /// controller's quality and whether the grazing-angle rule was on. Any thread; wait-free,
+  /// RT-safe. The knobs are published after the frame, and intervalLine reads them first, so an
+  /// interval never holds more knobs than frames.
+  void recordFrame(double quality, bool grazing) noexcept {
+    counters.framesRendered.fetch_add(1, std::memory_order_relaxed);
+    if (grazing) counters.framesGrazing.fetch_add(1, std::memory_order_release);
     counters.qualityMilliSum.fetch_add(static_cast<std::uint64_t>(std::lround(quality * 1000.0)),
-                                       std::memory_order_relaxed);
-    if (grazing) counters.framesGrazing.fetch_add(1, std::memory_order_relaxed);
+                                       std::memory_order_release);
   }
 
   /// The line for the log since the previous call (render Hz, fields, missed, margin, warp

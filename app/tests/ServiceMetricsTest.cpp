@@ -47,29 +47,28 @@ TEST(ServiceMetrics, ReportsTheQualityKnobTheFramesWereRenderedWith) {
   ServiceMetrics metrics;
   const TimePoint t0 = MonotonicClock::now();
   EXPECT_EQ(metrics.intervalLine(t0).find("quality"), std::string::npos);  // no frame yet
-  // Interval 1: two frames at the default knob.
-  for (int i = 0; i < 2; ++i) {
-    metrics.recordFrameKnobs(1.0, false);
-    ++metrics.counters.framesRendered;
-  }
+  // Interval 1: three frames at the default knob, the grazing rule on for one.
+  for (const bool grazing : {false, true, false}) metrics.recordFrame(1.0, grazing);
   const std::string first = metrics.intervalLine(t0 + std::chrono::seconds(1));
-  EXPECT_NE(first.find("quality 1.00"), std::string::npos) << first;
-  EXPECT_EQ(first.find("grazing"), std::string::npos) << first;
+  EXPECT_NE(first.find("quality 1.00 grazing 33%"), std::string::npos) << first;
   // Interval 2: the controller coarsened, with the grazing rule on for three frames in four.
-  for (const double q : {2.0, 2.5, 3.0, 3.5}) {
-    metrics.recordFrameKnobs(q, q > 2.0);
-    ++metrics.counters.framesRendered;
-  }
+  for (const double q : {2.0, 2.5, 3.0, 3.5}) metrics.recordFrame(q, q > 2.0);
   const std::string second = metrics.intervalLine(t0 + std::chrono::seconds(2));
   EXPECT_NE(second.find("quality 2.75 grazing 75%"), std::string::npos) << second;
+  // Interval 3: the rule off again.
+  metrics.recordFrame(1.5, false);
+  const std::string third = metrics.intervalLine(t0 + std::chrono::seconds(3));
+  EXPECT_NE(third.find("quality 1.50"), std::string::npos) << third;
+  EXPECT_EQ(third.find("grazing"), std::string::npos) << third;
 
-  const ServiceFigures f = metrics.figures(t0 + std::chrono::seconds(2));
-  EXPECT_NEAR(f.meanQuality, (2 * 1.0 + 2.0 + 2.5 + 3.0 + 3.5) / 6, 1e-9);
-  EXPECT_EQ(f.framesGrazing, 3u);
+  const ServiceFigures f = metrics.figures(t0 + std::chrono::seconds(3));
+  EXPECT_EQ(f.framesRendered, 8u);
+  EXPECT_NEAR(f.meanQuality, (3 * 1.0 + 2.0 + 2.5 + 3.0 + 3.5 + 1.5) / 8, 1e-9);
+  EXPECT_EQ(f.framesGrazing, 4u);
   const nlohmann::json j = toJson(f);
   EXPECT_NEAR(j.at("mean_quality").get<double>(), f.meanQuality, 1e-12);
-  EXPECT_EQ(j.at("frames_grazing").get<int>(), 3);
-  EXPECT_NE(describe(f).find("quality knob mean 2.17, grazing-angle rule on for 3 of the frames"), std::string::npos)
+  EXPECT_EQ(j.at("frames_grazing").get<int>(), 4);
+  EXPECT_NE(describe(f).find("quality knob mean 1.94, grazing-angle rule on for 4 of 8 frames"), std::string::npos)
       << describe(f);
 }
 

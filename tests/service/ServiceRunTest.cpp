@@ -149,9 +149,9 @@ TEST_F(ServiceRun, FrameTimeControllerCoarsensAndTheSummarySaysHowFar) {
   ASSERT_EQ(fixed.exitCode, 0) << fixed.output;
   EXPECT_EQ(summary().at("mean_quality").get<double>(), 1.0) << summary().dump(2);
   EXPECT_EQ(summary().at("frames_grazing").get<int>(), 0);
-  // A target no frame can meet: the controller turns the grazing rule on and coarsens, though it
-  // counts only the frames rendered with its current knobs (two are in flight at each change) and
-  // the configured knob, 0.25, lies below its floor of 0.5.
+  // A target no frame can meet: the controller turns the grazing rule on and coarsens. It counts
+  // only frames rendered with its current knobs, and the first frames are rendered at 0.25, below
+  // its floor of 0.5: the render loop must hand its knob to the renderer even when it skips a frame.
   const RunResult held =
       run("--config " + config() + " --set render.quality=0.25 --set render.target_frame_ms=0.1 --duration 2");
   ASSERT_EQ(held.exitCode, 0) << held.output;

@@ -70,8 +70,8 @@ int run(int argc, char** argv) {
       {"homography, IG free-running", {"warp.kind=\"homography\""}},
       {"quadratic, IG capped at 10 Hz", {"warp.kind=\"quadratic\"", "render.max_rate_hz=10"}},
       {"quadratic, one render worker", {"warp.kind=\"quadratic\"", "render.threads=1"}},
-      // The frame-time controller holding a render time of a few milliseconds (issue 4): the
-      // quality column shows how far it coarsened to do it.
+      // The frame-time controller holding a render period of 10 ms (100 Hz): the quality
+      // column shows how far it coarsened to do it.
       {"quadratic, controller at 10 ms", {"warp.kind=\"quadratic\"", "render.target_frame_ms=10"}},
   };
 

@@ -36,8 +36,9 @@ double FrameTimeController::update(Nanoseconds frameTime) noexcept {
     }
     // Over budget: coarsen in proportion to the overrun, bounded per frame. The smoothing
     // restarts: the smoothed time lags, and still over budget once the frames are not, it would
-    // coarsen again for them. (With stale frames skipped, this took the service's mean knob at a
-    // 10 ms target on the bank-turn flight from 7.4 to 5.7, at the same render rate.)
+    // coarsen again for them. (Together with skipping stale frames, this took the service's mean
+    // knob at a 10 ms target on the bank-turn flight from 7.4 to 5.7, at the same render rate;
+    // with noisy frame times it changes the knob more often.)
     mQuality *= std::min(std::sqrt(mSmoothed / target) * 1.02, mConfig.maxStepRatio);
     mSmoothed = 0.0;
   } else if (mSmoothed < mConfig.refineBelow * target) {
