@@ -17,8 +17,7 @@ RenderLoop::RenderLoop(core::Renderer& renderer, const motion::MotionSource& mot
       mMetrics(metrics),
       mPacing(pacing),
       mTiles(tiles),
-      mController(pacing.controller, pacing.initialQuality),
-      mQuality(pacing.initialQuality) {
+      mController(pacing.controller, pacing.initialQuality) {
   mRenderer.setQuality(pacing.initialQuality);
 }
 
@@ -66,7 +65,6 @@ void RenderLoop::publish(Frame&& frame, const core::RenderStats& stats) {
     const double q = mController.update(core::RenderedFrame{submitted, completed, stats.quality, stats.maxAnisotropy});
     mRenderer.setQuality(q);
     if (mPacing.controller.grazingAnisotropy > 0.0) mRenderer.setMaxAnisotropy(mController.maxAnisotropy());
-    mQuality.store(q, std::memory_order_relaxed);
   }
 }
 

@@ -43,8 +43,6 @@ class RenderLoop {
   /// Frames handed over so far (any thread): the service waits for the first before it starts
   /// the field clock.
   std::uint64_t framesPublished() const noexcept { return mPublished.load(std::memory_order_acquire); }
-  /// The quality knob now in use (any thread).
-  double quality() const noexcept { return mQuality.load(std::memory_order_relaxed); }
 
  private:
   /// A frame being rendered and the lease that keeps its tiles alive.
@@ -67,7 +65,6 @@ class RenderLoop {
   Nanoseconds mExpectedLatency{std::chrono::milliseconds(50)};  // submit → frame ready, smoothed
   std::uint64_t mNextFrameNumber = 1;
   std::atomic<std::uint64_t> mPublished{0};
-  std::atomic<double> mQuality{1.0};
 };
 
 }  // namespace fieldcast::app

@@ -9,7 +9,7 @@
 //
 // render_held: the same poses at 720×486 on 2 threads with the frame-time controller holding
 // 4 or 6 ms (the grazing-angle rule first, then the quality knob, as the service does): the
-// frame time it holds and the knob it settles on.
+// frame time it holds, the knob it settles on and the share of frames with the grazing rule on.
 //
 // Counters: frame_ms (per frame), ns_per_px (frame time / frame pixels), steps_per_px (height
 // samples per pixel), ref_ns_per_px (reference renderer, one thread, sampled pixels), speedup
