@@ -22,3 +22,6 @@ function(fieldcast_add_test)
     "endforeach()\n")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${_script}")
 endfunction()
+
+# fieldcast_add_fuzzer(): libFuzzer targets and their `fuzz` tests.
+include(FieldcastFuzzing)

@@ -5,13 +5,13 @@
 namespace fieldcast::app {
 
 FieldLoop::FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::FieldWarper& warper,
-                     warp::FrameHandover& frames, const warp::PoseSource& poses, io::SinkHub& sinks,
+                     warp::FrameHandover& frames, const motion::MotionSource& motion, io::SinkHub& sinks,
                      ServiceMetrics& metrics, PendingInput* pendingInput)
     : mClock(clock),
       mTime(timeSource),
       mWarper(warper),
       mFrames(frames),
-      mPoses(poses),
+      mMotion(motion),
       mSinks(sinks),
       mMetrics(metrics),
       mPendingInput(pendingInput),
@@ -38,7 +38,8 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   const Frame& frame = mFrames.hasTaken() ? mFrames.front() : mNoFrame;
   // The pose below is computed now, so every input that arrived before this instant is reflected.
   const std::int64_t inputNs = mPendingInput != nullptr ? mPendingInput->exchange(0, std::memory_order_acq_rel) : 0;
-  const warp::FieldStatus status = mWarper.produce(frame, mPoses, warp::FieldSpec::of(tick), mField);
+  const Pose pose = mMotion.poseAt(tick.displayTime);
+  const warp::FieldStatus status = mWarper.produce(frame, pose, warp::FieldSpec::of(tick), mField);
 
   if (status == warp::FieldStatus::Ok) {
     mMetrics.record(Measure::FrameAge, tick.displayTime - frame.poseTime);

@@ -4,14 +4,14 @@
 // time, warps, and hands the field to the sinks. Never allocates, never blocks on the renderer,
 // the sinks or the input; a field that cannot be made in time is counted and skipped.
 
-#include "ServiceMetrics.h"
+#include <service/ServiceMetrics.h>
 
 #include <fieldcast/Field.h>
 #include <fieldcast/Time.h>
 #include <io_bridge/SinkHub.h>
+#include <motion/MotionSource.h>
 #include <prp_warp/FieldClock.h>
 #include <prp_warp/FieldWarper.h>
-#include <prp_warp/PoseSource.h>
 #include <prp_warp/TripleBuffer.h>
 
 #include <atomic>
@@ -28,7 +28,7 @@ class FieldLoop {
  public:
   /// Every reference must outlive the loop. `pendingInput` may be null (no stick).
   FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::FieldWarper& warper, warp::FrameHandover& frames,
-            const warp::PoseSource& poses, io::SinkHub& sinks, ServiceMetrics& metrics,
+            const motion::MotionSource& motion, io::SinkHub& sinks, ServiceMetrics& metrics,
             PendingInput* pendingInput = nullptr);
 
   /// Emits fields until `stop` is set, or until `lastField` (exclusive) when non-zero. Field
@@ -48,7 +48,7 @@ class FieldLoop {
   const Clock& mTime;
   warp::FieldWarper& mWarper;
   warp::FrameHandover& mFrames;
-  const warp::PoseSource& mPoses;
+  const motion::MotionSource& mMotion;
   io::SinkHub& mSinks;
   ServiceMetrics& mMetrics;
   PendingInput* mPendingInput;

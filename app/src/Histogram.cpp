@@ -1,4 +1,4 @@
-#include "Histogram.h"
+#include <service/Histogram.h>
 
 #include <algorithm>
 #include <cmath>

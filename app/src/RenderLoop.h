@@ -4,7 +4,7 @@
 // so the workers never wait for each other, and hands each finished frame to the field thread
 // through the triple buffer. The field thread never waits for it.
 
-#include "ServiceMetrics.h"
+#include <service/ServiceMetrics.h>
 
 #include <fieldcast/Intrinsics.h>
 #include <fieldcast/Time.h>

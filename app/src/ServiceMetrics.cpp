@@ -1,4 +1,4 @@
-#include "ServiceMetrics.h"
+#include <service/ServiceMetrics.h>
 
 #include <nlohmann/json.hpp>
 

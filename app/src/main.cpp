@@ -1,6 +1,6 @@
 // fieldcast — the real-time image generator service.
-#include "Service.h"
-#include "ServiceConfig.h"
+#include <service/Service.h>
+#include <service/ServiceConfig.h>
 
 #include <fieldcast/ToolMain.h>
 

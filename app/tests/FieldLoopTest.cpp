@@ -68,6 +68,16 @@ warp::FieldWarperConfig smallWarper() {
   return config;
 }
 
+// A camera that stays where the test puts it.
+class FixedPose final : public motion::MotionSource {
+ public:
+  explicit FixedPose(const Pose& pose) : mPose(pose) {}
+  Pose poseAt(TimePoint) const noexcept override { return mPose; }
+
+ private:
+  Pose mPose;
+};
+
 struct Rig {
   VirtualClock clock{TimePoint{1s}};
   warp::FieldClockConfig clockConfig;
@@ -75,7 +85,7 @@ struct Rig {
   warp::FieldWarper warper{smallWarper()};
   warp::FrameHandover frames;
   Pose pose{{0, 0, 100}, 0.0, radians(-30.0), 0.0};
-  warp::FunctionPoseSource poses{[this](TimePoint) noexcept { return pose; }};
+  FixedPose poses{pose};
   std::shared_ptr<Seen> seen = std::make_shared<Seen>();
   std::unique_ptr<io::SinkHub> hub;
   ServiceMetrics metrics;

@@ -1,4 +1,4 @@
-#include "ServiceMetrics.h"
+#include <service/ServiceMetrics.h>
 #include "ThreadScheduling.h"
 
 #include <gtest/gtest.h>

@@ -1,10 +1,9 @@
 #include <motion/ScriptedTrajectory.h>
 
-#include <toml++/toml.h>
+#include <fieldcast/ConfigReader.h>
 
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <stdexcept>
 
 namespace fieldcast::motion {
@@ -88,70 +87,32 @@ Pose ScriptedTrajectory::poseAtSeconds(double s) const noexcept {
 Pose ScriptedTrajectory::poseAt(TimePoint t) const noexcept { return poseAtSeconds(toSeconds(t - mStart)); }
 
 ScriptedTrajectory ScriptedTrajectory::load(const std::string& path) {
-  toml::table root;
-  try {
-    root = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream s;
-    s << path << ':' << e.source().begin.line << ": " << e.description();
-    throw std::runtime_error(s.str());
-  }
-  auto fail = [&](const toml::node& node, const std::string& key, const std::string& what) {
-    throw std::runtime_error(path + ":" + std::to_string(node.source().begin.line) + ": " + key + ": " + what);
-  };
-  for (const auto& [key, node] : root) {
-    const std::string k(key.str());
-    if (k != "name" && k != "description" && k != "camera_pitch_deg" && k != "waypoint") {
-      fail(node, k, "unknown key (expected name, description, camera_pitch_deg, waypoint)");
-    }
-  }
-  const std::string name = root["name"].value_or(std::string("unnamed flight"));
-  double cameraPitchDeg = 0.0;
-  if (const toml::node* n = root.get("camera_pitch_deg")) {
-    const auto v = n->value<double>();
-    if (!v || *v < -90.0 || *v > 90.0) fail(*n, "camera_pitch_deg", "expected degrees from -90 to 90");
-    cameraPitchDeg = *v;
-  }
-  const toml::array* list = root["waypoint"].as_array();
-  if (!list || list->size() < 2) {
-    throw std::runtime_error(path + ": waypoint: expected at least two [[waypoint]] tables");
-  }
+  ConfigReader root = ConfigDocument::parseFile(path).root();
+  const std::string name = root.nonEmptyString("name", "unnamed flight");
+  root.string("description", "");
+  const double cameraPitchDeg = root.number("camera_pitch_deg", 0.0, -90.0, 90.0);
+  std::vector<ConfigReader> tables = root.tables("waypoint");
+  if (tables.size() < 2) root.fail("waypoint", "expected at least two [[waypoint]] tables");
+  root.finish();
   std::vector<Waypoint> waypoints;
-  for (std::size_t i = 0; i < list->size(); ++i) {
-    const toml::table* wt = (*list)[i].as_table();
-    const std::string prefix = "waypoint[" + std::to_string(i + 1) + "].";
-    if (!wt) fail((*list)[i], prefix, "expected a table");
+  constexpr double kMaxAbs = 1e9;  // any finite value a flight file could mean
+  for (ConfigReader& t : tables) {
     Waypoint w;
-    for (const auto& [key, node] : *wt) {
-      const std::string k(key.str());
-      if (k == "t") {
-        const auto v = node.value<double>();
-        if (!v || !std::isfinite(*v)) fail(node, prefix + k, "expected seconds");
-        w.timeS = *v;
-      } else if (k == "position") {
-        const toml::array* p = node.as_array();
-        if (!p || p->size() != 3) fail(node, prefix + k, "expected [x, y, z] in metres");
-        for (int a = 0; a < 3; ++a) {
-          const auto v = (*p)[static_cast<std::size_t>(a)].value<double>();
-          if (!v || !std::isfinite(*v)) fail(node, prefix + k, "expected [x, y, z] in metres");
-          w.positionM[a] = *v;
-        }
-      } else if (k == "heading_deg" || k == "pitch_deg" || k == "roll_deg") {
-        const auto v = node.value<double>();
-        if (!v || !std::isfinite(*v)) fail(node, prefix + k, "expected degrees");
-        const double rad = radians(*v);
-        (k == "heading_deg" ? w.headingRad : k == "pitch_deg" ? w.pitchRad : w.rollRad) = rad;
-      } else {
-        fail(node, prefix + k, "unknown key (expected t, position, heading_deg, pitch_deg, roll_deg)");
-      }
-    }
-    if (!wt->contains("t") || !wt->contains("position")) fail(*wt, prefix, "t and position are required");
+    if (!t.has("t") || !t.has("position")) t.fail("t", "t and position are required");
+    w.timeS = t.number("t", 0.0, -kMaxAbs, kMaxAbs);
+    const std::vector<double> p = t.numbers("position", {}, 3);
+    w.positionM = {p[0], p[1], p[2]};
+    // An angle left out follows the flight path (see ScriptedTrajectory.h).
+    if (t.has("heading_deg")) w.headingRad = radians(t.number("heading_deg", 0.0, -kMaxAbs, kMaxAbs));
+    if (t.has("pitch_deg")) w.pitchRad = radians(t.number("pitch_deg", 0.0, -kMaxAbs, kMaxAbs));
+    if (t.has("roll_deg")) w.rollRad = radians(t.number("roll_deg", 0.0, -kMaxAbs, kMaxAbs));
+    t.finish();
     waypoints.push_back(w);
   }
   try {
     return ScriptedTrajectory(name, std::move(waypoints), radians(cameraPitchDeg));
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(path + ": " + e.what());
+    throw ConfigError(path + ": " + e.what());
   }
 }
 

@@ -1,4 +1,4 @@
-// One field: pose at t_k → warp (with the frame flicker-filtered once per frame) → AGC → format.
+// One field: the pose at t_k → warp (with the frame flicker-filtered once per frame) → AGC → format.
 #include <prp_warp/FieldWarper.h>
 
 #include <algorithm>
@@ -65,8 +65,7 @@ const Image& FieldWarper::flickerFiltered(const Frame& frame) noexcept {
   return mFiltered;
 }
 
-FieldStatus FieldWarper::produce(const Frame& frame, const PoseSource& poses, const FieldSpec& spec,
-                                 Field& out) noexcept {
+FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const FieldSpec& spec, Field& out) noexcept {
   const int rows = fieldRowCount(spec.parity, mConfig.rasterHeightPx);
   // `out` comes from makeField(): room for a progressive field in the output format
   const std::size_t outReserved =
@@ -95,7 +94,6 @@ FieldStatus FieldWarper::produce(const Frame& frame, const PoseSource& poses, co
     return black(FieldStatus::BadFrame);
 
   // Warp to the pose at the field's own display time
-  const Pose pose = poses.pose(spec.displayTime);
   const WarpResult r = mWarp->warp(frame, flickerFiltered(frame), pose, spec.parity, mWork);
   if (r.status != WarpStatus::Ok) return black(FieldStatus::BadFrame);
   if (r.fellBack) mCounters.fitFallbacks.fetch_add(1, std::memory_order_relaxed);

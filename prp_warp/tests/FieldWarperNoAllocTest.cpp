@@ -2,6 +2,7 @@
 // must not allocate (DESIGN.md §5), whatever the warp, parity and post-processing.
 #include "AnalyticScene.h"
 
+#include <motion/PosePredictor.h>
 #include <prp_warp/FieldWarper.h>
 
 #include <gtest/gtest.h>
@@ -50,7 +51,7 @@ TEST_P(ProduceWithoutAllocating, EveryParityAndFormat) {
     cfg.maxFrameHeightPx = 256;
     FieldWarper warper(cfg);
     Field field = warper.makeField();
-    ConstantVelocityPredictor poses;
+    motion::ConstantVelocityPredictor poses;
     poses.push(TimePoint{}, scene().pose);
     Pose later = scene().pose;
     later.positionM.y += 10.0;
@@ -62,10 +63,10 @@ TEST_P(ProduceWithoutAllocating, EveryParityAndFormat) {
     for (int k = 0; k < 6; ++k) {
       const FieldSpec spec{static_cast<std::uint64_t>(k), TimePoint{Nanoseconds{100'000'000 + k * 16'683'333}},
                            k % 2 ? FieldParity::Bottom : FieldParity::Top};
-      statuses[k] = warper.produce(scene(), poses, spec, field);
+      statuses[k] = warper.produce(scene(), poses.poseAt(spec.displayTime), spec, field);
     }
     const FieldSpec prog{6, TimePoint{Nanoseconds{200'000'000}}, FieldParity::Progressive};
-    const FieldStatus progStatus = warper.produce(scene(), poses, prog, field);
+    const FieldStatus progStatus = warper.produce(scene(), poses.poseAt(prog.displayTime), prog, field);
     const long allocations = gAllocations.load() - before;
 
     EXPECT_EQ(allocations, 0) << toString(GetParam()) << " " << toString(format);
@@ -88,13 +89,12 @@ TEST(FieldWarper, NoFrameGivesABlackFieldAndCountsIt) {
   cfg.rasterHeightPx = 48;
   FieldWarper warper(cfg);
   Field field = warper.makeField();
-  ConstantVelocityPredictor poses;
-  EXPECT_EQ(warper.produce(Frame{}, poses, FieldSpec{0, TimePoint{}, FieldParity::Top}, field), FieldStatus::NoFrame);
+  EXPECT_EQ(warper.produce(Frame{}, Pose{}, FieldSpec{0, TimePoint{}, FieldParity::Top}, field), FieldStatus::NoFrame);
   EXPECT_EQ(field.image.heightPx(), 24);
   EXPECT_EQ(field.image.row(3)[1], 16);  // UYVY video black
   EXPECT_EQ(warper.counters().blackFields.load(), 1u);
   Field notFromMakeField;
-  EXPECT_EQ(warper.produce(Frame{}, poses, FieldSpec{}, notFromMakeField), FieldStatus::BadOutput);
+  EXPECT_EQ(warper.produce(Frame{}, Pose{}, FieldSpec{}, notFromMakeField), FieldStatus::BadOutput);
 }
 
 TEST(FieldWarper, FieldCarriesItsSpecAndSource) {
@@ -106,10 +106,8 @@ TEST(FieldWarper, FieldCarriesItsSpecAndSource) {
   Frame frame = scene();
   frame.frameNumber = 77;
   frame.poseTime = TimePoint{Nanoseconds{5}};
-  ConstantVelocityPredictor poses;
-  poses.push(TimePoint{}, frame.pose);
   const FieldSpec spec{12, TimePoint{Nanoseconds{1234}}, FieldParity::Bottom};
-  ASSERT_EQ(warper.produce(frame, poses, spec, field), FieldStatus::Ok);
+  ASSERT_EQ(warper.produce(frame, frame.pose, spec, field), FieldStatus::Ok);
   EXPECT_EQ(field.fieldNumber, 12u);
   EXPECT_EQ(field.displayTime, spec.displayTime);
   EXPECT_EQ(field.parity, FieldParity::Bottom);

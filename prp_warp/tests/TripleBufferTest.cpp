@@ -6,6 +6,7 @@
 
 #include <array>
 #include <atomic>
+#include <cstdint>
 #include <thread>
 
 namespace fieldcast::warp {
@@ -30,15 +31,35 @@ TEST(TripleBuffer, TheNewestPublishedValueWins) {
 }
 
 TEST(TripleBuffer, FramesAreHandedOverWholeAndInOrder) {
+  // Many frames, the consumer taking at irregular moments (sometimes several publishes apart,
+  // sometimes twice in a row): every frame it takes is whole (its pixels carry its number), newer
+  // than the one before, and the newest published at that moment; at the end it holds the last.
   Frame initial;
   initial.image.resize(8, 8, PixelFormat::Grey8);
   FrameHandover handover(initial);
-  handover.back().frameNumber = 7;
-  handover.back().image.bytes()[0] = 42;
-  handover.publish();
-  const Frame& f = handover.newest();
-  EXPECT_EQ(f.frameNumber, 7u);
-  EXPECT_EQ(f.image.bytes()[0], 42);
+  constexpr std::uint64_t kFrames = 1000;
+  std::uint64_t lastTaken = 0;
+  std::uint64_t taken = 0;
+  for (std::uint64_t n = 1; n <= kFrames; ++n) {
+    Frame& back = handover.back();
+    back.frameNumber = n;
+    for (std::uint8_t& b : back.image.bytes()) b = static_cast<std::uint8_t>(n * 7 + 3);
+    handover.publish();
+    if (n % 7 == 0 || n % 11 == 0 || n % 13 == 0) {
+      ASSERT_TRUE(handover.update()) << "frame " << n << " was published but not taken";
+      const Frame& f = handover.front();
+      EXPECT_EQ(f.frameNumber, n) << "not the newest published";
+      EXPECT_GT(f.frameNumber, lastTaken) << "out of order";
+      for (const std::uint8_t b : f.image.bytes()) ASSERT_EQ(b, static_cast<std::uint8_t>(f.frameNumber * 7 + 3));
+      lastTaken = f.frameNumber;
+      ++taken;
+      EXPECT_FALSE(handover.update()) << "took frame " << n << " twice";
+    }
+  }
+  const Frame& last = handover.newest();
+  EXPECT_EQ(last.frameNumber, kFrames);
+  for (const std::uint8_t b : last.image.bytes()) ASSERT_EQ(b, static_cast<std::uint8_t>(kFrames * 7 + 3));
+  EXPECT_GT(taken, 200u);
 }
 
 TEST(TripleBuffer, ConcurrentProducerAndConsumerSeeOnlyCompleteIncreasingValues) {
@@ -61,6 +82,8 @@ TEST(TripleBuffer, ConcurrentProducerAndConsumerSeeOnlyCompleteIncreasingValues)
   std::uint64_t last = 0, taken = 0;
   bool torn = false, backwards = false;
   for (;;) {
+    // Read `done` before trying: once the producer is known finished, an update() that finds
+    // nothing new means the last value was already taken, and every taken value was checked.
     const bool finished = done.load(std::memory_order_acquire);
     if (tb.update()) {
       const Payload& p = tb.front();
@@ -68,12 +91,15 @@ TEST(TripleBuffer, ConcurrentProducerAndConsumerSeeOnlyCompleteIncreasingValues)
       backwards |= p.number <= last;
       last = p.number;
       ++taken;
+    } else if (finished) {
+      break;
     }
-    if (finished && !tb.update()) break;
   }
   producer.join();
   EXPECT_FALSE(torn);
-  EXPECT_FALSE(backwards);
+  EXPECT_FALSE(backwards) << "a value older than (or the same as) the one before was taken";
+  EXPECT_EQ(last, kCount) << "the consumer did not end with the last value published";
+  EXPECT_EQ(tb.front().number, kCount);
   EXPECT_GT(taken, 0u);
 }
 

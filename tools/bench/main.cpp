@@ -3,8 +3,8 @@
 // what matters to an integrator: render rate, fields missed, field-time jitter, warp cost and
 // frame age. Each case runs `--repeat` times and the table shows medians; the first case is the
 // baseline the others are compared with (same machine, same run).
-#include "Service.h"
-#include "ServiceConfig.h"
+#include <service/Service.h>
+#include <service/ServiceConfig.h>
 
 #include <fieldcast/ToolMain.h>
 

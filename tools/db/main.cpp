@@ -1,7 +1,7 @@
 // fieldcast-db: the terrain database tool.
 //   fieldcast-db build --builtin [--size N --seed S --spacing M] -o out.fctdb
 //   fieldcast-db build --dem elevation.tif [--ortho photo.jpg] -o out.fctdb
-//   fieldcast-db info db.fctdb          header, levels, sizes, compression
+//   fieldcast-db info db.fctdb          header, levels, sizes, compression, the data's height range
 //   fieldcast-db verify db.fctdb        reads and checks every tile; exit 1 on any failure
 //   fieldcast-db preview db.fctdb -o level.png [--level L] [--shaded]
 //   fieldcast-db landmarks [--size N --seed S --spacing M]
@@ -14,11 +14,20 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -41,18 +50,106 @@ struct BuildArgs {
   double sunAzimuth = 315.0;
   double sunElevation = 40.0;
   double demSpacing = 0.0;
-  std::string nodata;
+  std::optional<double> nodata;
   std::string rawSize;
   std::string rawType = "int16";
   double verticalScale = 1.0;
   double verticalOffset = 0.0;
 };
 
+// Ranges of the numeric options. Spacing: 1 cm (a lidar survey) to 100 km; a DEM in geographic
+// degrees (0.0003) is refused rather than built as a postage stamp.
+constexpr double kMinSpacingM = 0.01;
+constexpr double kMaxSpacingM = 100'000.0;
+constexpr int kMinBuiltinSizeVox = 64;
+constexpr int kMaxBuiltinSizeVox = 32768;
+constexpr double kMaxVerticalScaleM = 1000.0;
+constexpr double kMinVerticalScaleM = 1e-6;
+constexpr double kMaxVerticalOffsetM = 100'000.0;
+
+std::string formatNumber(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+/// A number that `accept` takes; otherwise "expected <expected>, got '<text>'".
+CLI::Validator numberCheck(std::function<bool(double)> accept, const std::string& expected, const std::string& desc) {
+  return CLI::Validator(
+      [accept = std::move(accept), expected](std::string& text) -> std::string {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v) || !accept(v)) return "expected " + expected + ", got '" + text + "'";
+        return {};
+      },
+      desc);
+}
+
+/// A finite number in [min, max]. CLI::Range alone lets "nan" through (every comparison with NaN
+/// is false) and says nothing of units; the message names what was expected with its unit.
+CLI::Validator finiteRange(double min, double max, const std::string& unit) {
+  return numberCheck(
+      [=](double v) { return v >= min && v <= max; },
+      "a finite number from " + formatNumber(min) + " to " + formatNumber(max) + (unit.empty() ? "" : " " + unit),
+      "[" + formatNumber(min) + ".." + formatNumber(max) + "]");
+}
+
+/// Any finite number (e.g. a nodata value: -32768, -9999, -3.4e38 are all in use).
+CLI::Validator finiteNumber() {
+  return numberCheck([](double v) { return std::isfinite(v); }, "a finite number", "NUMBER");
+}
+
+/// An integer in [min, max], the message saying so (CLI11's own says "not in range").
+CLI::Validator intRange(long long min, long long max, const std::string& unit) {
+  const std::string expected =
+      "an integer from " + std::to_string(min) + " to " + std::to_string(max) + (unit.empty() ? "" : " " + unit);
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        long long v = 0;
+        if (!CLI::detail::lexical_cast(text, v) || v < min || v > max) {
+          return "expected " + expected + ", got '" + text + "'";
+        }
+        return {};
+      },
+      "[" + std::to_string(min) + ".." + std::to_string(max) + "]");
+}
+
+/// A seed: a whole number 0 .. 2^64-1 (CLI11 would wrap "-1" to 2^64-1).
+CLI::Validator seedNumber() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::uint64_t v = 0;
+        if (text.empty() || text.front() == '-' || !CLI::detail::lexical_cast(text, v)) {
+          return "expected a whole number from 0 to 18446744073709551615, got '" + text + "'";
+        }
+        return {};
+      },
+      "SEED");
+}
+
+/// Refuses an output that cannot be written before any work is done: the folder must exist and
+/// be writable, and the name must not be a folder. (The database itself is written atomically.)
+void checkOutputWritable(const std::string& output) {
+  namespace fs = std::filesystem;
+  const fs::path path(output);
+  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw std::invalid_argument("-o " + output + ": is a folder; expected a file name");
+  if (!fs::exists(folder, ec))
+    throw std::invalid_argument("-o " + output + ": folder " + folder.string() + " does not exist");
+  if (!fs::is_directory(folder, ec)) {
+    throw std::invalid_argument("-o " + output + ": " + folder.string() + " is not a folder");
+  }
+  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+    throw std::invalid_argument("-o " + output + ": cannot write in " + folder.string() + ": " + std::strerror(errno));
+  }
+}
+
 double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
 int runBuild(const BuildArgs& a) {
+  checkOutputWritable(a.output);  // before the import, which can take minutes
   const auto start = std::chrono::steady_clock::now();
   ConsoleProgress console(a.builtin ? "built-in terrain" : a.dem);
   ProceduralColourOptions colour;
@@ -70,16 +167,26 @@ int runBuild(const BuildArgs& a) {
   } else {
     ImportOptions import;
     import.spacingM = a.demSpacing;
-    if (!a.nodata.empty()) import.nodata = std::stod(a.nodata);
+    import.nodata = a.nodata;
     if (!a.rawSize.empty()) {
-      if (std::sscanf(a.rawSize.c_str(), "%dx%d", &import.rawWidth, &import.rawHeight) != 2) {
-        throw std::invalid_argument("--raw-size: expected WxH, got " + a.rawSize);
+      int used = 0;
+      if (std::sscanf(a.rawSize.c_str(), "%dx%d%n", &import.rawWidth, &import.rawHeight, &used) != 2 ||
+          static_cast<std::size_t>(used) != a.rawSize.size() || import.rawWidth < 1 || import.rawHeight < 1 ||
+          import.rawWidth > kMaxDatabaseSideVox || import.rawHeight > kMaxDatabaseSideVox) {
+        throw std::invalid_argument("--raw-size: expected WxH with W and H from 1 to " +
+                                    std::to_string(kMaxDatabaseSideVox) + " voxels, got '" + a.rawSize + "'");
       }
     }
     import.rawType = a.rawType;
     import.verticalScaleM = a.verticalScale;
     import.verticalOffsetM = a.verticalOffset;
     const ElevationGrid dem = importElevation(a.dem, import);
+    if (!(dem.spacingM >= kMinSpacingM && dem.spacingM <= kMaxSpacingM)) {
+      throw std::invalid_argument(a.dem + ": voxel spacing " + formatNumber(dem.spacingM) +
+                                  (dem.spacingFromFile ? " m (from the file)" : " m") + ": expected " +
+                                  formatNumber(kMinSpacingM) + " to " + formatNumber(kMaxSpacingM) +
+                                  " m (a DEM in geographic degrees? give --dem-spacing in metres)");
+    }
     std::printf("%s: %dx%d voxels, spacing %.3f m, origin (%.1f, %.1f), heights %.2f .. %.2f m, %zu nodata filled\n",
                 a.dem.c_str(), dem.widthVox, dem.heightVox, dem.spacingM, dem.originM.x, dem.originM.y, dem.minM,
                 dem.maxM, dem.nodataFilled);
@@ -105,15 +212,63 @@ int runBuild(const BuildArgs& a) {
   return 0;
 }
 
+/// The lowest and highest height code stored at level 0, over the voxels inside the grid (tiles
+/// past the edge repeat the edge voxel, so they add nothing). The header holds only the
+/// quantisation, so this reads and decodes every level-0 tile.
+struct StoredHeightRange {
+  std::uint16_t minQ = 0xFFFF;
+  std::uint16_t maxQ = 0;
+  std::uint64_t tilesRead = 0;
+  std::uint64_t tilesBad = 0;  ///< unreadable tiles, left out of the range (verify names them)
+};
+
+StoredHeightRange scanLevel0Heights(const DatabaseReader& reader) {
+  const TerrainGeometry& g = reader.geometry();
+  const int side = g.tileSizeVox();
+  StoredHeightRange r;
+  TileBuffers tile;
+  for (int ty = 0; ty < g.tilesY(0); ++ty) {
+    for (int tx = 0; tx < g.tilesX(0); ++tx) {
+      try {
+        reader.readTile(0, tx, ty, tile);
+      } catch (const TerrainDatabaseError&) {
+        ++r.tilesBad;
+        continue;
+      }
+      ++r.tilesRead;
+      const int rows = std::min(side, g.heightVox - ty * side);
+      const int columns = std::min(side, g.widthVox - tx * side);
+      for (int y = 0; y < rows; ++y) {
+        const std::uint16_t* row = tile.heightQ.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(side);
+        const auto [lo, hi] = std::minmax_element(row, row + columns);
+        r.minQ = std::min(r.minQ, *lo);
+        r.maxQ = std::max(r.maxQ, *hi);
+      }
+    }
+  }
+  return r;
+}
+
 int runInfo(const std::string& path) {
   const DatabaseReader reader(path);
   const DatabaseLayout& l = reader.layout();
   const TerrainGeometry& g = l.geometry;
+  const StoredHeightRange stored = scanLevel0Heights(reader);
   std::printf("%s: Fieldcast terrain database, version %u\n", path.c_str(), kDatabaseVersion);
   std::printf("  grid        %d x %d voxels, spacing %.3f m (%.1f x %.1f km)\n", g.widthVox, g.heightVox, g.spacingM,
               g.widthVox * g.spacingM / 1000.0, g.heightVox * g.spacingM / 1000.0);
   std::printf("  origin      voxel (0,0) centre at x %.3f, y %.3f m\n", g.originM.x, g.originM.y);
-  std::printf("  heights     z = %.3f + %.4f * q  (range %.1f .. %.1f m)\n", g.heightBaseM, g.heightStepM,
+  if (stored.tilesRead > 0) {
+    std::printf("  heights     data %.2f .. %.2f m (lowest and highest voxel, from all %llu level-0 tiles%s)\n",
+                g.heightM(stored.minQ), g.heightM(stored.maxQ), static_cast<unsigned long long>(stored.tilesRead),
+                stored.tilesBad > 0 ? ", unreadable tiles left out: run verify" : "");
+  } else {
+    std::printf("  heights     data unknown: no level-0 tile could be read (run verify)\n");
+  }
+  if (stored.tilesBad > 0) {
+    std::printf("              %llu level-0 tiles unreadable\n", static_cast<unsigned long long>(stored.tilesBad));
+  }
+  std::printf("  quantised   z = %.3f + %.4f * q, q 0..65535: can hold %.2f .. %.2f m\n", g.heightBaseM, g.heightStepM,
               g.heightBaseM, g.heightM(65535));
   std::printf("  colour      %s\n", l.voxelColour == VoxelColour::Rgba ? "RGBA" : "grey");
   std::printf("  tiles       %d x %d voxels, %llu tiles over %d levels\n", g.tileSizeVox(), g.tileSizeVox(),
@@ -232,25 +387,43 @@ int main(int argc, char** argv) {
   buildCmd->add_option("--ortho", build.ortho, "orthophoto draped over the DEM (any image OpenImageIO reads)")
       ->needs(demOpt);
   buildCmd->add_option("-o,--output", build.output, "database to write")->required();
-  buildCmd->add_option("--size", build.size, "built-in: voxels per side")->capture_default_str();
-  buildCmd->add_option("--spacing", build.spacing, "built-in: voxel spacing in metres")->capture_default_str();
-  buildCmd->add_option("--seed", build.seed, "built-in: seed")->capture_default_str();
-  buildCmd->add_option("--dem-spacing", build.demSpacing, "DEM voxel spacing in metres when the file does not say");
-  buildCmd->add_option("--nodata", build.nodata, "DEM nodata value when the file does not say");
+  buildCmd->add_option("--size", build.size, "built-in: voxels per side")
+      ->check(intRange(kMinBuiltinSizeVox, kMaxBuiltinSizeVox, "voxels"))
+      ->capture_default_str();
+  buildCmd->add_option("--spacing", build.spacing, "built-in: voxel spacing in metres")
+      ->check(finiteRange(kMinSpacingM, kMaxSpacingM, "m"))
+      ->capture_default_str();
+  buildCmd->add_option("--seed", build.seed, "built-in: seed")->check(seedNumber())->capture_default_str();
+  buildCmd
+      ->add_option("--dem-spacing", build.demSpacing,
+                   "DEM voxel spacing in metres (overrides the file; needed when it does not say)")
+      ->check(finiteRange(kMinSpacingM, kMaxSpacingM, "m"));
+  buildCmd->add_option("--nodata", build.nodata, "DEM nodata value when the file does not say")->check(finiteNumber());
   buildCmd->add_option("--raw-size", build.rawSize, "raw DEM without sidecar: WxH");
   buildCmd->add_option("--raw-type", build.rawType, "raw DEM without sidecar: int16, uint16 or float32")
+      ->check(CLI::IsMember({"int16", "uint16", "float32"}))
       ->capture_default_str();
-  buildCmd->add_option("--vertical-scale", build.verticalScale, "DEM: metres per sample count")->capture_default_str();
-  buildCmd->add_option("--vertical-offset", build.verticalOffset, "DEM: metres at sample 0")->capture_default_str();
+  buildCmd->add_option("--vertical-scale", build.verticalScale, "DEM: metres per sample count")
+      ->check(finiteRange(kMinVerticalScaleM, kMaxVerticalScaleM, "m per count"))
+      ->capture_default_str();
+  buildCmd->add_option("--vertical-offset", build.verticalOffset, "DEM: metres at sample 0")
+      ->check(finiteRange(-kMaxVerticalOffsetM, kMaxVerticalOffsetM, "m"))
+      ->capture_default_str();
   buildCmd->add_option("--tile-shift", build.tileShift, "tiles of 2^shift voxels a side")
-      ->check(CLI::Range(kMinTileShift, kMaxTileShift))
+      ->check(intRange(kMinTileShift, kMaxTileShift, ""))
       ->capture_default_str();
   buildCmd->add_flag("--grey", build.grey, "grey-level database");
-  buildCmd->add_option("--threads", build.threads, "worker threads (0: every core)")->capture_default_str();
-  buildCmd->add_option("--zstd-level", build.zstdLevel, "zstd compression level")->capture_default_str();
+  buildCmd->add_option("--threads", build.threads, "worker threads (0: every core)")
+      ->check(intRange(0, 1024, "threads"))
+      ->capture_default_str();
+  buildCmd->add_option("--zstd-level", build.zstdLevel, "zstd compression level (20..22 need much more memory)")
+      ->check(intRange(1, 22, ""))
+      ->capture_default_str();
   buildCmd->add_option("--sun-azimuth", build.sunAzimuth, "procedural colour: sun azimuth, degrees from north")
+      ->check(finiteRange(0.0, 360.0, "degrees"))
       ->capture_default_str();
   buildCmd->add_option("--sun-elevation", build.sunElevation, "procedural colour: sun elevation, degrees")
+      ->check(finiteRange(0.0, 90.0, "degrees"))
       ->capture_default_str();
 
   std::string infoPath;
@@ -267,7 +440,8 @@ int main(int argc, char** argv) {
   CLI::App* previewCmd = app.add_subcommand("preview", "write one level as an image (north up)");
   previewCmd->add_option("database", previewPath)->required();
   previewCmd->add_option("-o,--output", previewOut, "image to write (PNG, JPEG, TIFF, ...)")->required();
-  previewCmd->add_option("--level", previewLevel, "level (default: the finest at most 2048 wide)");
+  previewCmd->add_option("--level", previewLevel, "level (default: the finest at most 2048 wide)")
+      ->check(intRange(0, 31, ""));
   previewCmd->add_flag("--heights", previewHeights, "grey heights instead of colour");
 
   int lmSize = 8192;
@@ -275,9 +449,13 @@ int main(int argc, char** argv) {
   std::uint64_t lmSeed = 1;
   CLI::App* landmarksCmd =
       app.add_subcommand("landmarks", "where the built-in terrain's features are, in world metres");
-  landmarksCmd->add_option("--size", lmSize)->capture_default_str();
-  landmarksCmd->add_option("--spacing", lmSpacing)->capture_default_str();
-  landmarksCmd->add_option("--seed", lmSeed)->capture_default_str();
+  landmarksCmd->add_option("--size", lmSize, "built-in: voxels per side")
+      ->check(intRange(kMinBuiltinSizeVox, kMaxBuiltinSizeVox, "voxels"))
+      ->capture_default_str();
+  landmarksCmd->add_option("--spacing", lmSpacing, "built-in: voxel spacing in metres")
+      ->check(finiteRange(kMinSpacingM, kMaxSpacingM, "m"))
+      ->capture_default_str();
+  landmarksCmd->add_option("--seed", lmSeed, "built-in: seed")->check(seedNumber())->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
   try {

@@ -3,10 +3,13 @@
 //   show <source>                 the live ControlState through a profile
 //   record <source> <file>        record every input event with its timestamp
 //   replay <file>                 print the ControlState of each frame of a recording (CSV)
-//   descriptor <file>             parse a HID report descriptor (binary, or hex text) and list its fields
+//   descriptor <file>             parse a HID report descriptor and list its fields: binary (sysfs
+//                                 report_descriptor), commented hex (hid-decode, usbhid-dump, 0x05, 0x01,
+//                                 …) or a hid-recorder "R: <length> <bytes>" line
 // Sources: /dev/input/eventN or a name, hidraw:/dev/hidrawN, usb:vid:pid[:detach], replay:file.
 #include <io_bridge/EvdevSource.h>
 #include <io_bridge/GpioInput.h>
+#include <io_bridge/HidReportDecoder.h>
 #include <io_bridge/HidReportDescriptor.h>
 #include <io_bridge/HidrawSource.h>
 #include <io_bridge/InputSources.h>
@@ -21,6 +24,9 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -121,7 +127,22 @@ int replay(const std::string& file, const std::string& profilePath, bool realtim
 
 int descriptor(const std::string& path) {
   const std::vector<std::uint8_t> bytes = readHidDescriptorFile(path);
-  const HidReportDescriptor d = parseHidReportDescriptor(bytes);
+  HidReportDescriptor d;
+  try {
+    d = parseHidReportDescriptor(bytes);
+  } catch (const HidDescriptorError& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  // The parser reads any descriptor the kernel accepts, output-only ones too; a stick or panel
+  // is read through Input reports, so one without an input control is of no use here. This is
+  // the check the hidraw and USB sources make when they open a device.
+  if (HidInputTranslator(d).controls().empty()) {
+    std::size_t other = 0;
+    for (const HidField& f : d.fields) other += f.type != HidReportType::Input ? 1 : 0;
+    throw std::runtime_error(path + ": the descriptor declares no input field (" + std::to_string(bytes.size()) +
+                             " bytes, " + std::to_string(other) +
+                             " output or feature fields): a stick or panel reports through Input items");
+  }
   static const char* kTypes[] = {"Input", "Output", "Feature"};
   std::printf("%zu bytes, %zu fields, %zu collections, report IDs: %s\n", bytes.size(), d.fields.size(),
               d.collections.size(), d.usesReportIds ? "yes" : "no");
@@ -161,7 +182,8 @@ static int runTool(int argc, char** argv) {
   replayCmd->add_option("file", file, "Recording")->required();
   replayCmd->add_option("--profile", profile, "Stick profile; default: generic");
   replayCmd->add_flag("--realtime", realtime, "Pace frames as recorded");
-  auto* descriptorCmd = app.add_subcommand("descriptor", "Parse a HID report descriptor file (binary or hex text)");
+  auto* descriptorCmd = app.add_subcommand(
+      "descriptor", "Parse a HID report descriptor file: binary, commented hex, or a hid-recorder R: line");
   descriptorCmd->add_option("file", file, "e.g. /sys/class/hidraw/hidraw0/device/report_descriptor")->required();
   CLI11_PARSE(app, argc, argv);
 

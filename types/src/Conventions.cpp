@@ -2,6 +2,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace fieldcast {
@@ -24,6 +25,29 @@ CameraAxes cameraAxes(const Pose& pose) noexcept {
   const glm::dvec3 right = cr * rightLevel - sr * upPitched;
   const glm::dvec3 up = sr * rightLevel + cr * upPitched;
   return {right, up, forward};
+}
+
+Pose offsetPose(const Pose& ownship, const ViewOffset& offset) noexcept {
+  if (offset.isZero()) return ownship;
+  const CameraAxes own = cameraAxes(ownship);
+  // The offset's axes at zero ownship attitude are world vectors (east, north, up) = camera
+  // (right, forward, up); carry them into the ownship's frame.
+  const CameraAxes rel = cameraAxes(Pose{{}, offset.headingRad, offset.pitchRad, offset.rollRad});
+  const auto toWorld = [&own](const glm::dvec3& v) { return v.x * own.right + v.y * own.forward + v.z * own.up; };
+  const glm::dvec3 forward = toWorld(rel.forward);
+  const glm::dvec3 right = toWorld(rel.right);
+
+  Pose out;
+  out.positionM = ownship.positionM + toWorld(offset.positionM);
+  out.headingRad = std::atan2(forward.x, forward.y);
+  out.pitchRad = std::asin(std::clamp(forward.z, -1.0, 1.0));
+  // Roll: the angle of the right axis below the level right axis, about forward (cameraAxes).
+  const double sh = std::sin(out.headingRad), ch = std::cos(out.headingRad);
+  const double sp = std::sin(out.pitchRad), cp = std::cos(out.pitchRad);
+  const glm::dvec3 rightLevel{ch, -sh, 0.0};
+  const glm::dvec3 upPitched{-sp * sh, -sp * ch, cp};
+  out.rollRad = std::atan2(-glm::dot(right, upPitched), glm::dot(right, rightLevel));
+  return out;
 }
 
 glm::dmat3 worldToCameraRotation(const Pose& pose) noexcept {

@@ -133,5 +133,44 @@ TEST(Conventions, PixelCentresAreHalfIntegers) {
   EXPECT_EQ(pixelCentre(639, 479), glm::dvec2(639.5, 479.5));
 }
 
+TEST(ViewOffset, ZeroOffsetIsTheOwnshipToTheBit) {
+  const Pose own{{1.5, -2.25, 300.0}, 2.9, -0.3, 0.7};
+  EXPECT_EQ(offsetPose(own, ViewOffset{}), own);
+}
+
+TEST(ViewOffset, LevelOwnshipAddsYawAndPitchAndMovesInBodyAxes) {
+  const Pose own{{100.0, 200.0, 50.0}, radians(90.0), 0.0, 0.0};  // facing east
+  ViewOffset side;
+  side.headingRad = radians(45.0);   // a right-hand channel
+  side.positionM = {0.0, 2.0, 1.0};  // 2 m forward (east), 1 m up
+  const Pose p = offsetPose(own, side);
+  EXPECT_NEAR(p.headingRad, radians(135.0), 1e-12);
+  EXPECT_NEAR(p.pitchRad, 0.0, 1e-12);
+  EXPECT_NEAR(p.rollRad, 0.0, 1e-12);
+  EXPECT_NEAR(p.positionM.x, 102.0, 1e-12);
+  EXPECT_NEAR(p.positionM.y, 200.0, 1e-12);
+  EXPECT_NEAR(p.positionM.z, 51.0, 1e-12);
+  ViewOffset down;
+  down.pitchRad = radians(-20.0);
+  EXPECT_NEAR(offsetPose(own, down).pitchRad, radians(-20.0), 1e-12);
+}
+
+TEST(ViewOffset, AxesAreTheOwnshipAxesTimesTheOffsetAxes) {
+  // Whatever the attitudes, the view's camera axes are the offset's axes carried into the ownship's frame.
+  for (const Pose& own : {Pose{{}, 0.4, 0.2, -0.5}, Pose{{}, -2.8, -0.6, 1.1}, Pose{{}, 1.9, 0.05, 0.0}}) {
+    for (const ViewOffset& off :
+         {ViewOffset{{}, 0.7, 0.0, 0.0}, ViewOffset{{}, -0.3, 0.25, 0.4}, ViewOffset{{}, 0.0, 0.0, -0.9}}) {
+      const CameraAxes o = cameraAxes(own);
+      const CameraAxes r = cameraAxes(Pose{{}, off.headingRad, off.pitchRad, off.rollRad});
+      auto carry = [&](const glm::dvec3& v) { return v.x * o.right + v.y * o.forward + v.z * o.up; };
+      const CameraAxes got = cameraAxes(offsetPose(own, off));
+      for (const auto& [a, b] : {std::pair{got.right, carry(r.right)}, std::pair{got.up, carry(r.up)},
+                                 std::pair{got.forward, carry(r.forward)}}) {
+        EXPECT_NEAR(glm::length(a - b), 0.0, 1e-12);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fieldcast

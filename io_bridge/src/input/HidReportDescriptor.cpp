@@ -7,12 +7,15 @@
 //  - a main item without usages is padding.
 #include <io_bridge/HidReportDescriptor.h>
 
+#include "SystemError.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 #include <string_view>
 
@@ -374,39 +377,185 @@ std::size_t HidReportDescriptor::maxInputReportBytes() const noexcept {
 
 HidReportDescriptor parseHidReportDescriptor(std::span<const std::uint8_t> bytes) { return Parser(bytes).run(); }
 
-std::vector<std::uint8_t> readHidDescriptorFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot read the report descriptor");
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  bool text = !bytes.empty();
-  for (const std::uint8_t b : bytes) {
-    if (!(std::isxdigit(b) || std::isspace(b) || b == ',' || b == 'x' || b == 'X')) text = false;
+namespace {
+
+// Descriptors are at most 4 KiB (HID_MAX_DESCRIPTOR_SIZE); a commented dump of one is far below this.
+constexpr std::size_t kMaxDescriptorFileBytes = 1 << 20;
+
+// A file is text when it holds no control byte but tab, line feed, form feed and carriage return
+// (bytes of 0x80 and up are allowed: UTF-8 in comments). Every real binary descriptor has control
+// bytes: it opens with a Usage Page item (0x05 0x01 …) and ends with End Collection (0xC0).
+bool looksLikeText(std::string_view bytes) {
+  if (bytes.empty()) return false;
+  for (const char c : bytes) {
+    const auto b = static_cast<unsigned char>(c);
+    if ((b < 0x20 && b != '\t' && b != '\n' && b != '\r' && b != '\f' && b != '\v') || b == 0x7F) return false;
   }
-  if (!text) return bytes;
-  std::string s(bytes.begin(), bytes.end());
-  std::replace(s.begin(), s.end(), ',', ' ');
-  std::istringstream words(s);
+  return true;
+}
+
+int hexDigit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+// One word of hex: "0x5", "0x05", "05", or a run of pairs "050109" (xxd -p). Appends its bytes;
+// false when the word is anything else.
+bool appendHexWord(std::string_view w, std::vector<std::uint8_t>& out) {
+  if (w.size() > 2 && w[0] == '0' && (w[1] == 'x' || w[1] == 'X')) {
+    w.remove_prefix(2);
+    if (w.size() > 2) return false;
+    int v = 0;
+    for (const char c : w) {
+      if (hexDigit(c) < 0) return false;
+      v = v * 16 + hexDigit(c);
+    }
+    out.push_back(static_cast<std::uint8_t>(v));
+    return true;
+  }
+  if (w.empty() || w.size() % 2 != 0) return false;
+  for (std::size_t i = 0; i < w.size(); i += 2) {
+    const int hi = hexDigit(w[i]);
+    const int lo = hexDigit(w[i + 1]);
+    if (hi < 0 || lo < 0) return false;
+    out.push_back(static_cast<std::uint8_t>(hi * 16 + lo));
+  }
+  return true;
+}
+
+std::vector<std::string_view> splitLines(std::string_view text) {
+  std::vector<std::string_view> lines;
+  while (!text.empty()) {
+    const std::size_t end = text.find('\n');
+    lines.push_back(text.substr(0, end));
+    if (end == std::string_view::npos) break;
+    text.remove_prefix(end + 1);
+  }
+  return lines;
+}
+
+std::string_view trimmed(std::string_view s) {
+  const auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  while (!s.empty() && space(s.front())) s.remove_prefix(1);
+  while (!s.empty() && space(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+std::string lineError(const std::string& path, std::size_t line, const std::string& what) {
+  return path + ":" + std::to_string(line) + ": " + what;
+}
+
+// hid-recorder / hid-decode (hid-tools): "R: <length> <hex bytes…>" holds the descriptor; the other
+// lines (# comments with the decoded items, N:, I:, P:, E: events) are ignored.
+std::vector<std::uint8_t> parseRecorderLine(const std::string& path, std::size_t lineNo, std::string_view body) {
+  std::istringstream words{std::string(body)};
+  std::string lengthWord;
+  words >> lengthWord;
+  std::size_t used = 0;
+  unsigned long length = 0;
+  try {
+    length = std::stoul(lengthWord, &used, 10);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (lengthWord.empty() || used != lengthWord.size()) {
+    throw std::runtime_error(
+        lineError(path, lineNo, "R: expected the descriptor length, then its bytes, got \"" + lengthWord + "\""));
+  }
   std::vector<std::uint8_t> out;
   std::string w;
   while (words >> w) {
-    if (w.size() > 2 && w[0] == '0' && (w[1] == 'x' || w[1] == 'X')) w = w.substr(2);
-    std::size_t used = 0;
-    unsigned long v = 0;
-    try {
-      v = std::stoul(w, &used, 16);
-    } catch (const std::exception&) {
-      used = 0;
+    if (w.size() != 2 || !appendHexWord(w, out)) {
+      throw std::runtime_error(lineError(path, lineNo, "R: \"" + w + "\" is not a hex byte"));
     }
-    if (used != w.size() || v > 0xFF) {
-      std::string what = path;
-      what += ": \"";
-      what += w;
-      what += "\" is not a hex byte";
-      throw std::runtime_error(what);
-    }
-    out.push_back(static_cast<std::uint8_t>(v));
+  }
+  if (out.size() != length) {
+    throw std::runtime_error(lineError(
+        path, lineNo, "R: says " + std::to_string(length) + " bytes, the line holds " + std::to_string(out.size())));
   }
   return out;
+}
+
+// Hex text: byte pairs with optional 0x prefixes, separated by spaces or commas, with # and //
+// comments to the end of the line and /* */ comments (hid-decode, usbhid-dump, kernel sources).
+std::vector<std::uint8_t> parseHexText(const std::string& path, std::string_view text) {
+  const std::vector<std::string_view> lines = splitLines(text);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string_view line = trimmed(lines[i]);
+    if (line.substr(0, 2) == "R:") {
+      for (std::size_t j = i + 1; j < lines.size(); ++j) {
+        if (trimmed(lines[j]).substr(0, 2) == "R:") {
+          throw std::runtime_error(lineError(path, j + 1,
+                                             "a second R: line (a recording of several devices): keep one "
+                                             "device's R: line"));
+        }
+      }
+      return parseRecorderLine(path, i + 1, line.substr(2));
+    }
+  }
+  std::vector<std::uint8_t> out;
+  bool inBlockComment = false;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    std::string_view line = lines[i];
+    std::string code;  // the line without its comments
+    while (!line.empty()) {
+      if (inBlockComment) {
+        const std::size_t close = line.find("*/");
+        if (close == std::string_view::npos) break;
+        inBlockComment = false;
+        line.remove_prefix(close + 2);
+        continue;
+      }
+      const std::size_t hash = line.find('#');
+      const std::size_t slashes = line.find("//");
+      const std::size_t block = line.find("/*");
+      const std::size_t first = std::min({hash, slashes, block});
+      code.append(line.substr(0, first));
+      code += ' ';
+      if (first == std::string_view::npos || first != block) break;  // # or //: the rest is comment
+      inBlockComment = true;
+      line.remove_prefix(block + 2);
+    }
+    // usbhid-dump heads each descriptor with "BBB:DDD:III:DESCRIPTOR  <timestamp>".
+    if (code.find(":DESCRIPTOR") != std::string::npos) continue;
+    std::replace(code.begin(), code.end(), ',', ' ');
+    std::istringstream words(code);
+    std::string w;
+    while (words >> w) {
+      if (!appendHexWord(w, out)) {
+        throw std::runtime_error(
+            lineError(path, i + 1, "\"" + w + "\" is not a hex byte (expected pairs such as 05 01 or 0x05, 0x01)"));
+      }
+    }
+  }
+  if (inBlockComment) throw std::runtime_error(path + ": a /* comment is not closed");
+  if (out.empty()) throw std::runtime_error(path + ": no descriptor bytes in this text (only comments or blank lines)");
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> readHidDescriptorFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path + ": is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot read the report descriptor: " + errnoMessage(errno));
+  std::string bytes;
+  std::array<char, 4096> chunk{};
+  // Read in chunks with a cap, so a device node or a huge file is refused instead of swallowed.
+  while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+    bytes.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (bytes.size() > kMaxDescriptorFileBytes) {
+      throw std::runtime_error(path + ": more than " + std::to_string(kMaxDescriptorFileBytes) +
+                               " bytes: not a report descriptor");
+    }
+  }
+  if (in.bad()) throw std::runtime_error(path + ": read error: " + errnoMessage(errno));
+  if (bytes.empty()) throw std::runtime_error(path + ": empty file");
+  if (looksLikeText(bytes)) return parseHexText(path, bytes);
+  return {bytes.begin(), bytes.end()};
 }
 
 std::string describeHidUnit(std::uint32_t unit, std::int32_t exponent) {

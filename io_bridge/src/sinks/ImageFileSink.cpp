@@ -2,6 +2,7 @@
 
 #include <io_bridge/ImageFileSink.h>
 
+#include "ImageWrite.h"
 #include "PixelConvert.h"
 
 #include <OpenImageIO/imageio.h>
@@ -37,17 +38,6 @@ const char* parityName(FieldParity p) noexcept {
     case FieldParity::Progressive: return "progressive";
   }
   return "?";
-}
-
-// Writes `channels` interleaved values of `type` to `path`; throws with OIIO's message.
-void writeImage(const std::filesystem::path& path, OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* pixels) {
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) throw std::runtime_error(path.string() + ": no image writer for this extension: " + OIIO::geterror());
-  // Encode on this (the sink's) thread only: an IG's cores belong to the renderer.
-  out->threads(1);
-  if (!out->open(path.string(), spec) || !out->write_image(type, pixels) || !out->close()) {
-    throw std::runtime_error(path.string() + ": " + out->geterror());
-  }
 }
 
 }  // namespace

@@ -10,7 +10,10 @@ target_sources(fieldcast_io PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/RtpVideoSink.cpp
   ${CMAKE_CURRENT_LIST_DIR}/ShmRing.cpp
   ${CMAKE_CURRENT_LIST_DIR}/GpioPulseSink.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/ImageWrite.cpp
   ${CMAKE_CURRENT_LIST_DIR}/ImageFileSink.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/ContactSheetSink.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/SinksConfig.cpp
   ${CMAKE_CURRENT_LIST_DIR}/WindowSink.cpp)
 target_link_libraries(fieldcast_io PRIVATE spdlog::spdlog PkgConfig::libgpiod OpenImageIO::OpenImageIO
                       opencv_core opencv_imgproc opencv_highgui)
@@ -21,6 +24,7 @@ if(FIELDCAST_BUILD_TESTS)
     SOURCES ${_sink_tests}/SinkHubTest.cpp ${_sink_tests}/Y4mSinkTest.cpp ${_sink_tests}/PixelConvertTest.cpp
             ${_sink_tests}/Rfc4175PacketizerTest.cpp ${_sink_tests}/RtpVideoSinkTest.cpp ${_sink_tests}/ShmRingTest.cpp
             ${_sink_tests}/GpioPulseSinkTest.cpp ${_sink_tests}/ImageFileSinkTest.cpp
+            ${_sink_tests}/ContactSheetSinkTest.cpp ${_sink_tests}/SinksConfigTest.cpp
     LIBRARIES fieldcast::io OpenImageIO::OpenImageIO
     LABELS "unit;io")
   target_include_directories(fieldcast_io_sinks_tests PRIVATE ${CMAKE_CURRENT_LIST_DIR})
@@ -54,24 +58,14 @@ if(FIELDCAST_BUILD_TESTS)
     LABELS "hw;io")
 endif()
 
-# libFuzzer target for the shm ring header a reader validates (clang only: the gcc build skips
-# it). `ctest -L fuzz` runs it for 20 s.
-if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
-  # The code under test is compiled into the fuzzer itself, so libFuzzer sees its coverage.
-  add_executable(fieldcast_fuzz_shm_ring_header
-    ${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/ShmRingHeaderFuzz.cpp
-    ${CMAKE_CURRENT_LIST_DIR}/ShmRing.cpp
-    ${CMAKE_CURRENT_LIST_DIR}/StreamFormat.cpp)
-  target_include_directories(fieldcast_fuzz_shm_ring_header PRIVATE ${PROJECT_SOURCE_DIR}/io_bridge/include)
-  target_compile_options(fieldcast_fuzz_shm_ring_header PRIVATE -fsanitize=fuzzer,address,undefined)
-  target_link_libraries(fieldcast_fuzz_shm_ring_header PRIVATE fieldcast::types -fsanitize=fuzzer,address,undefined)
-  if(FIELDCAST_BUILD_TESTS)
-    # New inputs go to a corpus in the build tree; the seed (a valid ring) stays read-only.
-    set(_corpus "${CMAKE_BINARY_DIR}/fuzz_corpus/shm_ring_header")
-    file(MAKE_DIRECTORY "${_corpus}")
-    add_test(NAME io_sinks_fuzz_shm_ring_header
-      COMMAND fieldcast_fuzz_shm_ring_header -max_total_time=20 -rss_limit_mb=1024 "${_corpus}"
-              "${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/seeds")
-    set_tests_properties(io_sinks_fuzz_shm_ring_header PROPERTIES LABELS "fuzz;io")
-  endif()
+# libFuzzer target for the shm ring header a reader validates (fieldcast_add_fuzzer,
+# cmake/FieldcastFuzzing.cmake): `ctest -L fuzz` runs it for 20 s from the seed (a valid ring), or
+# reports it skipped with the reason when it was not built.
+if(FIELDCAST_BUILD_TESTS)
+  fieldcast_add_fuzzer(NAME shm_ring_header_fuzzer MODULE io
+    SOURCES ${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/ShmRingHeaderFuzz.cpp ${CMAKE_CURRENT_LIST_DIR}/ShmRing.cpp
+            ${CMAKE_CURRENT_LIST_DIR}/StreamFormat.cpp ${PROJECT_SOURCE_DIR}/types/src/Time.cpp
+    INCLUDES ${PROJECT_SOURCE_DIR}/io_bridge/include ${PROJECT_SOURCE_DIR}/types/include
+    SEEDS ${PROJECT_SOURCE_DIR}/io_bridge/tests/sinks/fuzz/seeds
+    ARGS -max_total_time=20 -rss_limit_mb=1024)
 endif()

@@ -2,6 +2,7 @@
 // unplug and replug), and the real evdev/hidraw/libusb code against what this machine has.
 // Tests needing a real device are in HardwareTest.cpp (label hw).
 #include <io_bridge/EvdevSource.h>
+#include <io_bridge/HidReportDescriptor.h>
 #include <io_bridge/HidrawSource.h>
 #include <io_bridge/InputSources.h>
 #include <io_bridge/StickInput.h>
@@ -17,6 +18,7 @@
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 namespace fieldcast::io {
@@ -202,6 +204,96 @@ TEST(RealBackends, EvdevAndHidrawRefuseWhatIsNotTheirDevice) {
     EXPECT_NE(std::string(e.what()).find("hidraw /dev/null: not a hidraw device"), std::string::npos) << e.what();
   }
   EXPECT_THROW(EvdevSource("no stick has this name 7f3a"), std::runtime_error);
+}
+
+// A file of `text` in the test's temporary folder; returns its path.
+std::string writeFile(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("fieldcast_hid_" + name);
+  std::ofstream(path, std::ios::binary) << text;
+  return path.string();
+}
+
+std::string readError(const std::string& path) {
+  try {
+    (void)readHidDescriptorFile(path);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(HidDescriptorFile, ReadsBinaryCommentedHexAndRecorderLines) {
+  const std::vector<std::uint8_t> yoke(std::begin(testdata::kTcaYokeBoeing), std::end(testdata::kTcaYokeBoeing));
+  const std::string data = std::string(FIELDCAST_SOURCE_DIR) + "/tests/stick/data/";
+  // Binary, as /sys/class/hidraw/hidrawN/device/report_descriptor gives it.
+  EXPECT_EQ(readHidDescriptorFile(writeFile("yoke.bin", std::string(yoke.begin(), yoke.end()))), yoke);
+  // hid-decode / kernel-source form: 0x prefixes, commas, # and // comments.
+  EXPECT_EQ(readHidDescriptorFile(data + "tca_yoke_boeing_commented.txt"), yoke);
+  // hid-recorder: the R: line holds the descriptor; # comments, N:, I:, P:, D:, E: lines are not bytes.
+  EXPECT_EQ(readHidDescriptorFile(data + "tca_yoke_boeing.hidrec"), yoke);
+  // Small forms: /* */ comments, upper case, runs of pairs (xxd -p), a usbhid-dump header line.
+  const std::vector<std::uint8_t> mouse{0x05, 0x01, 0x09, 0x02, 0xA1, 0x01, 0xC0};
+  EXPECT_EQ(readHidDescriptorFile(writeFile("mouse1.txt",
+                                            "/* a mouse\n   (start) */ 0x05,0x01, /* page */ 09 02\r\n"
+                                            "A1 01 // collection\nc0\n")),
+            mouse);
+  EXPECT_EQ(readHidDescriptorFile(writeFile("mouse2.txt", "05010902a101c0\n")), mouse);
+  EXPECT_EQ(readHidDescriptorFile(writeFile("mouse3.txt",
+                                            "001:003:000:DESCRIPTOR         1712345678.123456\n"
+                                            " 05 01 09 02 A1 01 C0\n\n")),
+            mouse);
+  EXPECT_EQ(readHidDescriptorFile(writeFile("mouse4.txt",
+                                            "# 0x05, 0x01, // Usage Page\nR: 7 05 01 09 02 a1 01 c0\n"
+                                            "N: Some Mouse\nI: 3 046d c077\n")),
+            mouse);
+}
+
+TEST(HidDescriptorFile, RefusesWithTheFileAndTheLine) {
+  const std::string folder = std::filesystem::temp_directory_path().string();
+  EXPECT_EQ(readError(folder), folder + ": is a directory");
+  EXPECT_NE(readError("/nonexistent/rdesc").find("/nonexistent/rdesc: cannot read the report descriptor"),
+            std::string::npos);
+  const std::string empty = writeFile("empty.bin", "");
+  EXPECT_EQ(readError(empty), empty + ": empty file");
+  const std::string junk = writeFile("junk.txt", "# header\n05 01 09 02\n0x05, 0x01, zz // page\n");
+  EXPECT_NE(readError(junk).find(junk + ":3: \"zz\" is not a hex byte"), std::string::npos) << readError(junk);
+  const std::string odd = writeFile("odd.txt", "05 0 09\n");
+  EXPECT_NE(readError(odd).find(odd + ":1: \"0\" is not a hex byte"), std::string::npos) << readError(odd);
+  const std::string wide = writeFile("wide.txt", "0x105\n");
+  EXPECT_NE(readError(wide).find(wide + ":1: \"0x105\" is not a hex byte"), std::string::npos) << readError(wide);
+  const std::string comments = writeFile("comments.txt", "# nothing\n// here\n\n");
+  EXPECT_NE(readError(comments).find(comments + ": no descriptor bytes"), std::string::npos) << readError(comments);
+  const std::string unclosed = writeFile("unclosed.txt", "05 01 /* open\n09 02\n");
+  EXPECT_NE(readError(unclosed).find(unclosed + ": a /* comment is not closed"), std::string::npos);
+  const std::string shortR = writeFile("short.hidrec", "# mouse\nR: 5 05 01 09\n");
+  EXPECT_EQ(readError(shortR), shortR + ":2: R: says 5 bytes, the line holds 3");
+  const std::string badR = writeFile("bad.hidrec", "R: x 05 01\n");
+  EXPECT_NE(readError(badR).find(badR + ":1: R: expected the descriptor length"), std::string::npos);
+  const std::string twoR = writeFile("two.hidrec", "R: 2 05 01\nN: a\nR: 2 05 01\n");
+  EXPECT_NE(readError(twoR).find(twoR + ":3: a second R: line"), std::string::npos) << readError(twoR);
+  const std::string huge = writeFile("huge.bin", std::string((1 << 20) + 1, '\x05'));
+  EXPECT_NE(readError(huge).find(huge + ": more than 1048576 bytes"), std::string::npos);
+}
+
+TEST(HidrawSource, RefusesADescriptorWithoutInputControls) {
+  // The parser reads these as the kernel does (see HidDescriptor.DescriptorsWithoutInputFieldsParse);
+  // a source, which exists to deliver input, refuses them when it opens the device.
+  const std::vector<std::vector<std::uint8_t>> noInput{
+      {0x00},  // one reserved main item: nothing at all
+      {0x05, 0x08, 0x09, 0x01, 0xa1, 0x01, 0x09, 0x4b, 0x15, 0x00, 0x25, 0x01,
+       0x75, 0x01, 0x95, 0x01, 0x91, 0x02, 0x95, 0x07, 0x91, 0x03, 0xc0},  // one LED: an Output report only
+  };
+  for (const auto& descriptor : noInput) {
+    int fds[2];
+    ASSERT_EQ(::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_NONBLOCK | SOCK_CLOEXEC, 0, fds), 0);
+    try {
+      HidrawSource source(fds[0], descriptor, "panel");  // closes fds[0] when it throws
+      ADD_FAILURE() << "a descriptor of " << descriptor.size() << " bytes without input was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("declares no input controls"), std::string::npos) << e.what();
+    }
+    ::close(fds[1]);
+  }
 }
 
 }  // namespace

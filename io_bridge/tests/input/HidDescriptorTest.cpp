@@ -337,6 +337,23 @@ TEST(HidDescriptor, MalformedDescriptorsAreRejectedWithAReason) {
   }
 }
 
+TEST(HidDescriptor, DescriptorsWithoutInputFieldsParseAsTheKernelReadsThem) {
+  // Whether a device has inputs is the consumer's question, not the parser's: the kernel accepts
+  // these (an unknown main tag is skipped; output-only devices exist), so the parser does too.
+  // The hidraw and USB sources and `fieldcast-stick descriptor` refuse them for want of inputs.
+  const HidReportDescriptor nothing = parseHidReportDescriptor(std::vector<std::uint8_t>{0x00});
+  EXPECT_TRUE(nothing.fields.empty());
+  EXPECT_TRUE(nothing.reports.empty());
+  EXPECT_TRUE(HidInputTranslator(nothing).controls().empty());
+  const HidReportDescriptor leds = parseHidReportDescriptor(
+      std::vector<std::uint8_t>{0x05, 0x08, 0x09, 0x01, 0xa1, 0x01, 0x09, 0x4b, 0x15, 0x00, 0x25, 0x01,
+                                0x75, 0x01, 0x95, 0x01, 0x91, 0x02, 0x95, 0x07, 0x91, 0x03, 0xc0});
+  ASSERT_EQ(leds.fields.size(), 1u);
+  EXPECT_EQ(leds.fields[0].type, HidReportType::Output);
+  EXPECT_EQ(leds.maxInputReportBytes(), 0u);
+  EXPECT_TRUE(HidInputTranslator(leds).controls().empty());
+}
+
 TEST(HidDescriptor, ShortAndUnknownReportsAreRejectedWithAReason) {
   HidReportDecoder decoder(parseHidReportDescriptor(testdata::kRaptorMach2));
   const std::vector<std::uint8_t> shortReport(20, 0x01);

@@ -144,11 +144,12 @@ throttle = "neutral"
     return std::string("accepted");
   };
   EXPECT_EQ(errorOf("[roll]\ndead_zone = 2\n"), "bad.toml:2: roll.dead_zone: expected a number from 0 to 0.5, got 2");
-  EXPECT_EQ(errorOf("[pitch]\ninvert = true\nexpo = 0.1\nfoo = 1\n"), "bad.toml:4: pitch.foo: unknown key");
+  EXPECT_EQ(errorOf("[pitch]\ninvert = true\nexpo = 0.1\nfoo = 1\n"),
+            "bad.toml:4: pitch.foo: unknown key (expected one of: center, control, dead_zone, expo, invert, max, min)");
   EXPECT_NE(errorOf("[yaw]\ncontrol = \"twist\"\n").find("bad.toml:2: yaw.control: expected x, y"), std::string::npos);
-  EXPECT_EQ(errorOf("[roll]\nmin = 10\nmax = 5\n"), "bad.toml:3: roll.max: expected more than min (10)");
+  EXPECT_EQ(errorOf("[roll]\nmin = 10\nmax = 5\n"), "bad.toml:3: roll.max: expected more than min (10), got 5");
   EXPECT_EQ(errorOf("[loss]\nthrottle = \"cut\"\n"),
-            "bad.toml:2: loss.throttle: expected \"hold\" or \"neutral\", got \"cut\"");
+            "bad.toml:2: loss.throttle: expected one of \"hold\", \"neutral\", got \"cut\"");
   EXPECT_NE(errorOf("name = \n").find("bad.toml:1:"), std::string::npos);
 }
 

@@ -34,8 +34,8 @@ class ScriptedTrajectory final : public MotionSource {
   /// waypoints, times strictly increase, and each angle is given on every waypoint or on none.
   ScriptedTrajectory(std::string name, std::vector<Waypoint> waypoints, double cameraPitchOffsetRad = 0.0);
 
-  /// Reads a flight file (config/flights/*.toml). Throws std::runtime_error naming the file, the
-  /// line and the key on any problem.
+  /// Reads a flight file (config/flights/*.toml). Throws ConfigError (a std::runtime_error)
+  /// naming the file, the line and the key on any problem.
   static ScriptedTrajectory load(const std::string& path);
 
   /// Instant of the flight's time 0 (default: TimePoint{} — set it when the flight starts).

@@ -4,13 +4,13 @@
 // Everything is allocated at construction; produce() allocates nothing and never throws.
 
 #include <prp_warp/FieldClock.h>
-#include <prp_warp/PoseSource.h>
 #include <prp_warp/PostProcess.h>
 #include <prp_warp/Warp.h>
 
 #include <fieldcast/Field.h>
 #include <fieldcast/Frame.h>
 #include <fieldcast/Image.h>
+#include <fieldcast/Pose.h>
 
 #include <atomic>
 #include <cstdint>
@@ -66,9 +66,10 @@ class FieldWarper {
   /// A Field whose image is allocated for any parity of this raster and output format.
   Field makeField() const;
 
-  /// Warps `frame` to the pose `poses` gives for `spec.displayTime`, into `out` (made by
-  /// makeField()). RT-safe: no allocation, noexcept.
-  FieldStatus produce(const Frame& frame, const PoseSource& poses, const FieldSpec& spec, Field& out) noexcept;
+  /// Warps `frame` to `pose`, the camera pose at `spec.displayTime` (the caller's motion model
+  /// predicts it; the PRP does not), into `out` (made by makeField()). RT-safe: no allocation,
+  /// noexcept.
+  FieldStatus produce(const Frame& frame, const Pose& pose, const FieldSpec& spec, Field& out) noexcept;
 
   const FieldWarperConfig& config() const noexcept { return mConfig; }
   const Warp& warp() const noexcept { return *mWarp; }

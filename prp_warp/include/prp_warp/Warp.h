@@ -94,6 +94,9 @@ class Warp {
   int mRasterHeightPx;
 };
 
+/// True when the warp reads the frame's per-pixel range, so the renderer must produce it.
+constexpr bool needsRangeImage(WarpKind kind) noexcept { return kind == WarpKind::Range3d; }
+
 /// A warp of `kind` for a raster `rasterWidthPx` × `rasterHeightPx`; all its scratch is
 /// allocated here. Throws std::invalid_argument for a raster smaller than 2 × 2.
 std::unique_ptr<Warp> makeWarp(WarpKind kind, int rasterWidthPx, int rasterHeightPx);

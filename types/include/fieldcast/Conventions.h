@@ -30,6 +30,24 @@ struct CameraAxes {
 /// Axes of the camera for heading, pitch, roll (applied in that order). RT-safe.
 CameraAxes cameraAxes(const Pose& pose) noexcept;
 
+/// A view's eye relative to the ownship (a display channel's view offset): a position in the
+/// ownship's camera axes (x right, y forward, z up, metres), then heading, pitch and roll applied
+/// after the ownship's, in the ownship's frame.
+struct ViewOffset {
+  glm::dvec3 positionM{0.0, 0.0, 0.0};
+  double headingRad = 0.0;
+  double pitchRad = 0.0;
+  double rollRad = 0.0;
+  /// True when the offset moves nothing.
+  bool isZero() const noexcept {
+    return positionM == glm::dvec3(0.0) && headingRad == 0.0 && pitchRad == 0.0 && rollRad == 0.0;
+  }
+};
+
+/// The pose of the view `offset` from `ownship`; a zero offset returns `ownship` unchanged (to
+/// the bit). Pitch is kept within ±90° and heading within (−π, π]. RT-safe.
+Pose offsetPose(const Pose& ownship, const ViewOffset& offset) noexcept;
+
 /// World → camera rotation: rows are right, up, forward, so (xc, yc, zc) = R·(P − C). RT-safe.
 glm::dmat3 worldToCameraRotation(const Pose& pose) noexcept;
 

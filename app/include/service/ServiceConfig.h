@@ -1,0 +1,61 @@
+#pragma once
+// The service configuration: config/fieldcast.toml, validated. Composition only: each module
+// reads its own section into its own settings (ig_core [terrain] and [render], prp_warp [warp],
+// io_bridge [output], [sinks] and [input], motion [motion]); the service reads [view], [metrics]
+// and [threads]. Every key is documented in config/README.md; an unknown key, a wrong type or a
+// value out of range is an error naming the file, line and key.
+
+#include <ig_core/RenderConfig.h>
+#include <ig_core/TerrainConfig.h>
+#include <io_bridge/InputConfig.h>
+#include <io_bridge/SinksConfig.h>
+#include <io_bridge/StreamFormat.h>
+#include <motion/MotionConfig.h>
+#include <prp_warp/PrpSettings.h>
+
+#include <fieldcast/ConfigReader.h>
+#include <fieldcast/Conventions.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace fieldcast::app {
+
+using fieldcast::ConfigError;
+
+/// [metrics]: figures.
+struct MetricsConfig {
+  double logIntervalS = 1.0;
+  std::filesystem::path summaryJson;  ///< JSON summary written at exit; empty: none
+};
+
+/// [threads]: scheduling.
+struct ThreadsConfig {
+  bool realtimeFieldThread = true;  ///< ask for SCHED_FIFO for the field thread
+  int fieldThreadCpu = -1;          ///< pin the field thread to this CPU; -1: no pinning
+};
+
+/// The whole configuration.
+struct ServiceConfig {
+  std::string sourcePath;
+  core::TerrainConfig terrain;
+  core::RenderConfig render;
+  ViewOffset view;  ///< [view]: the channel's eye relative to the ownship
+  warp::PrpSettings warp;
+  io::StreamFormat output;
+  motion::MotionConfig motion;
+  io::SinksConfig sinks;
+  io::InputConfig input;
+  MetricsConfig metrics;
+  ThreadsConfig threads;
+};
+
+/// Reads and validates a configuration file, then applies `overrides` ("table.key=value", as
+/// given to --set). Throws ConfigError on the first problem.
+ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// One-paragraph human summary (for --check-config and the start-up log).
+std::string describe(const ServiceConfig& config);
+
+}  // namespace fieldcast::app

@@ -1,0 +1,113 @@
+#pragma once
+// The service's figures (issue 8): counters and duration histograms that the field thread and the
+// render loop record into without locks or allocation, a one-line report per interval for the
+// log, and the run summary (also written as JSON for scripts).
+
+#include <service/Histogram.h>
+
+#include <fieldcast/Time.h>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+namespace fieldcast::app {
+
+/// Durations the service measures. Each is recorded into its interval histogram; every report
+/// drains the interval into the run total.
+enum class Measure : std::uint8_t {
+  RenderTime,    ///< render start → frame complete
+  WarpTime,      ///< field thread: warp + post-processing + hand-off to the sinks
+  FrameAge,      ///< field display time − the pose time of the frame it was warped from
+  FieldJitter,   ///< |field emission − its scheduled emission instant|
+  StickLatency,  ///< stick event timestamp → display time of the first field reflecting it
+  kCount
+};
+
+/// Monotonic counters (any thread, relaxed atomics).
+struct ServiceCounters {
+  std::atomic<std::uint64_t> framesRendered{0};
+  std::atomic<std::uint64_t> fieldsEmitted{0};     ///< fields handed to the sinks, black ones included
+  std::atomic<std::uint64_t> fieldsBlack{0};       ///< emitted before the first frame existed
+  std::atomic<std::uint64_t> fieldsMissed{0};      ///< deadlines passed without a field
+  std::atomic<std::uint64_t> marginViolations{0};  ///< output pixels sampled outside the frame
+  std::atomic<std::uint64_t> warpFallbacks{0};     ///< fields warped by the rotation-only fallback
+  std::atomic<std::uint64_t> qualityMilliSum{0};   ///< frames' quality knobs × 1000, summed (see recordFrame)
+  std::atomic<std::uint64_t> framesGrazing{0};     ///< frames rendered with the grazing-angle rule on
+};
+
+/// Figures of the whole run, for --summary and the end-of-run log.
+struct ServiceFigures {
+  double durationS = 0.0;
+  std::uint64_t framesRendered = 0;
+  std::uint64_t fieldsEmitted = 0;
+  std::uint64_t fieldsBlack = 0;
+  std::uint64_t fieldsMissed = 0;
+  std::uint64_t marginViolations = 0;
+  std::uint64_t warpFallbacks = 0;
+  double meanQuality = 0.0;  ///< mean quality knob over the frames rendered (0 when none)
+  std::uint64_t framesGrazing = 0;
+  DurationSummary render, warp, frameAge, jitter, stickLatency;
+};
+
+class ServiceMetrics {
+ public:
+  ServiceMetrics();
+
+  ServiceCounters counters;  ///< any thread
+
+  /// Starts the run's clock at `start` (the first field), so figures per second count the run,
+  /// not the start-up. Call before the threads record.
+  void startAt(TimePoint start) noexcept { mStart = mLast = start; }
+
+  /// Records a duration. Any thread; wait-free, RT-safe.
+  void record(Measure m, Nanoseconds d) noexcept { mInterval[static_cast<int>(m)].record(d); }
+
+  /// Counts a rendered frame (framesRendered) with its knobs (RenderStats): the frame-time
+  /// controller's quality and whether the grazing-angle rule was on. Any thread; wait-free,
+  /// RT-safe. The knobs are published after the frame, and intervalLine reads them first, so an
+  /// interval never holds more knobs than frames.
+  void recordFrame(double quality, bool grazing) noexcept {
+    counters.framesRendered.fetch_add(1, std::memory_order_relaxed);
+    if (grazing) counters.framesGrazing.fetch_add(1, std::memory_order_release);
+    counters.qualityMilliSum.fetch_add(static_cast<std::uint64_t>(std::lround(quality * 1000.0)),
+                                       std::memory_order_release);
+  }
+
+  /// The line for the log since the previous call (render Hz, fields, missed, margin, warp
+  /// p50/p99, frame age, stick latency when any, the mean quality knob and grazing-rule share when
+  /// frames were rendered), then folds the interval into the totals.
+  /// Call from one thread (the metrics/main thread).
+  std::string intervalLine(TimePoint now);
+
+  /// Render rate of the last interval reported by intervalLine(), Hz.
+  double lastRenderHz() const noexcept { return mLastRenderHz; }
+
+  /// The run so far (drains the open interval first). Call from the thread that calls intervalLine.
+  ServiceFigures figures(TimePoint now);
+
+ private:
+  DurationHistogram mInterval[static_cast<int>(Measure::kCount)];
+  DurationHistogram mTotal[static_cast<int>(Measure::kCount)];
+  DurationHistogram mScratch;
+  TimePoint mStart;
+  TimePoint mLast;
+  std::uint64_t mLastFrames = 0;
+  std::uint64_t mLastFields = 0;
+  std::uint64_t mLastMissed = 0;
+  std::uint64_t mLastMargin = 0;
+  std::uint64_t mLastQualityMilli = 0;
+  std::uint64_t mLastGrazing = 0;
+  double mLastRenderHz = 0.0;
+};
+
+/// The figures as JSON (seconds, counts), with `extra` fields merged at the top level.
+nlohmann::json toJson(const ServiceFigures& figures);
+
+/// Human summary of the run (a few lines).
+std::string describe(const ServiceFigures& figures);
+
+}  // namespace fieldcast::app

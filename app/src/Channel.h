@@ -1,0 +1,123 @@
+#pragma once
+// One display channel (DESIGN.md §1, §7): its view of the ownship (view offset and frustum), the
+// render thread that renders frames for it, and its post-rendering processor — warper, field
+// clock, field loop — with the sinks its fields go to. The Service owns the channels and what
+// they share: the terrain, the ownship's motion, the clock and the figures. A second channel or a
+// stereo pair is another Channel with other settings.
+
+#include <service/ServiceConfig.h>
+#include <service/ServiceMetrics.h>
+#include "FieldLoop.h"
+#include "RenderLoop.h"
+
+#include <fieldcast/Conventions.h>
+#include <fieldcast/Intrinsics.h>
+#include <fieldcast/Time.h>
+#include <ig_core/TileCache.h>
+#include <io_bridge/SinksConfig.h>
+#include <motion/MotionSource.h>
+#include <prp_warp/FieldClock.h>
+#include <prp_warp/FieldWarper.h>
+#include <prp_warp/TripleBuffer.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+namespace fieldcast::app {
+
+/// What a channel looks at: where its eye sits on the ownship and its display window.
+struct ChannelView {
+  ViewOffset offset;   ///< from the ownship's pose
+  Intrinsics display;  ///< the display window's frustum (without margins)
+};
+
+/// A channel's own settings.
+struct ChannelSettings {
+  ChannelView view;
+  core::RenderConfig render;
+  warp::PrpSettings prp;
+  io::StreamFormat output;
+  io::SinksConfig sinks;
+  ThreadsConfig threads;
+};
+
+/// The view settings a service configuration gives its one channel.
+ChannelSettings channelSettingsOf(const ServiceConfig& config);
+
+/// The ownship's motion seen from a channel's eye. Thread-safe and RT-safe as the ownship is.
+class ViewMotion final : public motion::MotionSource {
+ public:
+  ViewMotion(const motion::MotionSource& ownship, const ViewOffset& offset) : mOwnship(ownship), mOffset(offset) {}
+  Pose poseAt(TimePoint t) const noexcept override { return offsetPose(mOwnship.poseAt(t), mOffset); }
+
+ private:
+  const motion::MotionSource& mOwnship;
+  ViewOffset mOffset;
+};
+
+class Channel {
+ public:
+  /// Called from a channel thread that hit a fatal error, with the reason.
+  using OnFatal = std::function<void(const std::string& why)>;
+
+  /// Makes the warper and the sinks (not started). Every reference must outlive the channel.
+  /// `onKey` receives the live window's keys. Throws std::runtime_error naming what could not be made.
+  Channel(const ChannelSettings& settings, core::TileCache& terrain, const motion::MotionSource& ownship, Clock& clock,
+          ServiceMetrics& metrics, OnFatal onFatal, std::function<void(int, io::WindowKey)> onKey = {});
+  ~Channel();
+  Channel(const Channel&) = delete;
+  Channel& operator=(const Channel&) = delete;
+
+  /// Opens every output: an unwritable path fails here, before anything runs. Throws.
+  void startOutputs();
+  /// Starts the render thread.
+  void startRendering();
+  /// Starts the field clock (field 0 at `t0`) and the field thread, which stops by itself after
+  /// `lastField` fields when that is not 0. `beforeField` runs at the start of every field
+  /// (RT-safe; may be empty). `pendingInput` may be null (no stick).
+  void startFields(TimePoint t0, std::uint64_t lastField, FieldLoop::BeforeField beforeField,
+                   PendingInput* pendingInput);
+
+  /// The field clock, once the fields have started (the external sync disciplines it).
+  warp::FieldClock* fieldClock() noexcept { return mFieldClock.get(); }
+  /// The live window, when the sinks have one.
+  io::WindowSink* window() noexcept { return mWindow; }
+  /// False once the field thread has stopped (its last field, or a stop).
+  bool fieldsRunning() const noexcept { return !mFieldsDone.load(std::memory_order_acquire); }
+  const ChannelSettings& settings() const noexcept { return mSettings; }
+
+  /// Asks the field thread to stop after its current field (any thread).
+  void requestStop() noexcept { mStopFields.store(true); }
+  /// Stops the field thread, then the render thread, then drains and closes the sinks. Idempotent.
+  void stop();
+  /// The sinks' figures ("name: N fields, …" a line each).
+  std::string sinksSummary() const;
+  std::uint64_t sinksDropped() const;
+
+ private:
+  void renderMain() noexcept;
+
+  ChannelSettings mSettings;
+  core::TileCache& mTerrain;
+  ViewMotion mMotion;
+  Clock& mClock;
+  ServiceMetrics& mMetrics;
+  OnFatal mOnFatal;
+  warp::FrameHandover mFrames;
+  std::unique_ptr<warp::FieldWarper> mWarper;
+  std::unique_ptr<io::SinkHub> mSinks;
+  io::WindowSink* mWindow = nullptr;
+  std::unique_ptr<warp::FieldClock> mFieldClock;
+  std::unique_ptr<FieldLoop> mFieldLoop;
+  std::thread mRenderThread;
+  std::thread mFieldThread;
+  std::atomic<bool> mStopRender{false};
+  std::atomic<bool> mStopFields{false};
+  std::atomic<bool> mFieldsDone{false};
+  bool mSinksStopped = false;
+};
+
+}  // namespace fieldcast::app

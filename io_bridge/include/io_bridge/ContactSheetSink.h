@@ -1,0 +1,57 @@
+#pragma once
+// A contact sheet: thumbnails of fields spread evenly through a run, in one PNG a person can
+// look at (the demo's picture of what the service emitted). A sink: it collects thumbnails on its
+// own SinkHub worker and writes the sheet when the hub closes it.
+
+#include <io_bridge/FieldSink.h>
+
+#include <fieldcast/Field.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace fieldcast::io {
+
+/// What the sheet shows and where it goes.
+struct ContactSheetOptions {
+  std::filesystem::path path;  ///< the sheet (PNG, or any format OpenImageIO writes by the extension)
+  int thumbnails = 12;         ///< pictures on the sheet at most
+  int columns = 4;             ///< pictures to a row
+  int thumbWidthPx = 320;      ///< width of a picture
+  int keepEveryNth = 30;       ///< a candidate every N fields, so a run of unknown length spreads evenly
+};
+
+class ContactSheetSink final : public FieldSink {
+ public:
+  explicit ContactSheetSink(ContactSheetOptions options);
+
+  std::string name() const override { return "contact_sheet"; }
+  /// Creates the sheet's folder. Throws std::runtime_error naming it when it cannot.
+  void open(const StreamFormat& format) override;
+  /// Keeps a thumbnail of `field` when its number falls on the sampling grid. Not RT-safe.
+  SinkStatus consume(const Field& field) override;
+  /// Writes the sheet when there is anything on it.
+  void close() override;
+
+  /// Writes the sheet now, each thumbnail labelled with its field number and the time from the
+  /// first field. Throws std::runtime_error naming the path on failure or when there is nothing.
+  void write() const;
+  std::size_t candidates() const noexcept { return mCandidates.size(); }
+
+ private:
+  struct Thumbnail {
+    std::vector<unsigned char> rgb;  ///< thumbWidth × height × 3
+    int heightPx = 0;
+    std::uint64_t fieldNumber = 0;
+    double secondsFromStart = 0.0;
+  };
+  ContactSheetOptions mOptions;
+  TimePoint mFirstDisplayTime{};
+  bool mHaveFirst = false;
+  std::vector<std::uint8_t> mRgb;  // the field being thumbnailed, as RGB
+  std::vector<Thumbnail> mCandidates;
+};
+
+}  // namespace fieldcast::io

@@ -1,0 +1,15 @@
+#include <io_bridge/InputConfig.h>
+
+namespace fieldcast::io {
+
+InputConfig readInputConfig(ConfigReader& t) {
+  InputConfig c;
+  c.stick = t.string("stick", "");
+  c.profile = t.path("profile", "");
+  c.record = t.path("record", "");
+  c.sync = t.string("sync", "");
+  t.finish();
+  return c;
+}
+
+}  // namespace fieldcast::io

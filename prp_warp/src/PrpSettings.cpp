@@ -1,0 +1,19 @@
+#include <prp_warp/PrpSettings.h>
+
+namespace fieldcast::warp {
+
+PrpSettings readPrpSettings(ConfigReader& t) {
+  PrpSettings s;
+  s.warper.warp = t.choice("kind", s.warper.warp,
+                           {{"hold", WarpKind::Hold},
+                            {"quadratic", WarpKind::Quadratic},
+                            {"homography", WarpKind::Homography},
+                            {"range3d", WarpKind::Range3d}});
+  s.warper.flickerFilter = t.boolean("flicker_filter", s.warper.flickerFilter);
+  s.warper.autoGain.enabled = t.boolean("auto_gain", s.warper.autoGain.enabled);
+  if (t.has("lead_ms")) s.lead = fromSeconds(t.number("lead_ms", 4.0, 0.5, 100.0) * 1e-3);
+  t.finish();
+  return s;
+}
+
+}  // namespace fieldcast::warp

@@ -1,0 +1,99 @@
+// The fieldcast executable's configuration handling, run as a user would run it.
+#include "../common/RunFieldcast.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+using fieldcast::testing::RunResult;
+RunResult run(const std::string& args, int timeoutS = 120) { return fieldcast::testing::runFieldcast(args, timeoutS); }
+
+std::string writeConfig(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("fieldcast_test_" + name + ".toml");
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+TEST(AppConfig, ShippedConfigIsValid) {
+  const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("720x486 interlaced 59.940 Hz uyvy422"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, HelpAndVersion) {
+  EXPECT_EQ(run("--help").exitCode, 0);
+  const auto v = run("--version");
+  EXPECT_EQ(v.exitCode, 0);
+  EXPECT_NE(v.output.find("fieldcast "), std::string::npos);
+}
+
+TEST(AppConfig, BadRateNamesFileLineKeyAndExpectation) {
+  const auto path = writeConfig("badrate", "[output]\nscan = \"interlaced\"\nrate = 61\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find(path + ":3: output.rate: expected 50, 59.94 or 60, got 61"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, UnknownKeyIsAnError) {
+  const auto path = writeConfig("unknown", "[output]\nrat = 50\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("output.rat: unknown key"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, WrongTypeIsAnError) {
+  const auto path = writeConfig("wrongtype", "[output]\nwidth = \"wide\"\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find(":2: output.width: expected an integer from 16 to 8192, got \"wide\""), std::string::npos)
+      << r.output;
+}
+
+TEST(AppConfig, SyntaxErrorNamesTheLine) {
+  const auto path = writeConfig("syntax", "[output]\nrate = = 5\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find(path + ":2:"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, MissingFileIsAnError) {
+  const auto r = run("--check-config --config /nonexistent/fieldcast.toml");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("/nonexistent/fieldcast.toml"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, SetOverridesAKey) {
+  const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR
+                     "/config/fieldcast.toml --set output.rate=50 --set output.scan=progressive");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("progressive 50.000 Hz"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, NestedTablesAreCheckedToo) {
+  const auto path = writeConfig("nested", "[sinks.y4m]\nenabled = true\npaht = \"x.y4m\"\n");
+  const auto r = run("--check-config --config " + path);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find(path + ":3: sinks.y4m.paht: unknown key"), std::string::npos) << r.output;
+}
+
+TEST(AppConfig, SetValuesAreLocatedOnTheCommandLine) {
+  const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml --set render.fov_deg=500");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("--set: render.fov_deg: expected a number from 5 to 150, got 500"), std::string::npos)
+      << r.output;
+}
+
+TEST(AppConfig, MalformedSetIsAnError) {
+  const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml --set novalue");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("expected table.key=value"), std::string::npos) << r.output;
+}
+
+}  // namespace
