@@ -23,5 +23,24 @@ function(fieldcast_add_test)
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${_script}")
 endfunction()
 
+# fieldcast_add_command_test(NAME name COMMAND cmd args... LABELS label... [PASS_REGULAR_EXPRESSION re]
+#                            [FAIL_REGULAR_EXPRESSION re] [TIMEOUT s])
+# One CTest test that runs a command (an executable of the project, or a script that drives one)
+# and passes on exit status 0 (and the regular expressions, when given); a script that cannot run
+# here exits 77 and is reported skipped. The labels are those of fieldcast_add_test.
+function(fieldcast_add_command_test)
+  cmake_parse_arguments(ARG "" "NAME;PASS_REGULAR_EXPRESSION;FAIL_REGULAR_EXPRESSION;TIMEOUT" "COMMAND;LABELS" ${ARGN})
+  if(NOT ARG_NAME OR NOT ARG_COMMAND OR NOT ARG_LABELS)
+    message(FATAL_ERROR "fieldcast_add_command_test: NAME, COMMAND and LABELS are required")
+  endif()
+  add_test(NAME ${ARG_NAME} COMMAND ${ARG_COMMAND})
+  set_tests_properties(${ARG_NAME} PROPERTIES LABELS "${ARG_LABELS}" SKIP_RETURN_CODE 77)
+  foreach(_property PASS_REGULAR_EXPRESSION FAIL_REGULAR_EXPRESSION TIMEOUT)
+    if(DEFINED ARG_${_property})
+      set_tests_properties(${ARG_NAME} PROPERTIES ${_property} "${ARG_${_property}}")
+    endif()
+  endforeach()
+endfunction()
+
 # fieldcast_add_fuzzer(): libFuzzer targets and their `fuzz` tests.
 include(FieldcastFuzzing)

@@ -67,6 +67,7 @@ struct Service::Parts {
   bool stopped = false;
   mutable std::mutex fatalMutex;
   std::string fatal;
+  std::atomic<bool> failed{false};  // fatal is set: read without the lock
   ServiceFigures figures;
 
   void fail(const std::string& why) {
@@ -74,6 +75,7 @@ struct Service::Parts {
       std::lock_guard lock(fatalMutex);
       if (fatal.empty()) fatal = why;
     }
+    failed.store(true, std::memory_order_release);
     if (channel) channel->requestStop();
   }
 
@@ -195,7 +197,7 @@ void Service::start() {
 
 bool Service::running() const noexcept {
   const Parts& p = *mParts;
-  return p.channel->fieldsRunning() && fatalError().empty();
+  return p.channel->fieldsRunning() && !p.failed.load(std::memory_order_acquire);
 }
 
 std::string Service::fatalError() const {

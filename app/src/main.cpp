@@ -34,11 +34,23 @@ int run(int argc, char** argv) {
   std::string configPath = FIELDCAST_DEFAULT_CONFIG;
   std::vector<std::string> overrides;
   bool checkOnly = false;
-  double durationS = -1;
+  double durationS = 0.0;
   std::string flight, y4m, contactSheet, summary, rtp;
   cli.add_option("-c,--config", configPath, "Configuration file (TOML)")->capture_default_str();
   cli.add_option("--set", overrides, "Override a key: --set output.rate=50 (repeatable)");
-  cli.add_option("--duration", durationS, "Stop after this many seconds of video (motion.duration_s)");
+  // Whether --duration was given is its count, not a magic value: -1 and NaN used to pass as "not
+  // given" and run until killed. NaN fails both comparisons, infinity the upper one.
+  CLI::Option* durationOpt =
+      cli.add_option("--duration", durationS,
+                     "Stop after this many seconds of video, 0 to 1e7; 0 = until SIGINT/SIGTERM (motion.duration_s)")
+          ->check(CLI::Validator(
+              [](std::string& text) -> std::string {
+                double v = 0.0;
+                if (CLI::detail::lexical_cast(text, v) && v >= 0.0 && v <= 1e7) return {};
+                return "expected a finite number of seconds from 0 to 1e+07 (0 = until SIGINT/SIGTERM), got '" + text +
+                       "'";
+              },
+              "SECONDS"));
   cli.add_option("--flight", flight, "Scripted flight to fly (motion.flight), e.g. config/flights/bank_turn.toml");
   cli.add_option("--y4m", y4m, "Write the fields to this Y4M file, or - for stdout (sinks.y4m)");
   cli.add_option("--contact-sheet", contactSheet, "Write a PNG of fields through the run here at exit");
@@ -48,7 +60,11 @@ int run(int argc, char** argv) {
   cli.set_version_flag("--version", std::string("fieldcast ") + FIELDCAST_VERSION);
   CLI11_PARSE(cli, argc, argv);
 
-  if (durationS >= 0) overrides.push_back("motion.duration_s=" + std::to_string(durationS));
+  if (durationOpt->count() > 0) {
+    char seconds[32];  // every digit: std::to_string would turn 1e-7 into 0, "until killed"
+    std::snprintf(seconds, sizeof seconds, "%.17g", durationS);
+    overrides.push_back(std::string("motion.duration_s=") + seconds);
+  }
   if (!flight.empty()) {
     overrides.push_back("motion.source=\"flight\"");
     overrides.push_back("motion.flight=" + quoted(absolute(flight)));

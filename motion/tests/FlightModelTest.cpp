@@ -2,8 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <thread>
+#include <vector>
 
 namespace fieldcast::motion {
 namespace {
@@ -82,18 +88,112 @@ TEST(FlightModel, LimitsBankAndPitch) {
   EXPECT_EQ(model.state().rollRateRadS, 0.0);
 }
 
+bool samePose(const Pose& a, const Pose& b) {
+  // Same arithmetic on the same state gives the same bits; the tolerance only absorbs nothing
+  // more than rounding, far below what one 0.2 ms step moves (2 cm, 0.03 mrad).
+  constexpr double kM = 1e-9, kRad = 1e-12;
+  return std::abs(a.positionM.x - b.positionM.x) <= kM && std::abs(a.positionM.y - b.positionM.y) <= kM &&
+         std::abs(a.positionM.z - b.positionM.z) <= kM && std::abs(a.headingRad - b.headingRad) <= kRad &&
+         std::abs(a.pitchRad - b.pitchRad) <= kRad && std::abs(a.rollRad - b.rollRad) <= kRad;
+}
+
 TEST(FlightModel, PoseAtIsSafeWhileStepping) {
-  FlightModel model(steadyParams(), Pose{{0, 0, 500}, 0, 0, 0.2}, 100.0, at(0));
-  std::atomic<bool> done{false};
-  std::thread reader([&] {
-    while (!done) {
-      const Pose p = model.poseAt(at(0.01));
-      ASSERT_TRUE(std::isfinite(p.positionM.y));
+  // One thread steps the model through a rolling, climbing turn; another reads state() and
+  // poseAt() all the while. Every state read must be exactly a state the model published (the
+  // one a single-threaded run has at that time), in time order; every pose must be the pose a
+  // single-threaded run predicts from one of those states, never from an earlier one than the
+  // pose before. A torn read (words of two steps), a read of the owner's working copy or a state
+  // published before its time matches none of them. Steps are mostly 0.1 ms (one sub-step, so
+  // publishing is a large share of the writer's time) and every tenth 20 ms (four sub-steps).
+  const FlightModelParams params = steadyParams();
+  const Pose start{{0, 0, 500}, 0, 0, 0.2};
+  constexpr int kSteps = 20000;
+  std::vector<TimePoint> times{at(0)};
+  for (int i = 1; i <= kSteps; ++i) times.push_back(times.back() + fromSeconds(i % 10 == 0 ? 0.02 : 0.0001));
+  const FlightControls controls{0.1, 0.05, 0.02, 0.5};
+  const TimePoint query = at(100.0);  // every pose read asks for the same instant
+
+  // The single-threaded reference: the state after each step, and the pose predicted from it.
+  std::vector<FlightState> states;
+  std::vector<Pose> predicted;
+  {
+    FlightModel reference(params, start, 100.0, times[0]);
+    states.push_back(reference.state());
+    predicted.push_back(reference.poseAt(query));
+    for (int i = 1; i <= kSteps; ++i) {
+      reference.step(times[static_cast<std::size_t>(i)], controls);
+      states.push_back(reference.state());
+      predicted.push_back(reference.poseAt(query));
     }
+  }
+
+  // The reader records every change it sees in a tight loop (more reads, more chances to meet a
+  // write) and the records are checked after the run. The writer never runs more than a few steps
+  // ahead of the reader's loop, so the two interleave even when the scheduler runs them in turns.
+  FlightModel model(params, start, 100.0, times[0]);
+  std::vector<FlightState> seenStates;
+  std::vector<Pose> seenPoses;
+  seenStates.reserve(2 * states.size());
+  seenPoses.reserve(2 * states.size());
+  std::atomic<bool> done{false};
+  std::atomic<bool> reading{true};
+  std::atomic<std::uint64_t> readerLoops{0};
+  std::thread reader([&] {
+    FlightState lastState = model.state();
+    Pose lastPose = model.poseAt(query);
+    seenStates.push_back(lastState);
+    seenPoses.push_back(lastPose);
+    while (!done.load(std::memory_order_relaxed) && seenStates.size() < seenStates.capacity() &&
+           seenPoses.size() < seenPoses.capacity()) {
+      const FlightState s = model.state();
+      if (std::memcmp(&s, &lastState, sizeof s) != 0) seenStates.push_back(lastState = s);
+      const Pose p = model.poseAt(query);
+      if (std::memcmp(&p, &lastPose, sizeof p) != 0) seenPoses.push_back(lastPose = p);
+      readerLoops.fetch_add(1, std::memory_order_relaxed);
+    }
+    reading = false;
   });
-  for (int i = 1; i <= 2000; ++i) model.step(at(i * 0.001), FlightControls{0.1, 0, 0, 0.5});
+  std::uint64_t loops = 0;
+  for (int i = 1; i <= kSteps; ++i) {
+    if (i % 8 == 1) {  // wait for the reader to go round once more
+      while (readerLoops.load(std::memory_order_relaxed) == loops && reading.load()) std::this_thread::yield();
+      loops = readerLoops.load(std::memory_order_relaxed);
+    }
+    model.step(times[static_cast<std::size_t>(i)], controls);
+  }
   done = true;
   reader.join();
+
+  std::size_t badStates = 0, badPoses = 0;
+  std::size_t lastIndex = 0;
+  for (const FlightState& s : seenStates) {
+    const auto it = std::lower_bound(times.begin(), times.end(), s.time);
+    const auto i = static_cast<std::size_t>(it - times.begin());
+    const bool same = it != times.end() && *it == s.time && i >= lastIndex && samePose(s.pose, states[i].pose) &&
+                      s.speedMps == states[i].speedMps && s.rollRateRadS == states[i].rollRateRadS &&
+                      s.pitchRateRadS == states[i].pitchRateRadS && s.headingRateRadS == states[i].headingRateRadS;
+    if (!same) {
+      ++badStates;
+      continue;
+    }
+    lastIndex = i;
+  }
+  std::size_t k = 0;
+  for (const Pose& p : seenPoses) {
+    std::size_t j = k;  // from the state of the pose before, onwards
+    while (j < predicted.size() && !samePose(p, predicted[j])) ++j;
+    if (j == predicted.size()) {
+      ++badPoses;
+      continue;
+    }
+    k = j;
+  }
+  EXPECT_GT(seenStates.size(), 1u);
+  EXPECT_EQ(badStates, 0u) << "of " << seenStates.size() << " states read: not a published state, or out of time order";
+  EXPECT_EQ(badPoses, 0u) << "of " << seenPoses.size()
+                          << " poses read: not predicted from a published state, or from an older one than before";
+  // And the model ends exactly where the single-threaded run does.
+  EXPECT_TRUE(samePose(model.state().pose, states.back().pose));
 }
 
 }  // namespace

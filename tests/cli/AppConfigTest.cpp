@@ -28,10 +28,35 @@ TEST(AppConfig, ShippedConfigIsValid) {
 }
 
 TEST(AppConfig, HelpAndVersion) {
-  EXPECT_EQ(run("--help").exitCode, 0);
+  // --help names every option (and where the configuration keys are documented).
+  const auto h = run("--help");
+  EXPECT_EQ(h.exitCode, 0);
+  for (const char* option : {"-c,--config", "--set", "--duration", "--flight", "--y4m", "--contact-sheet", "--summary",
+                             "--rtp", "--check-config", "--version", "--help"}) {
+    EXPECT_NE(h.output.find(option), std::string::npos) << "--help does not name " << option << ":\n" << h.output;
+  }
+  EXPECT_NE(h.output.find("config/README.md"), std::string::npos) << h.output;
   const auto v = run("--version");
   EXPECT_EQ(v.exitCode, 0);
   EXPECT_NE(v.output.find("fieldcast "), std::string::npos);
+}
+
+TEST(AppConfig, DurationMustBeAFiniteNumberOfSeconds) {
+  // -1 used to mean "not given" and NaN failed every comparison, so both ran until killed.
+  for (const char* bad : {"-1", "-0.5", "nan", "inf", "-inf", "1e300"}) {
+    const auto r = run(std::string("--check-config --duration ") + bad);
+    EXPECT_NE(r.exitCode, 0) << "--duration " << bad << " was accepted:\n" << r.output;
+    EXPECT_NE(r.output.find("--duration: expected a finite number of seconds from 0 to 1e+07 (0 = until "
+                            "SIGINT/SIGTERM), got '" +
+                            std::string(bad) + "'"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("configuration OK"), std::string::npos) << r.output;
+  }
+  for (const char* good : {"0", "20", "0.5", "1e-7"}) {
+    const auto r = run(std::string("--check-config --duration ") + good);
+    EXPECT_EQ(r.exitCode, 0) << "--duration " << good << ":\n" << r.output;
+  }
 }
 
 TEST(AppConfig, BadRateNamesFileLineKeyAndExpectation) {

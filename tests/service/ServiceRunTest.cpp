@@ -87,6 +87,25 @@ position = [900.0, 500.0, 320.0]
     return frames;
   }
 
+  // Mean luma of rows [rowFrom, rowTo) of the last frame of the Y4M file (4:2:0, 320×240).
+  double lastFrameLuma(int rowFrom, int rowTo) const {
+    constexpr int kW = 320, kH = 240;
+    constexpr std::size_t kFrameBytes = kW * kH * 3 / 2;
+    std::ifstream in(mDir / "out/video.y4m", std::ios::binary);
+    std::string line;
+    std::getline(in, line);
+    std::string luma(kW * kH, '\0');
+    for (std::string marker; std::getline(in, marker);) {
+      if (!in.read(luma.data(), kW * kH)) break;
+      in.ignore(static_cast<std::streamsize>(kFrameBytes - kW * kH));
+    }
+    double sum = 0.0;
+    for (int r = rowFrom; r < rowTo; ++r) {
+      for (int c = 0; c < kW; ++c) sum += static_cast<unsigned char>(luma[static_cast<std::size_t>(r) * kW + c]);
+    }
+    return sum / ((rowTo - rowFrom) * kW);
+  }
+
   fs::path mDir;
   int mConfigs = 0;
 };
@@ -159,6 +178,20 @@ TEST_F(ServiceRun, FrameTimeControllerCoarsensAndTheSummarySaysHowFar) {
   EXPECT_GT(s.at("mean_quality").get<double>(), 2.0) << s.dump(2);
   EXPECT_GT(s.at("frames_grazing").get<int>(), 0) << s.dump(2);
   EXPECT_NE(held.output.find("grazing-angle rule on for"), std::string::npos) << held.output;
+}
+
+TEST_F(ServiceRun, TheChannelLooksWhereItsViewOffsetPoints) {
+  // Straight ahead the lower half of the picture is terrain; the same flight with the channel's
+  // eye pitched 90° up sees sky there, which is much brighter. An offset that did not reach the
+  // renderer and the warp would leave the two pictures alike.
+  const RunResult ahead = run("--config " + config() + " --duration 2");
+  ASSERT_EQ(ahead.exitCode, 0) << ahead.output;
+  const double aheadLuma = lastFrameLuma(120, 240);
+  const RunResult up = run("--config " + config("[view]\noffset_deg = [0, 90, 0]\n") + " --duration 2");
+  ASSERT_EQ(up.exitCode, 0) << up.output;
+  const double upLuma = lastFrameLuma(120, 240);
+  EXPECT_GT(upLuma, aheadLuma + 40.0) << "ahead " << aheadLuma << ", up " << upLuma;
+  EXPECT_EQ(summary().at("fields_black").get<int>(), 0);
 }
 
 TEST_F(ServiceRun, BadConfigurationsFailWithOneClearLine) {

@@ -5,6 +5,8 @@
 //
 // --db builtin renders the built-in terrain (generated into the cache folder on first use), --db
 // PATH a database made by fieldcast-db, --db synthetic the small procedural hills of the tests.
+#include <tools/OptionChecks.h>
+
 #include <ig_core/OpenTerrain.h>
 #include <ig_core/Renderer.h>
 #include <ig_core/SyntheticTerrain.h>
@@ -34,43 +36,7 @@
 namespace {
 
 using namespace fieldcast;
-
-std::string formatNumber(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-/// A finite number in [min, max]. CLI::Range alone lets "nan" through (every comparison with NaN
-/// is false); the message names what was expected with its unit.
-CLI::Validator finiteRange(double min, double max, const std::string& unit) {
-  const std::string expected =
-      "a finite number from " + formatNumber(min) + " to " + formatNumber(max) + (unit.empty() ? "" : " " + unit);
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        double v = 0.0;
-        if (!CLI::detail::lexical_cast(text, v) || !(v >= min && v <= max)) {
-          return "expected " + expected + ", got '" + text + "'";
-        }
-        return {};
-      },
-      "[" + formatNumber(min) + ".." + formatNumber(max) + "]");
-}
-
-/// An integer in [min, max], the message saying so.
-CLI::Validator intRange(long long min, long long max, const std::string& unit) {
-  const std::string expected =
-      "an integer from " + std::to_string(min) + " to " + std::to_string(max) + (unit.empty() ? "" : " " + unit);
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        long long v = 0;
-        if (!CLI::detail::lexical_cast(text, v) || v < min || v > max) {
-          return "expected " + expected + ", got '" + text + "'";
-        }
-        return {};
-      },
-      "[" + std::to_string(min) + ".." + std::to_string(max) + "]");
-}
+using namespace fieldcast::tools;
 
 /// Where each pose component may lie. Beyond ±10 000 km or 1000 km up the terrain is out of sight
 /// and double metres lose the centimetres the renderer needs.

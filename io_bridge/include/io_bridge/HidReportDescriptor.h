@@ -112,8 +112,10 @@ constexpr std::uint32_t kMaxCollectionDepth = 64;
 /// Parses a report descriptor. Throws HidDescriptorError on malformed input. Not RT-safe.
 HidReportDescriptor parseHidReportDescriptor(std::span<const std::uint8_t> bytes);
 
-/// Reads a report descriptor from a file: raw bytes (e.g. /sys/class/hidraw/hidraw0/device/report_descriptor)
-/// or hex text ("05 01 09 04 …" or "0x05, 0x01, …"). Throws std::runtime_error naming the file. Not RT-safe.
+/// Reads a report descriptor from a file: raw bytes (e.g. /sys/class/hidraw/hidraw0/device/report_descriptor),
+/// hex text ("05 01 09 04 …", "0x05, 0x01, …", `xxd -p` runs, with #, // or /* */ comments), a
+/// usbhid-dump capture, or a hid-recorder file's "R: <length> <hex…>" line. Throws
+/// std::runtime_error naming the file (and the line, for text). Not RT-safe.
 std::vector<std::uint8_t> readHidDescriptorFile(const std::string& path);
 
 /// Readable unit ("deg", "cm", "s", "none", or the raw code) of a field. Not RT-safe.

@@ -17,6 +17,6 @@ if(FIELDCAST_BUILD_TESTS)
     LABELS "unit;io;gpio")
   fieldcast_add_test(NAME fieldcast_io_gpio_hw_tests
     SOURCES ${_gpio_tests}/GpioHardwareTest.cpp
-    LIBRARIES fieldcast::io
+    LIBRARIES fieldcast::io PkgConfig::libgpiod  # it reads lines back through libgpiod itself
     LABELS "hw;io;gpio")
 endif()

@@ -45,16 +45,15 @@ if(FIELDCAST_BUILD_TESTS)
   if(FIELDCAST_XVFB_RUN)
     # One process per case: the GUI belongs to one thread per process (see WindowSink.h).
     foreach(_case ShowsInterlacedFieldsWithOverlay RunsOnAHubWorker)
-      add_test(NAME io_sinks_window_xvfb_${_case}
-        COMMAND ${FIELDCAST_XVFB_RUN} -a $<TARGET_FILE:fieldcast_io_window_tests> --gtest_filter=WindowSinkDisplay.${_case})
-      set_tests_properties(io_sinks_window_xvfb_${_case} PROPERTIES LABELS "integration;io" TIMEOUT 60
-        FAIL_REGULAR_EXPRESSION "\\[  SKIPPED \\]")
+      fieldcast_add_command_test(NAME io_sinks_window_xvfb_${_case}
+        COMMAND ${FIELDCAST_XVFB_RUN} -a $<TARGET_FILE:fieldcast_io_window_tests> --gtest_filter=WindowSinkDisplay.${_case}
+        LABELS integration io TIMEOUT 60 FAIL_REGULAR_EXPRESSION "\\[  SKIPPED \\]")
     endforeach()
   endif()
   # Real GPIO hardware; skipped with the reason where there is none.
   fieldcast_add_test(NAME fieldcast_io_sinks_hw_tests
     SOURCES ${_sink_tests}/GpioPulseHwTest.cpp
-    LIBRARIES fieldcast::io
+    LIBRARIES fieldcast::io PkgConfig::libgpiod  # it reads the pulsed line back through libgpiod itself
     LABELS "hw;io")
 endif()
 
