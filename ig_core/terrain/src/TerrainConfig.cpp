@@ -15,8 +15,11 @@ TerrainConfig readTerrainConfig(ConfigReader& t) {
   if (!t.string("cache_dir", "").empty()) c.cacheDir = t.path("cache_dir", "");
   c.builtin.sizeVox = static_cast<int>(t.integer("builtin_size", c.builtin.sizeVox, 256, 65536));
   if ((c.builtin.sizeVox & (c.builtin.sizeVox - 1)) != 0) t.fail("builtin_size", "expected a power of two");
-  c.builtin.seed = static_cast<std::uint64_t>(t.integer("builtin_seed", 1, 0, INT64_MAX));
-  c.memoryBudgetBytes = static_cast<std::size_t>(t.integer("memory_budget_mb", 1024, 16, 1 << 20)) << 20;
+  c.builtin.seed =
+      static_cast<std::uint64_t>(t.integer("builtin_seed", static_cast<std::int64_t>(c.builtin.seed), 0, INT64_MAX));
+  c.memoryBudgetBytes = static_cast<std::size_t>(t.integer(
+                            "memory_budget_mb", static_cast<std::int64_t>(c.memoryBudgetBytes >> 20), 16, 1 << 20))
+                        << 20;
   t.finish();
   return c;
 }
