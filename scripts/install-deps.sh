@@ -15,6 +15,7 @@ build_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libzstd-dev libxxhash-dev
   libtiff-dev  # GeoTIFF tags for terrain import (ig_core)
+  libproj-dev  # PROJ: geographic DEMs reprojected at import, the database georeference (ig_core)
   nlohmann-json3-dev  # the JSON run summary
 )
 interop_packages=(

@@ -1,10 +1,13 @@
 #include "Channel.h"
 
+#include "MemoryLock.h"
 #include "ThreadScheduling.h"
 
 #include <ig_core/Renderer.h>
 
 #include <spdlog/spdlog.h>
+
+#include <chrono>
 
 namespace fieldcast::app {
 
@@ -75,27 +78,62 @@ void Channel::renderMain() noexcept {
   }
 }
 
-void Channel::startFields(TimePoint t0, std::uint64_t lastField, FieldLoop::BeforeField beforeField,
-                          PendingInput* pendingInput) {
+WarmUp Channel::warmUp() noexcept {
+  WarmUp w;
+  try {
+    Field scratch = mWarper->makeField();
+    mFrames.update();
+    const Frame* frame = mFrames.hasTaken() ? &mFrames.front() : nullptr;
+    if (frame != nullptr) {
+      const TimePoint start = mClock.now();
+      const TimePoint display = start + mSettings.prp.lead;
+      const warp::FieldSpec spec{0, display, mSettings.output.scan == ScanMode::Interlaced
+                                                 ? FieldParity::Top
+                                                 : FieldParity::Progressive};
+      (void)mWarper->produce(*frame, mMotion.poseAt(display), spec, scratch);
+      w.warpMs = toSeconds(mClock.now() - start) * 1e3;
+      w.frameNumber = frame->frameNumber;
+    }
+  } catch (const std::exception& e) {
+    spdlog::warn("field warm-up: {}", e.what());  // not fatal: the first field does the same work
+  }
+  w.done = mClock.now();
+  return w;
+}
+
+void Channel::startFields(PlanFields plan, FieldLoop::BeforeField beforeField, PendingInput* pendingInput) {
   warp::FieldClockConfig clockConfig;
   clockConfig.rate = mSettings.output.fieldRate;
   clockConfig.scan = mSettings.output.scan;
   clockConfig.order = mSettings.output.fieldOrder;
   clockConfig.lead = mSettings.prp.lead;
   warp::validateFieldClockConfig(clockConfig, "warp.lead_ms");
-  mFieldClock = std::make_unique<warp::FieldClock>(mClock, clockConfig, t0);
-  mFieldLoop =
-      std::make_unique<FieldLoop>(*mFieldClock, mClock, *mWarper, mFrames, mMotion, *mSinks, mMetrics, pendingInput);
-  if (beforeField) mFieldLoop->setBeforeField(std::move(beforeField));
   const ThreadsConfig& threads = mSettings.threads;
-  mFieldThread = std::thread([this, lastField, threads] {
+  mFieldThread = std::thread([this, clockConfig, threads, plan = std::move(plan),
+                              beforeField = std::move(beforeField), pendingInput]() mutable {
     spdlog::info("{}", applyScheduling("fc-field",
                                        ThreadScheduling{threads.realtimeFieldThread, 50, -5, threads.fieldThreadCpu}));
-    mFieldLoop->run(mStopFields, lastField);
+    try {
+      prefaultStack();
+      const WarmUp warm = warmUp();
+      const FieldStart start = plan(warm);
+      mFieldClock = std::make_unique<warp::FieldClock>(mClock, clockConfig, start.t0);
+      mFieldLoop = std::make_unique<FieldLoop>(*mFieldClock, mClock, *mWarper, mFrames, mMotion, *mSinks, mMetrics,
+                                               pendingInput);
+      if (beforeField) mFieldLoop->setBeforeField(std::move(beforeField));
+      mFieldClockReady.store(true, std::memory_order_release);
+      mFieldLoop->run(mStopFields, start.lastField);
+    } catch (const std::exception& e) {
+      mOnFatal(std::string("fields: ") + e.what());
+    }
     mFieldsDone.store(true, std::memory_order_release);
   });
-  spdlog::info("fields: {} from t0, {} warp, lead {} ms", mSettings.output.describe(),
-               toString(mSettings.prp.warper.warp), toSeconds(clockConfig.lead) * 1e3);
+  // The caller may use fieldClock() once this returns.
+  while (!mFieldClockReady.load(std::memory_order_acquire) && !mFieldsDone.load(std::memory_order_acquire)) {
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  spdlog::info("fields: {}, {} warp, lead {} ms", mSettings.output.describe(), toString(mSettings.prp.warper.warp),
+               toSeconds(clockConfig.lead) * 1e3);
 }
 
 void Channel::stop() {

@@ -44,6 +44,19 @@ struct ChannelSettings {
   ThreadsConfig threads;
 };
 
+/// When the field clock starts and how many fields it makes.
+struct FieldStart {
+  TimePoint t0;                ///< display time of field 0
+  std::uint64_t lastField = 0;  ///< stop before this field; 0: until stopped
+};
+
+/// What the field thread's warm-up did (DESIGN.md §4: the first field's deadline comes after it).
+struct WarmUp {
+  TimePoint done;               ///< when it finished
+  double warpMs = 0.0;          ///< the one warp it made
+  std::uint64_t frameNumber = 0;  ///< the frame it warped (0: none yet)
+};
+
 /// The view settings a service configuration gives its one channel.
 ChannelSettings channelSettingsOf(const ServiceConfig& config);
 
@@ -75,11 +88,14 @@ class Channel {
   void startOutputs();
   /// Starts the render thread.
   void startRendering();
-  /// Starts the field clock (field 0 at `t0`) and the field thread, which stops by itself after
-  /// `lastField` fields when that is not 0. `beforeField` runs at the start of every field
-  /// (RT-safe; may be empty). `pendingInput` may be null (no stick).
-  void startFields(TimePoint t0, std::uint64_t lastField, FieldLoop::BeforeField beforeField,
-                   PendingInput* pendingInput);
+  /// Decides the field clock's start once the field thread is warm (called on that thread).
+  using PlanFields = std::function<FieldStart(const WarmUp& warmUp)>;
+  /// Starts the field thread. Before any deadline exists it takes its scheduling, prefaults its
+  /// stack and warps the newest frame once into a scratch field (code, data and pages warm); then
+  /// `plan` says when field 0 is and how many fields to make, and the field clock starts. Returns
+  /// once the clock runs (or the thread failed, through onFatal). `beforeField` runs at the start
+  /// of every field (RT-safe; may be empty). `pendingInput` may be null (no stick).
+  void startFields(PlanFields plan, FieldLoop::BeforeField beforeField, PendingInput* pendingInput);
 
   /// The field clock, once the fields have started (the external sync disciplines it).
   warp::FieldClock* fieldClock() noexcept { return mFieldClock.get(); }
@@ -99,6 +115,7 @@ class Channel {
 
  private:
   void renderMain() noexcept;
+  WarmUp warmUp() noexcept;
 
   ChannelSettings mSettings;
   core::TileCache& mTerrain;
@@ -117,6 +134,7 @@ class Channel {
   std::atomic<bool> mStopRender{false};
   std::atomic<bool> mStopFields{false};
   std::atomic<bool> mFieldsDone{false};
+  std::atomic<bool> mFieldClockReady{false};
   bool mSinksStopped = false;
 };
 

@@ -1,5 +1,7 @@
 #include "FieldLoop.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 
 namespace fieldcast::app {
@@ -15,7 +17,13 @@ FieldLoop::FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::Fie
       mSinks(sinks),
       mMetrics(metrics),
       mPendingInput(pendingInput),
-      mField(warper.makeField()) {}
+      mField(warper.makeField()) {
+  const auto& totals = warper.counters();
+  mFirstSecondFields = static_cast<std::uint64_t>(std::chrono::seconds(1) / clock.period());
+  mLastFallbacks = totals.fitFallbacks.load(std::memory_order_relaxed);
+  for (int r = 0; r < 4; ++r) mLastFallbacksByReason[r] = totals.fallbacksByReason[r + 1].load(std::memory_order_relaxed);
+  mLastViolations = totals.marginViolations.load(std::memory_order_relaxed);
+}
 
 void FieldLoop::run(const std::atomic<bool>& stop, std::uint64_t lastField) noexcept {
   while (!stop.load(std::memory_order_acquire)) {
@@ -29,7 +37,14 @@ void FieldLoop::run(const std::atomic<bool>& stop, std::uint64_t lastField) noex
 void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   const TimePoint start = mTime.now();
   ServiceCounters& counters = mMetrics.counters;
-  if (tick.missedBefore > 0) counters.fieldsMissed.fetch_add(tick.missedBefore, std::memory_order_relaxed);
+  if (tick.missedBefore > 0) {
+    counters.fieldsMissed.fetch_add(tick.missedBefore, std::memory_order_relaxed);
+    // The fields missed just before this one, as far as they lie in the first second.
+    if (tick.fieldNumber - tick.missedBefore < mFirstSecondFields) {
+      const std::uint64_t early = std::min(tick.fieldNumber, mFirstSecondFields) - (tick.fieldNumber - tick.missedBefore);
+      counters.fieldsMissedFirstSecond.fetch_add(early, std::memory_order_relaxed);
+    }
+  }
   mMetrics.record(Measure::FieldJitter, Nanoseconds{std::abs((start - tick.wakeTime).count())});
 
   if (mBeforeField) mBeforeField(tick);
@@ -60,6 +75,11 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   counters.warpFallbacks.fetch_add(fallbacks - mLastFallbacks, std::memory_order_relaxed);
   counters.marginViolations.fetch_add(violations - mLastViolations, std::memory_order_relaxed);
   mLastFallbacks = fallbacks;
+  for (int r = 0; r < 4; ++r) {
+    const std::uint64_t byReason = warpCounters.fallbacksByReason[r + 1].load(std::memory_order_relaxed);
+    counters.warpFallbacksByReason[r].fetch_add(byReason - mLastFallbacksByReason[r], std::memory_order_relaxed);
+    mLastFallbacksByReason[r] = byReason;
+  }
   mLastViolations = violations;
   mMetrics.record(Measure::WarpTime, mTime.now() - start);
 }

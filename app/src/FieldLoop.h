@@ -26,7 +26,8 @@ using PendingInput = std::atomic<std::int64_t>;
 
 class FieldLoop {
  public:
-  /// Every reference must outlive the loop. `pendingInput` may be null (no stick).
+  /// Every reference must outlive the loop. `pendingInput` may be null (no stick). The warper's
+  /// counts so far (a warm-up) are not reported; only what it counts from here.
   FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::FieldWarper& warper, warp::FrameHandover& frames,
             const motion::MotionSource& motion, io::SinkHub& sinks, ServiceMetrics& metrics,
             PendingInput* pendingInput = nullptr);
@@ -55,7 +56,10 @@ class FieldLoop {
   BeforeField mBeforeField;
   Field mField;    // reused for every field: allocated once at construction
   Frame mNoFrame;  // the empty frame warped (to black) before the first frame arrives
+  std::uint64_t mFirstSecondFields = 0;  // fields in the run's first second
+  // The warper's totals already reported (from construction: a warm-up before is not counted).
   std::uint64_t mLastFallbacks = 0;
+  std::uint64_t mLastFallbacksByReason[4] = {};
   std::uint64_t mLastViolations = 0;
 };
 

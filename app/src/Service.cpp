@@ -2,9 +2,13 @@
 
 #include "Channel.h"
 #include "FieldLoop.h"
+#include "HostSession.h"
 #include "KeyboardFlight.h"
+#include "MemoryLock.h"
+#include "TerrainCeiling.h"
 
 #include <io_bridge/GpioInput.h>
+#include <io_bridge/HostLink.h>
 #include <io_bridge/InputSources.h>
 #include <io_bridge/StickInput.h>
 #include <io_bridge/StickProfile.h>
@@ -15,7 +19,10 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <mutex>
 #include <stdexcept>
@@ -27,6 +34,56 @@ namespace {
 using namespace std::chrono_literals;
 
 constexpr auto kFirstFrameTimeout = 60s;  // the first frame also waits for the pinned terrain levels
+// From the end of the field thread's warm-up to the first field's wake-up: the thread is already
+// running and warm, so this only has to cover the planning itself.
+constexpr Nanoseconds kFirstFieldMargin = 2ms;
+
+// The summary is written at the end of the run: a path that cannot be written is found now, not
+// after the run. An existing file is opened for appending (left as it is); a new one is created
+// and removed again.
+void checkSummaryWritable(const std::filesystem::path& path) {
+  if (path.empty()) return;
+  std::error_code error;
+  const bool existed = std::filesystem::exists(path, error);
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), error);
+  std::ofstream probe(path, std::ios::app);
+  if (!probe) {
+    throw std::runtime_error("metrics.summary_json: cannot write " + path.string() + ": " + std::strerror(errno));
+  }
+  probe.close();
+  if (!existed) std::filesystem::remove(path, error);
+}
+
+// The host link's figures for the run summary.
+nlohmann::json hostSummary(const io::HostLinkCounters& link, const HostSessionFigures& session,
+                           const motion::HostMotion::Counters& samples) {
+  nlohmann::json rejected;
+  for (std::size_t k = 0; k < io::cigi::kRejectReasonCount; ++k) {
+    if (link.rejectedByReason[k] != 0) {
+      rejected[std::string(io::cigi::toString(static_cast<io::cigi::RejectReason>(k)))] = link.rejectedByReason[k];
+    }
+  }
+  return {{"datagrams_received", link.datagramsReceived},
+          {"datagrams_accepted", link.datagramsAccepted},
+          {"datagrams_byte_swapped", link.datagramsByteSwapped},
+          {"datagrams_rejected", link.datagramsRejected},
+          {"rejected_by_reason", rejected},
+          {"packets_skipped", link.packetsSkipped},
+          {"start_of_frames_sent", link.messagesSent},
+          {"fields_before_host", link.fieldsWithoutHost},
+          {"fields_coalesced", link.fieldsCoalesced},
+          {"send_errors", link.sendErrors},
+          {"ownship_samples", samples.accepted},
+          {"samples_reordered", samples.reordered},
+          {"samples_duplicated", samples.duplicates},
+          {"host_restarts", samples.restarts},
+          {"samples_invalid", samples.invalid},
+          {"hat_hot_requests", session.hatHotRequests},
+          {"hat_hot_answered", session.hatHotAnswered},
+          {"other_entities", session.otherEntities},
+          {"mode_changes", session.modeChanges},
+          {"last_host_frame", session.lastHostFrame}};
+}
 
 std::unique_ptr<io::StickInput> openStick(const io::InputConfig& config, Clock& clock) {
   if (config.stick.empty()) return nullptr;
@@ -46,6 +103,21 @@ std::unique_ptr<io::StickInput> openStick(const io::InputConfig& config, Clock& 
   return std::make_unique<io::StickInput>(std::move(factory), std::move(profile), options, clock);
 }
 
+// A scripted flight flown from an instant set once the first field's time is known (time 0 is the
+// first field's display time, so the video opens on the flight's start). Frames rendered before
+// that see the flight's approach. Thread-safe: the start is an atomic.
+class FlownFlight final : public motion::MotionSource {
+ public:
+  explicit FlownFlight(const motion::ScriptedTrajectory& flight) : mFlight(flight) {}
+  void setStart(TimePoint start) noexcept { mStartNs.store(start.time_since_epoch().count(), std::memory_order_release); }
+  TimePoint start() const noexcept { return TimePoint{Nanoseconds{mStartNs.load(std::memory_order_acquire)}}; }
+  Pose poseAt(TimePoint t) const noexcept override { return mFlight.poseAtSeconds(toSeconds(t - start())); }
+
+ private:
+  const motion::ScriptedTrajectory& mFlight;
+  std::atomic<std::int64_t> mStartNs{0};
+};
+
 }  // namespace
 
 struct Service::Parts {
@@ -54,7 +126,13 @@ struct Service::Parts {
   ServiceMetrics metrics;
   std::unique_ptr<core::TileCache> terrain;
   std::unique_ptr<motion::ScriptedTrajectory> flight;
+  std::unique_ptr<FlownFlight> flown;
   std::unique_ptr<motion::FlightModel> flightModel;
+  // motion.source = "host": the link's thread feeds the session, the session the host motion.
+  // Declared in that order so the link stops first.
+  std::unique_ptr<motion::HostMotion> hostMotion;
+  std::unique_ptr<HostSession> hostSession;
+  std::unique_ptr<io::HostLink> hostLink;
   const motion::MotionSource* ownship = nullptr;
   std::unique_ptr<io::StickInput> stick;
   std::unique_ptr<io::GpioInputs> gpio;  // the external field sync, when configured
@@ -111,11 +189,18 @@ struct Service::Parts {
 Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()) {
   Parts& p = *mParts;
   p.config = config;
+  checkSummaryWritable(config.metrics.summaryJson);
 
   p.terrain = core::openTerrain(config.terrain);
   const core::TerrainGeometry& g = p.terrain->geometry();
   spdlog::info("terrain: {} — {}x{} voxels at {} m, {} levels", p.terrain->sourceName(), g.widthVox, g.heightVox,
                g.spacingM, g.levels);
+  // The haze range: configured, or from the database's extent so a large one is not a wall of haze.
+  double& visibility = p.config.render.settings.hazeRangeM;
+  if (!config.render.visibilityGiven) visibility = core::defaultVisibilityM(std::max(g.widthVox, g.heightVox) * g.spacingM);
+  spdlog::info("haze: visibility {:.0f} m ({})", visibility,
+               config.render.visibilityGiven ? "render.visibility_m" : "from the database's extent");
+  p.metrics.setVisibility(visibility);
 
   if (config.motion.source == motion::MotionKind::Flight) {
     try {
@@ -124,7 +209,26 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
     } catch (const std::exception& e) {
       throw std::runtime_error(std::string("motion.flight: ") + e.what());
     }
-    p.ownship = p.flight.get();
+    // Never below the terrain: the bound of the pinned levels, which neither misses a tile nor
+    // changes as tiles load, so the lift over a hill is smooth and the same every run.
+    const core::TerrainView* view = &p.terrain->view();
+    const int level = p.terrain->stats().pinnedFromLevel;
+    p.flight->setTerrainFloor([view, level](double x, double y) { return terrainCeilingM(*view, level, x, y); });
+    p.flown = std::make_unique<FlownFlight>(*p.flight);
+    p.ownship = p.flown.get();
+  } else if (config.motion.source == motion::MotionKind::Host) {
+    p.hostMotion = std::make_unique<motion::HostMotion>(config.host.motion, config.motion.start);
+    p.ownship = p.hostMotion.get();
+    try {
+      core::Georeference georeference = core::Georeference::forTerrain(p.terrain->crs(), config.host.origin);
+      spdlog::info("host: CIGI 3.3 on {}:{}, positions through the {}", config.host.link.listenAddress,
+                   config.host.link.port, georeference.description());
+      p.hostSession = std::make_unique<HostSession>(*p.hostMotion, *p.terrain, std::move(georeference),
+                                                    config.host.databaseNumber, p.clock);
+      p.hostLink = std::make_unique<io::HostLink>(config.host.link, p.clock, *p.hostSession);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(std::string("host: ") + e.what());
+    }
   } else {
     core::TileCache* terrain = p.terrain.get();
     p.flightModel = std::make_unique<motion::FlightModel>(
@@ -135,7 +239,7 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
   }
 
   p.channel = std::make_unique<Channel>(
-      channelSettingsOf(config), *p.terrain, *p.ownship, p.clock, p.metrics,
+      channelSettingsOf(p.config), *p.terrain, *p.ownship, p.clock, p.metrics,
       [&p](const std::string& why) { p.fail(why); },
       [&p](int, io::WindowKey key) {
         if (key == io::WindowKey::Quit) {
@@ -165,10 +269,18 @@ Service::~Service() {
 
 void Service::start() {
   Parts& p = *mParts;
+  const TimePoint begin = p.clock.now();
+  const MemoryLockResult memory = lockMemory();
+  if (memory.locked) {
+    spdlog::info("{}", memory.report);
+  } else {
+    spdlog::warn("{}", memory.report);
+  }
   p.channel->startOutputs();  // opens every output now: an unwritable path fails before anything runs
-  if (p.flight) p.flight->setStartTime(p.clock.now());
+  if (p.flown) p.flown->setStart(p.clock.now());  // until the first field's time is known
   if (p.stick) p.stick->start();
   if (p.gpio) p.gpio->start();
+  if (p.hostLink) p.hostLink->start();
 
   p.channel->startRendering();
   p.started.store(true);
@@ -179,20 +291,46 @@ void Service::start() {
     std::this_thread::sleep_for(5ms);
   }
 
-  const TimePoint t0 = p.clock.now() + p.config.warp.lead + 2ms;
-  p.metrics.startAt(p.clock.now());
   FieldLoop::BeforeField beforeField;
-  if (p.flightModel || p.gpio) {
+  if (p.flightModel || p.gpio || p.hostLink) {
     beforeField = [&p](const warp::FieldTick& tick) {
       if (p.gpio) p.applyExternalSync();
+      if (p.hostLink) p.hostLink->fieldStarted(tick.fieldNumber, tick.displayTime);  // its Start of Frame
       if (p.flightModel) p.stepFlight(tick);
     };
   }
-  std::uint64_t lastField = 0;
-  if (p.config.motion.durationS > 0) {
-    lastField = static_cast<std::uint64_t>(std::llround(p.config.motion.durationS * p.config.output.fieldRate.hz()));
-  }
-  p.channel->startFields(t0, lastField, std::move(beforeField), p.stick ? &p.pendingInput : nullptr);
+  // Runs on the field thread once it is warm: the first deadline comes after the warm-up.
+  auto plan = [&p, begin, memory = memory.locked](const WarmUp& warm) {
+    const Nanoseconds period = p.config.output.fieldRate.period();
+    FieldStart start;
+    start.t0 = warm.done + p.config.warp.lead + kFirstFieldMargin;
+    const auto fieldsUntil = [&](TimePoint end) {  // fields displayed before `end`
+      return end <= start.t0 ? std::uint64_t{1} : static_cast<std::uint64_t>((end - start.t0) / period) + 1;
+    };
+    if (p.config.motion.durationS > 0) {
+      start.lastField =
+          static_cast<std::uint64_t>(std::llround(p.config.motion.durationS * p.config.output.fieldRate.hz()));
+    }
+    if (p.flown) p.flown->setStart(start.t0);
+    if (p.flight && p.flight->end() == motion::FlightEnd::Stop) {
+      const std::uint64_t flightFields = fieldsUntil(start.t0 + fromSeconds(p.flight->durationS()));
+      start.lastField = start.lastField == 0 ? flightFields : std::min(start.lastField, flightFields);
+    }
+    StartupFigures s;
+    s.toFirstFieldS = toSeconds(start.t0 - p.config.warp.lead - begin);
+    s.warmUpWarpMs = warm.warpMs;
+    s.warmUpFrame = warm.frameNumber;
+    s.firstWakeAfterWarmUpMs = toSeconds(start.t0 - p.config.warp.lead - warm.done) * 1e3;
+    s.memoryLocked = memory;
+    s.tileMisses = p.terrain->stats().viewMisses;
+    p.metrics.setStartup(s);
+    p.metrics.startAt(warm.done);
+    spdlog::info("start-up: {:.2f} s to the first field, warm-up warp {:.2f} ms (frame {}), {} tile misses so far",
+                 s.toFirstFieldS, s.warmUpWarpMs, s.warmUpFrame, s.tileMisses);
+    return start;
+  };
+  p.channel->startFields(std::move(plan), std::move(beforeField), p.stick ? &p.pendingInput : nullptr);
+  if (!fatalError().empty()) throw std::runtime_error(fatalError());
 }
 
 bool Service::running() const noexcept {
@@ -217,8 +355,10 @@ std::string Service::intervalLine() {
     figures.marginViolations = c.marginViolations.load();
     window->setFigures(figures);
   }
+  // Misses of this interval only: the start-up's (before the first field) are in the summary.
   const core::TileCacheStats t = p.terrain->stats();
-  line += " | tiles " + std::to_string(t.residentTiles) + " resident, " + std::to_string(t.viewMisses) + " misses";
+  line += " | tiles " + std::to_string(t.residentTiles) + " resident, " +
+          std::to_string(p.metrics.tileMissesSince(t.viewMisses)) + " misses";
   return line;
 }
 
@@ -229,6 +369,8 @@ ServiceFigures Service::stop() {
   p.channel->stop();  // fields, then rendering, then the outputs are finalised
   if (p.stick) p.stick->stop();
   if (p.gpio) p.gpio->stop();
+  if (p.hostLink) p.hostLink->stop();
+  if (p.started.load()) (void)p.metrics.tileMissesSince(p.terrain->stats().viewMisses);
   p.figures = p.metrics.figures(p.clock.now());
   if (!p.config.metrics.summaryJson.empty() && p.started.load()) {
     nlohmann::json summary = toJson(p.figures);
@@ -237,6 +379,7 @@ ServiceFigures Service::stop() {
     summary["terrain"] = p.terrain->sourceName();
     summary["sinks_dropped"] = p.channel->sinksDropped();
     summary["fatal_error"] = fatalError();
+    if (p.hostLink) summary["host"] = hostSummary(p.hostLink->counters(), p.hostSession->figures(), p.hostMotion->counters());
     const auto& path = p.config.metrics.summaryJson;
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
     std::ofstream out(path);

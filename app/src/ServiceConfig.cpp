@@ -1,5 +1,7 @@
 #include <service/ServiceConfig.h>
 
+#include <chrono>
+#include <cmath>
 #include <sstream>
 
 namespace fieldcast::app {
@@ -15,6 +17,27 @@ ViewOffset readViewOffset(ConfigReader& t) {
   v.rollRad = radians(a[2]);
   t.finish();
   return v;
+}
+
+HostConfig readHostConfig(ConfigReader& t) {
+  HostConfig h;
+  h.link.listenAddress = t.nonEmptyString("listen_address", h.link.listenAddress);
+  h.link.port = static_cast<std::uint16_t>(t.integer("port", h.link.port, 1, 65535));
+  h.link.replyPort = static_cast<std::uint16_t>(t.integer("reply_port", h.link.replyPort, 0, 65535));
+  h.databaseNumber = static_cast<std::int8_t>(t.integer("database_number", h.databaseNumber, 0, 127));
+  auto milliseconds = [&t](const char* key, Nanoseconds fallback, double max) {
+    const double ms = t.number(key, std::chrono::duration<double, std::milli>(fallback).count(), 0.0, max);
+    return std::chrono::duration_cast<Nanoseconds>(std::chrono::duration<double, std::milli>(ms));
+  };
+  h.motion.maxExtrapolation = milliseconds("max_extrapolation_ms", h.motion.maxExtrapolation, 10'000.0);
+  h.motion.resumeBlend = milliseconds("resume_blend_ms", h.motion.resumeBlend, 10'000.0);
+  const std::vector<double> origin = t.numbers("origin_deg", {h.origin.latitudeDeg, h.origin.longitudeDeg}, 2);
+  if (std::abs(origin[0]) > 89.0 || std::abs(origin[1]) > 180.0) {
+    t.fail("origin_deg", "expected [latitude within ±89, longitude within ±180]");
+  }
+  h.origin = {origin[0], origin[1]};
+  t.finish();
+  return h;
 }
 
 }  // namespace
@@ -36,6 +59,7 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
   // The one place a warp's needs reach the renderer.
   if (warp::needsRangeImage(c.warp.warper.warp)) c.render.settings.rangeImage = true;
   c.motion = section("motion", motion::readMotionConfig);
+  c.host = section("host", readHostConfig);
   c.sinks = section("sinks", io::readSinksConfig);
   c.input = section("input", io::readInputConfig);
   {

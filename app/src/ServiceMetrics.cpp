@@ -92,6 +92,14 @@ ServiceFigures ServiceMetrics::figures(TimePoint now) {
   f.fieldsMissed = counters.fieldsMissed.load();
   f.marginViolations = counters.marginViolations.load();
   f.warpFallbacks = counters.warpFallbacks.load();
+  f.fallbacksFewPoints = counters.warpFallbacksByReason[0].load();
+  f.fallbacksAllSky = counters.warpFallbacksByReason[1].load();
+  f.fallbacksDegenerate = counters.warpFallbacksByReason[2].load();
+  f.fallbacksNoRange = counters.warpFallbacksByReason[3].load();
+  f.fieldsMissedFirstSecond = counters.fieldsMissedFirstSecond.load();
+  f.startup = mStartup;
+  f.tileMissesRun = mLastTileMisses - mStartup.tileMisses;
+  f.visibilityM = mVisibilityM;
   f.meanQuality = mean(counters.qualityMilliSum.load(), f.framesRendered) / 1000.0;
   f.framesGrazing = counters.framesGrazing.load();
   f.render = mTotal[static_cast<int>(Measure::RenderTime)].summary();
@@ -111,6 +119,21 @@ nlohmann::json toJson(const ServiceFigures& f) {
           {"fields_missed", f.fieldsMissed},
           {"margin_violation_px", f.marginViolations},
           {"warp_fallbacks", f.warpFallbacks},
+          {"warp_fallbacks_by_reason",
+           {{"few_points", f.fallbacksFewPoints},
+            {"all_sky", f.fallbacksAllSky},
+            {"degenerate", f.fallbacksDegenerate},
+            {"no_range_image", f.fallbacksNoRange}}},
+          {"fields_missed_first_second", f.fieldsMissedFirstSecond},
+          {"startup",
+           {{"to_first_field_s", f.startup.toFirstFieldS},
+            {"warm_up_warp_ms", f.startup.warmUpWarpMs},
+            {"warm_up_frame", f.startup.warmUpFrame},
+            {"first_wake_after_warm_up_ms", f.startup.firstWakeAfterWarmUpMs},
+            {"memory_locked", f.startup.memoryLocked},
+            {"tile_misses", f.startup.tileMisses}}},
+          {"tile_misses_run", f.tileMissesRun},
+          {"visibility_m", f.visibilityM},
           {"mean_quality", f.meanQuality},
           {"frames_grazing", f.framesGrazing},
           {"render_time", toJson(f.render)},
@@ -121,21 +144,31 @@ nlohmann::json toJson(const ServiceFigures& f) {
 }
 
 std::string describe(const ServiceFigures& f) {
-  char text[768];
+  char text[1024];
   std::snprintf(text, sizeof text,
                 "ran %.1f s: %llu frames (%.1f Hz), %llu fields emitted (%llu black before the first frame), "
-                "%llu missed, %llu margin-violation px, %llu warp fallbacks\n"
+                "%llu missed (%llu in the first second), %llu margin-violation px, %llu warp fallbacks "
+                "(few points %llu, all sky %llu, degenerate %llu, no range image %llu)\n"
                 "  render ms p50 %s p99 %s | warp ms p50 %s p99 %s max %s | frame age ms p50 %s p99 %s | "
                 "field jitter ms p50 %s p99 %s max %s",
                 f.durationS, static_cast<unsigned long long>(f.framesRendered),
                 f.durationS > 0 ? static_cast<double>(f.framesRendered) / f.durationS : 0.0,
                 static_cast<unsigned long long>(f.fieldsEmitted), static_cast<unsigned long long>(f.fieldsBlack),
-                static_cast<unsigned long long>(f.fieldsMissed), static_cast<unsigned long long>(f.marginViolations),
-                static_cast<unsigned long long>(f.warpFallbacks), ms(f.render.p50S).c_str(), ms(f.render.p99S).c_str(),
+                static_cast<unsigned long long>(f.fieldsMissed),
+                static_cast<unsigned long long>(f.fieldsMissedFirstSecond),
+                static_cast<unsigned long long>(f.marginViolations), static_cast<unsigned long long>(f.warpFallbacks),
+                static_cast<unsigned long long>(f.fallbacksFewPoints), static_cast<unsigned long long>(f.fallbacksAllSky),
+                static_cast<unsigned long long>(f.fallbacksDegenerate), static_cast<unsigned long long>(f.fallbacksNoRange), ms(f.render.p50S).c_str(), ms(f.render.p99S).c_str(),
                 ms(f.warp.p50S).c_str(), ms(f.warp.p99S).c_str(), ms(f.warp.maxS).c_str(), ms(f.frameAge.p50S).c_str(),
                 ms(f.frameAge.p99S).c_str(), ms(f.jitter.p50S).c_str(), ms(f.jitter.p99S).c_str(),
                 ms(f.jitter.maxS).c_str());
   std::string result = text;
+  std::snprintf(text, sizeof text,
+                "\n  start-up %.2f s to the first field (warm-up warp %.2f ms, memory %s), %llu tile misses before it, "
+                "%llu after",
+                f.startup.toFirstFieldS, f.startup.warmUpWarpMs, f.startup.memoryLocked ? "locked" : "not locked",
+                static_cast<unsigned long long>(f.startup.tileMisses), static_cast<unsigned long long>(f.tileMissesRun));
+  result += text;
   if (f.framesRendered > 0) {
     std::snprintf(text, sizeof text, "\n  quality knob mean %.2f, grazing-angle rule on for %llu of %llu frames",
                   f.meanQuality, static_cast<unsigned long long>(f.framesGrazing),

@@ -1,10 +1,15 @@
 #include <service/ServiceMetrics.h>
+#include <ig_core/RenderConfig.h>
 #include "ThreadScheduling.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <chrono>
+#include <cstdio>
 #include <thread>
 
 namespace fieldcast::app {
@@ -34,6 +39,45 @@ TEST(ServiceMetrics, IntervalLineReportsTheIntervalOnlyAndTotalsKeepEverything) 
   EXPECT_EQ(f.fieldsMissed, 1u);
   EXPECT_EQ(f.warp.count, 2u);
   EXPECT_NEAR(f.warp.maxS, 0.004, 1e-4);
+}
+
+TEST(ServiceMetrics, TileMissesArePerIntervalAfterTheStartUp) {
+  ServiceMetrics metrics;
+  StartupFigures startup;
+  startup.tileMisses = 5000;  // the first frames' misses, before the prefetch landed
+  metrics.setStartup(startup);
+  EXPECT_EQ(metrics.tileMissesSince(5040), 40u);
+  EXPECT_EQ(metrics.tileMissesSince(5040), 0u);  // a quiet interval says 0, not the total
+  EXPECT_EQ(metrics.tileMissesSince(5047), 7u);
+  const ServiceFigures f = metrics.figures(MonotonicClock::now());
+  EXPECT_EQ(f.startup.tileMisses, 5000u);
+  EXPECT_EQ(f.tileMissesRun, 47u);
+  const nlohmann::json j = toJson(f);
+  EXPECT_EQ(j.at("startup").at("tile_misses").get<int>(), 5000);
+  EXPECT_EQ(j.at("tile_misses_run").get<int>(), 47);
+}
+
+TEST(ServiceMetrics, WarpFallbacksAreCountedByReason) {
+  ServiceMetrics metrics;
+  metrics.counters.warpFallbacks += 6;
+  metrics.counters.warpFallbacksByReason[0] += 1;
+  metrics.counters.warpFallbacksByReason[1] += 3;
+  metrics.counters.warpFallbacksByReason[2] += 2;
+  const ServiceFigures f = metrics.figures(MonotonicClock::now());
+  const nlohmann::json j = toJson(f).at("warp_fallbacks_by_reason");
+  EXPECT_EQ(j.at("few_points").get<int>(), 1);
+  EXPECT_EQ(j.at("all_sky").get<int>(), 3);
+  EXPECT_EQ(j.at("degenerate").get<int>(), 2);
+  EXPECT_EQ(j.at("no_range_image").get<int>(), 0);
+  EXPECT_NE(describe(f).find("6 warp fallbacks (few points 1, all sky 3, degenerate 2, no range image 0)"),
+            std::string::npos)
+      << describe(f);
+}
+
+TEST(Visibility, DefaultFollowsTheDatabaseExtent) {
+  EXPECT_DOUBLE_EQ(core::defaultVisibilityM(16384.0), 12288.0);  // the built-in terrain: about the old 12 km
+  EXPECT_DOUBLE_EQ(core::defaultVisibilityM(70000.0), 52500.0);  // a 70 km database is not a wall of haze
+  EXPECT_DOUBLE_EQ(core::defaultVisibilityM(1024.0), 3000.0);    // the floor for a small one
 }
 
 TEST(ServiceMetrics, StickLatencyAppearsOnlyWhenMeasured) {
@@ -83,13 +127,31 @@ TEST(ServiceMetrics, JsonSummaryHasTheFiguresScriptsRead) {
   EXPECT_NEAR(j.at("field_jitter").at("max_ms").get<double>(), 0.05, 0.002);
 }
 
-TEST(ThreadScheduling, ReportsWhatWasGrantedWithoutThrowing) {
+TEST(ThreadScheduling, ReportsWhatWasGrantedAndTheThreadRunsThatWay) {
+  // Whether this process may use SCHED_FIFO at all, found independently of applyScheduling.
+  bool fifoAllowed = false;
+  std::thread([&] {
+    sched_param param{};
+    param.sched_priority = 10;
+    fifoAllowed = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0;
+  }).join();
   std::string report;
-  std::thread([&] { report = applyScheduling("fc-test", ThreadScheduling{true, 10, 3, -1}); }).join();
-  // Either granted or refused with the reason: never silent.
-  EXPECT_TRUE(report.find("SCHED_FIFO priority 10") != std::string::npos ||
-              report.find("SCHED_FIFO refused") != std::string::npos)
-      << report;
+  int policy = -1;
+  sched_param param{};
+  std::thread([&] {
+    report = applyScheduling("fc-test", ThreadScheduling{true, 10, 3, -1});
+    pthread_getschedparam(pthread_self(), &policy, &param);  // what the thread really runs with
+  }).join();
+  if (fifoAllowed) {
+    EXPECT_EQ(policy, SCHED_FIFO) << report;
+    EXPECT_EQ(param.sched_priority, 10) << report;
+    EXPECT_NE(report.find("SCHED_FIFO priority 10"), std::string::npos) << report;
+  } else {
+    EXPECT_EQ(policy, SCHED_OTHER) << report;
+    EXPECT_NE(report.find("SCHED_FIFO refused: "), std::string::npos) << report;
+    EXPECT_NE(report.find("running as SCHED_OTHER"), std::string::npos) << report;
+  }
+  std::printf("SCHED_FIFO %s here: %s\n", fifoAllowed ? "granted" : "refused", report.c_str());
   std::thread([&] { report = applyScheduling("fc-test", ThreadScheduling{false, 0, 5, 0}); }).join();
   EXPECT_NE(report.find("nice 5"), std::string::npos) << report;
   EXPECT_NE(report.find("CPU 0"), std::string::npos) << report;

@@ -1,7 +1,9 @@
 #include <motion/ScriptedTrajectory.h>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -21,8 +23,100 @@ TEST(ScriptedTrajectory, StraightLevelFlightFollowsItsTrack) {
   EXPECT_NEAR(p.rollRad, 0.0, 1e-12);
   const ScriptedTrajectory east("east", {at(0, 0, 0, 500), at(10, 1000, 0, 500)});
   EXPECT_NEAR(east.poseAtSeconds(3.0).headingRad, std::numbers::pi / 2, 1e-12);
-  // Beyond the last waypoint the flight goes on straight at the same speed.
-  EXPECT_NEAR(east.poseAtSeconds(12.0).positionM.x, 1200.0, 1e-9);
+  // Before the first waypoint the flight comes in straight at the same speed.
+  EXPECT_NEAR(east.poseAtSeconds(-2.0).positionM.x, -200.0, 1e-9);
+}
+
+// Largest difference of two poses' positions (m) and angles (rad, modulo 2π).
+double poseGap(const Pose& a, const Pose& b) {
+  const double angle = std::max({std::abs(std::remainder(a.headingRad - b.headingRad, 2 * std::numbers::pi)),
+                                 std::abs(a.pitchRad - b.pitchRad), std::abs(a.rollRad - b.rollRad)});
+  return std::max(glm::length(a.positionM - b.positionM), angle);
+}
+
+// Continuity of position, velocity and (through the coordinated-turn roll) curvature at `s`.
+void expectSmoothAt(const ScriptedTrajectory& f, double s, const char* where) {
+  constexpr double kEps = 1e-8;  // a jump shows at any step; a smooth change shrinks with it
+  const Pose before = f.poseAtSeconds(s - kEps), after = f.poseAtSeconds(s + kEps);
+  EXPECT_LT(glm::length(before.positionM - after.positionM), 1e-3) << where;
+  EXPECT_LT(glm::length(f.velocityAtSeconds(s - kEps) - f.velocityAtSeconds(s + kEps)), 1e-3) << where;
+  EXPECT_LT(std::abs(std::remainder(before.headingRad - after.headingRad, 2 * std::numbers::pi)), 1e-5) << where;
+  EXPECT_LT(std::abs(before.rollRad - after.rollRad), 1e-5) << where;
+  EXPECT_LT(std::abs(before.pitchRad - after.pitchRad), 1e-5) << where;
+}
+
+TEST(ScriptedTrajectory, AnOpenFlightLoopsSmoothlyBackToItsStart) {
+  // North at 100 m/s for 20 s, climbing a little: the leg back must turn round, not fly on.
+  const ScriptedTrajectory north("north", {at(0, 0, 0, 500), at(10, 0, 1000, 520), at(20, 0, 2000, 560)});
+  ASSERT_EQ(north.end(), FlightEnd::Loop);
+  const double lap = north.lapS();
+  ASSERT_GT(lap, 20.0);
+  for (const double s : {0.0, 3.0, 10.0, 17.5}) {
+    EXPECT_LT(poseGap(north.poseAtSeconds(s + lap), north.poseAtSeconds(s)), 1e-6) << s;
+    EXPECT_LT(poseGap(north.poseAtSeconds(s + 3 * lap), north.poseAtSeconds(s)), 1e-6) << s;
+  }
+  expectSmoothAt(north, 20.0, "leaving the waypoints");
+  expectSmoothAt(north, lap, "back at the start");
+  expectSmoothAt(north, 20.0 + 0.5 * (lap - 20.0), "turning home");
+  // On the way back it stays near the flight, at about its speed, never going on north.
+  for (double s = 20.0; s <= lap; s += 0.05) {
+    const Pose p = north.poseAtSeconds(s);
+    ASSERT_LT(p.positionM.y, 2000.0 + 0.5 * 2000.0) << s;
+    ASSERT_LT(std::abs(p.positionM.x), 2000.0) << s;
+    const double speed = glm::length(north.velocityAtSeconds(s));
+    ASSERT_GT(speed, 30.0) << s;
+    ASSERT_LT(speed, 200.0) << s;
+  }
+}
+
+TEST(ScriptedTrajectory, AClosedCircuitLoopsOnItsOwnWaypoints) {
+  // A circle whose last waypoint is its first, headings given: lap = its duration.
+  std::vector<Waypoint> wps;
+  for (int i = 0; i <= 12; ++i) {
+    const double a = 2 * std::numbers::pi * i / 12;
+    wps.push_back(at(i * 3.0, 1000 * std::sin(a), 1000 * std::cos(a), 400));
+    wps.back().headingRad = a + std::numbers::pi / 2;
+  }
+  const ScriptedTrajectory circle("circle", wps);
+  EXPECT_DOUBLE_EQ(circle.lapS(), 36.0);
+  EXPECT_LT(poseGap(circle.poseAtSeconds(36.0 + 4.0), circle.poseAtSeconds(4.0)), 1e-6);
+  expectSmoothAt(circle, 33.0, "the last segment");
+  expectSmoothAt(circle, 36.0, "the start");
+  // Heading wraps the short way: it keeps turning right through north.
+  EXPECT_NEAR(std::remainder(circle.poseAtSeconds(34.5).headingRad - radians(90.0 - 15.0), 2 * std::numbers::pi), 0.0,
+              radians(3.0));
+}
+
+TEST(ScriptedTrajectory, HoldAndStopKeepTheLastPose) {
+  for (const FlightEnd end : {FlightEnd::Hold, FlightEnd::Stop}) {
+    const ScriptedTrajectory north("north", {at(0, 0, 0, 500), at(10, 0, 1000, 500)}, 0.0, end);
+    EXPECT_EQ(north.end(), end);
+    EXPECT_LT(poseGap(north.poseAtSeconds(25.0), north.poseAtSeconds(10.0)), 1e-12);
+    EXPECT_NEAR(north.poseAtSeconds(25.0).positionM.y, 1000.0, 1e-9);
+    EXPECT_EQ(glm::length(north.velocityAtSeconds(25.0)), 0.0);
+  }
+}
+
+TEST(ScriptedTrajectory, NeverComesNearerTheTerrainThanItsClearance) {
+  // A level pass at 300 m through a 400 m hill: lifted over it with 20 m to spare, untouched
+  // where it is 40 m (twice the clearance) or more above the ground, and without a jump.
+  ScriptedTrajectory pass("pass", {at(0, 0, 0, 300), at(20, 0, 2000, 300)}, 0.0, FlightEnd::Hold, 20.0);
+  auto hill = [](double, double y) { return 400.0 * std::exp(-std::pow((y - 1000.0) / 300.0, 2)); };
+  pass.setTerrainFloor(hill);
+  double previousZ = pass.poseAtSeconds(0.0).positionM.z;
+  double highest = 0.0;
+  for (double s = 0.0; s <= 20.0; s += 0.01) {
+    const Pose p = pass.poseAtSeconds(s);
+    const double ground = hill(p.positionM.x, p.positionM.y);
+    ASSERT_GE(p.positionM.z, ground + 20.0 - 1e-9) << s;
+    if (300.0 - ground >= 40.0) {
+      ASSERT_NEAR(p.positionM.z, 300.0, 1e-9) << s;
+    }
+    ASSERT_LT(std::abs(p.positionM.z - previousZ), 10.0) << s;  // ≤ 1000 m/s vertically
+    previousZ = p.positionM.z;
+    highest = std::max(highest, p.positionM.z);
+  }
+  EXPECT_NEAR(highest, 420.0, 1.0);
 }
 
 TEST(ScriptedTrajectory, ClimbSetsPitchPlusCameraOffset) {
@@ -88,6 +182,23 @@ position = [0, 1000, 300]
   EXPECT_EQ(flight.name(), "test");
   EXPECT_EQ(flight.durationS(), 10.0);
   EXPECT_NEAR(flight.poseAtSeconds(5).pitchRad, radians(-5.0), 1e-12);
+}
+
+TEST(ScriptedTrajectory, AFlightFileSaysWhatHappensAtItsEnd) {
+  const std::string waypoints = "[[waypoint]]\nt = 0\nposition = [0, 0, 300]\n[[waypoint]]\nt = 10\nposition = [0, 1000, 300]\n";
+  EXPECT_EQ(ScriptedTrajectory::load(writeFlight("default_end", waypoints)).end(), FlightEnd::Loop);
+  EXPECT_EQ(ScriptedTrajectory::load(writeFlight("default_end", waypoints)).clearanceM(), 15.0);
+  const auto stop = ScriptedTrajectory::load(writeFlight("stop", "end = \"stop\"\nclearance_m = 40\n" + waypoints));
+  EXPECT_EQ(stop.end(), FlightEnd::Stop);
+  EXPECT_EQ(stop.clearanceM(), 40.0);
+  EXPECT_EQ(ScriptedTrajectory::load(writeFlight("hold", "end = \"hold\"\n" + waypoints)).end(), FlightEnd::Hold);
+  const auto path = writeFlight("bad_end", "end = \"straight\"\n" + waypoints);
+  try {
+    (void)ScriptedTrajectory::load(path);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":1: end"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ScriptedTrajectory, FileErrorsNameFileLineAndKey) {

@@ -96,7 +96,10 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
   // Warp to the pose at the field's own display time
   const WarpResult r = mWarp->warp(frame, flickerFiltered(frame), pose, spec.parity, mWork);
   if (r.status != WarpStatus::Ok) return black(FieldStatus::BadFrame);
-  if (r.fellBack) mCounters.fitFallbacks.fetch_add(1, std::memory_order_relaxed);
+  if (r.fellBack) {
+    mCounters.fitFallbacks.fetch_add(1, std::memory_order_relaxed);
+    mCounters.fallbacksByReason[static_cast<int>(r.fallbackReason)].fetch_add(1, std::memory_order_relaxed);
+  }
   if (r.marginViolations) {
     mCounters.marginViolations.fetch_add(r.marginViolations, std::memory_order_relaxed);
     mCounters.fieldsWithViolations.fetch_add(1, std::memory_order_relaxed);

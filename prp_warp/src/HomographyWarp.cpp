@@ -12,15 +12,16 @@ WarpResult HomographyWarp::doWarp(const Frame& frame, const Image& pixels, const
   const OutputGeometry g = OutputGeometry::of(frame, rasterWidthPx(), rasterHeightPx());
   const Correspondences c = projectControlPoints(frame, fieldPose, g);
   const auto n = static_cast<std::size_t>(c.count);
-  bool fellBack = false;
+  FallbackReason reason = FallbackReason::None;
   if (auto h = fitHomography(std::span(c.rasterPx).first(n), std::span(c.framePx).first(n))) {
     mMap = *h;
   } else {
     mMap = rotationHomography(frame, fieldPose, g);
-    fellBack = true;
+    reason = n < 4 ? FallbackReason::FewPoints : FallbackReason::Degenerate;
   }
   mHaveMap = true;
-  return {WarpStatus::Ok, resampleHomography(pixels, mMap, parity, rasterHeightPx(), out, mScratch), fellBack};
+  return {WarpStatus::Ok, resampleHomography(pixels, mMap, parity, rasterHeightPx(), out, mScratch),
+          reason != FallbackReason::None, reason};
 }
 
 std::optional<glm::dvec2> HomographyWarp::sourcePx(glm::dvec2 rasterPx) const noexcept {

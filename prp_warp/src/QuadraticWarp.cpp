@@ -2,6 +2,19 @@
 #include <prp_warp/Warps.h>
 
 namespace fieldcast::warp {
+namespace {
+
+FallbackReason fallbackReasonOf(FitOutcome outcome) noexcept {
+  switch (outcome) {
+    case FitOutcome::Quadratic: return FallbackReason::None;
+    case FitOutcome::FallbackFewPoints: return FallbackReason::FewPoints;
+    case FitOutcome::FallbackAllSky: return FallbackReason::AllSky;
+    case FitOutcome::FallbackDegenerate: return FallbackReason::Degenerate;
+  }
+  return FallbackReason::Degenerate;
+}
+
+}  // namespace
 
 QuadraticWarp::QuadraticWarp(int rasterWidthPx, int rasterHeightPx, ResampleKernel kernel)
     : Warp(rasterWidthPx, rasterHeightPx), mKernel(kernel), mScratch(rasterWidthPx) {}
@@ -19,7 +32,7 @@ WarpResult QuadraticWarp::doWarp(const Frame& frame, const Image& pixels, const 
   } else {
     violations = resampleQuadraticReference(pixels, mFit.quadratic, parity, rasterHeightPx(), out);
   }
-  return {WarpStatus::Ok, violations, mFit.fellBack()};
+  return {WarpStatus::Ok, violations, mFit.fellBack(), fallbackReasonOf(mFit.outcome)};
 }
 
 std::optional<glm::dvec2> QuadraticWarp::sourcePx(glm::dvec2 rasterPx) const noexcept {

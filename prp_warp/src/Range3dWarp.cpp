@@ -160,6 +160,7 @@ WarpResult Range3dWarp::doWarp(const Frame& frame, const Image& pixels, const Po
     mLastParity.reset();
     WarpResult r = mFallback.warp(frame, pixels, fieldPose, parity, out);
     r.fellBack = true;
+    r.fallbackReason = FallbackReason::NoRange;
     return r;
   }
   mUsedFallback = false;

@@ -27,6 +27,32 @@ TEST(AppConfig, ShippedConfigIsValid) {
   EXPECT_NE(r.output.find("720x486 interlaced 59.940 Hz uyvy422"), std::string::npos) << r.output;
 }
 
+TEST(AppConfig, AnUnwritableSummaryPathIsRefusedBeforeTheRun) {
+  // The summary is written at exit; a path that cannot be written must stop the service at start,
+  // with one line naming it, before the terrain is opened or a field is made.
+  const auto cache = std::filesystem::temp_directory_path() / "fieldcast_test_summary_cache";
+  const std::string config = writeConfig("summary", "[terrain]\nsource = \"builtin\"\ncache_dir = \"" + cache.string() +
+                                                        "\"\nbuiltin_size = 256\nmemory_budget_mb = 16\n"
+                                                        "[output]\nwidth = 160\nheight = 120\n"
+                                                        "[threads]\nrealtime_field_thread = false\n") +
+                             " --flight " FIELDCAST_SOURCE_DIR "/config/flights/ridge_run.toml";
+  for (const char* bad : {"/proc/fieldcast/summary.json", "/dev/null/summary.json"}) {
+    const auto r = run("--config " + config + " --duration 30 --summary " + bad);
+    EXPECT_NE(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find(std::string("fieldcast: metrics.summary_json: cannot write ") + bad), std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("terrain:"), std::string::npos) << "the terrain was opened first:\n" << r.output;
+    EXPECT_EQ(r.output.find("start-up:"), std::string::npos) << "fields were started:\n" << r.output;
+  }
+  // A writable one in a folder that does not exist yet is fine (the folder is made), and nothing
+  // is left there when the run stops before it starts (--check-config does not run).
+  const auto fresh = std::filesystem::temp_directory_path() / "fieldcast_test_summary_dir" / "s.json";
+  std::filesystem::remove_all(fresh.parent_path());
+  const auto ok = run("--config " + config + " --duration 0.2 --summary " + fresh.string());
+  EXPECT_EQ(ok.exitCode, 0) << ok.output;
+  EXPECT_TRUE(std::filesystem::exists(fresh)) << ok.output;
+}
+
 TEST(AppConfig, HelpAndVersion) {
   // --help names every option (and where the configuration keys are documented).
   const auto h = run("--help");

@@ -1,7 +1,11 @@
 // A few rendered views checked in as small PNGs (tests/render/golden), compared with a tolerance:
 // at most 0.5% of the pixels may differ by more than 12 levels in any channel, and none by more
 // than 96 (a silhouette moving by a pixel). Regenerate with FIELDCAST_UPDATE_GOLDEN=1 after an
-// intended change, and look at the new images before committing them.
+// intended change, and look at the new images before committing them. Each pose is also checked
+// against the reference renderer, since the stored images are the caster's own.
+#include "RenderTestUtil.h"  // compareHits: the accuracy sweep's criterion
+
+#include <ig_core/ReferenceRenderer.h>
 #include <ig_core/Renderer.h>
 #include <ig_core/SyntheticTerrain.h>
 
@@ -10,6 +14,9 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -29,17 +36,27 @@ const MemoryTerrain& terrain() {
   return *t;
 }
 
-Frame renderView(const GoldenView& g) {
-  const TerrainView& view = terrain().view();
+RenderSettings settingsFor(const GoldenView& g) {
   RenderSettings settings;
   settings.colourMode = g.grey ? FrameColour::Grey : FrameColour::Rgb;
-  Renderer renderer(view, settings, 2);
+  return settings;
+}
+
+ViewRequest requestFor(const GoldenView& g) {
+  const TerrainView& view = terrain().view();
   ViewRequest r;
   r.pose.positionM = {1000.0, 900.0, view.heightAtM(1000.0, 900.0) + g.altitude};
   r.pose.headingRad = radians(g.heading);
   r.pose.pitchRad = radians(g.pitch);
   r.display = Intrinsics::fromHorizontalFov(120, 80, radians(g.fov));
-  return renderer.render(r);
+  return r;
+}
+
+Frame renderView(const GoldenView& g, bool range = false) {
+  RenderSettings settings = settingsFor(g);
+  settings.rangeImage = range;
+  Renderer renderer(terrain().view(), settings, 2);
+  return renderer.render(requestFor(g));
 }
 
 std::string goldenPath(const char* name) { return std::string(FIELDCAST_SOURCE_DIR) + "/tests/render/golden/" + name; }
@@ -80,6 +97,26 @@ TEST_P(RenderGolden, MatchesTheStoredImage) {
   const double fraction = static_cast<double>(failing) * channels / static_cast<double>(golden.size());
   EXPECT_LE(fraction, 0.005) << path << ": " << failing << " pixels differ by more than 12";
   EXPECT_LE(worst, 96) << path;
+}
+
+// The golden images are the caster's own renders: they catch a change, not an error. So each
+// golden pose is also rendered by the reference renderer, and the caster must hit the reference's
+// voxel or a neighbour (at the level used) in at least 99.5% of the pixels, or both see the sky,
+// or they disagree on sky within a voxel of the terrain's edge: the accuracy sweep's criterion
+// (compareHits, ig_core/render/tests/RenderTestUtil.h).
+TEST_P(RenderGolden, PoseAgreesWithTheReferenceRenderer) {
+  const GoldenView g = GetParam();
+  const TerrainView& view = terrain().view();
+  RenderSettings settings = settingsFor(g);
+  settings.rangeImage = true;
+  const Frame fast = renderView(g, true);
+  const Frame ref = ReferenceRenderer(view).render(requestFor(g), settings);
+  const test::HitAgreement a = test::compareHits(fast, ref, view.geometry(), settings);
+  const int pixels = a.pixels;
+  const int same = a.same;
+  const double fraction = static_cast<double>(same) / pixels;
+  std::printf("%s: %.5f of %d pixels on the reference's voxel or a neighbour\n", g.name, fraction, pixels);
+  EXPECT_GE(fraction, 0.995) << g.name;
 }
 
 INSTANTIATE_TEST_SUITE_P(Views, RenderGolden,

@@ -9,13 +9,17 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace {
 
@@ -106,9 +110,52 @@ position = [900.0, 500.0, 320.0]
     return sum / ((rowTo - rowFrom) * kW);
   }
 
+  // Luma (Y plane) of every `every`-th frame of the Y4M file (4:2:0, 320×240).
+  std::vector<std::string> lumaFrames(int every) const {
+    constexpr std::size_t kLuma = 320 * 240, kFrameBytes = kLuma * 3 / 2;
+    std::ifstream in(mDir / "out/video.y4m", std::ios::binary);
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> frames;
+    std::string luma(kLuma, '\0');
+    for (int n = 0; std::getline(in, line); ++n) {
+      if (!in.read(luma.data(), kLuma)) break;
+      in.ignore(static_cast<std::streamsize>(kFrameBytes - kLuma));
+      if (n % every == 0) frames.push_back(luma);
+    }
+    return frames;
+  }
+
   fs::path mDir;
   int mConfigs = 0;
 };
+
+// Mean and standard deviation of one luma plane.
+std::pair<double, double> lumaStats(const std::string& luma) {
+  double sum = 0.0, sum2 = 0.0;
+  for (const char c : luma) {
+    const double v = static_cast<unsigned char>(c);
+    sum += v;
+    sum2 += v * v;
+  }
+  const double n = static_cast<double>(luma.size()), mean = sum / n;
+  return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean))};
+}
+
+// Mean absolute difference of two luma planes.
+double lumaChange(const std::string& a, const std::string& b) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    sum += std::abs(static_cast<unsigned char>(a[i]) - static_cast<unsigned char>(b[i]));
+  }
+  return sum / static_cast<double>(a.size());
+}
+
+// Fields a run of `seconds` may miss on this machine: the tests share two cores with builds and
+// other tests, and the field thread runs without real-time priority here (realtime_field_thread =
+// false), so a busy moment can cost a field or two. An idle machine misses none (README); 2% of
+// the fields plus 2 is what a loaded one was seen to stay within.
+double missedAllowance(double seconds) { return 0.02 * seconds * 60000.0 / 1001.0 + 2.0; }
 
 TEST_F(ServiceRun, EmitsEveryFieldForTheDuration) {
   const RunResult r = run("--config " + config() + " --duration 3");
@@ -120,13 +167,80 @@ TEST_F(ServiceRun, EmitsEveryFieldForTheDuration) {
   const auto emitted = s.at("fields_emitted").get<double>();
   const auto missed = s.at("fields_missed").get<double>();
   EXPECT_NEAR(emitted + missed, expected, 1.0) << s.dump(2);
-  EXPECT_LT(missed, expected * 0.25) << "the field thread is far behind its schedule\n" << s.dump(2);
+  EXPECT_LE(missed, missedAllowance(3.0)) << "the field thread is behind its schedule\n" << s.dump(2);
+  EXPECT_EQ(s.at("fields_black").get<int>(), 0) << s.dump(2);
   EXPECT_GT(s.at("frames_rendered").get<int>(), 0);
   EXPECT_EQ(s.at("sinks_dropped").get<int>(), 0);
+  // The fields show terrain: every sampled frame has structure (not black, not one flat colour),
+  // and the picture moves with the flight.
+  const std::vector<std::string> sampled = lumaFrames(10);
+  ASSERT_GE(sampled.size(), 8u);
+  for (std::size_t i = 0; i < sampled.size(); ++i) {
+    const auto [mean, deviation] = lumaStats(sampled[i]);
+    EXPECT_GT(mean, 30.0) << "frame " << i * 10 << " is (nearly) black";
+    EXPECT_LT(mean, 235.0) << "frame " << i * 10 << " is white";
+    EXPECT_GT(deviation, 12.0) << "frame " << i * 10 << " is flat (mean " << mean << ")";
+    if (i > 0) {
+      EXPECT_GT(lumaChange(sampled[i - 1], sampled[i]), 1.0)
+          << "frames " << (i - 1) * 10 << " and " << i * 10 << " are alike";
+    }
+  }
   // Every output frame is in the file, a missed field repeated in its place so the video keeps
   // time: two fields per interlaced frame (a last lone field is completed at close), 4:2:0 320×240.
   const int frames = y4mFrames(320 * 240 * 3 / 2);
   EXPECT_EQ(frames, (static_cast<int>(emitted + missed) + 1) / 2) << r.output;
+}
+
+TEST_F(ServiceRun, WarmsUpBeforeTheFirstFieldAndReportsTheStartUp) {
+  const RunResult r = run("--config " + config() + " --duration 2");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json s = summary();
+  const nlohmann::json& startup = s.at("startup");
+  // The field thread warped a real frame before the field clock existed, and the first field's
+  // deadline lies after that warm-up.
+  EXPECT_GE(startup.at("warm_up_frame").get<int>(), 1) << s.dump(2);
+  EXPECT_GT(startup.at("warm_up_warp_ms").get<double>(), 0.0) << s.dump(2);
+  EXPECT_GT(startup.at("first_wake_after_warm_up_ms").get<double>(), 0.0) << s.dump(2);
+  EXPECT_TRUE(startup.at("memory_locked").is_boolean());
+  EXPECT_TRUE(startup.at("tile_misses").is_number_unsigned());
+  EXPECT_LE(s.at("fields_missed_first_second").get<double>(), missedAllowance(1.0)) << s.dump(2);
+  // Fallbacks by reason add up to the total.
+  const nlohmann::json& reasons = s.at("warp_fallbacks_by_reason");
+  EXPECT_EQ(reasons.at("few_points").get<int>() + reasons.at("all_sky").get<int>() +
+                reasons.at("degenerate").get<int>() + reasons.at("no_range_image").get<int>(),
+            s.at("warp_fallbacks").get<int>());
+  // The log's tile misses are per interval (the start-up's are in the summary).
+  EXPECT_NE(r.output.find("start-up: "), std::string::npos) << r.output;
+}
+
+TEST_F(ServiceRun, VisibilityDefaultsFromTheDatabaseAndTheKeyIsHonoured) {
+  // The 1 km test terrain: three quarters of its extent is below the 3 km floor.
+  const RunResult byExtent = run("--config " + config() + " --duration 0.5");
+  ASSERT_EQ(byExtent.exitCode, 0) << byExtent.output;
+  EXPECT_EQ(summary().at("visibility_m").get<double>(), 3000.0) << summary().dump(2);
+  EXPECT_NE(byExtent.output.find("visibility 3000 m (from the database's extent)"), std::string::npos);
+  const RunResult given = run("--config " + config("") + " --set render.visibility_m=1800 --duration 0.5");
+  ASSERT_EQ(given.exitCode, 0) << given.output;
+  EXPECT_EQ(summary().at("visibility_m").get<double>(), 1800.0) << summary().dump(2);
+}
+
+TEST_F(ServiceRun, AFlightThatEndsWithStopEndsTheRun) {
+  std::ofstream(mDir / "short.toml") << R"(name = "short"
+end = "stop"
+[[waypoint]]
+t = 0
+position = [100.0, 100.0, 350.0]
+[[waypoint]]
+t = 1.5
+position = [300.0, 400.0, 340.0]
+)";
+  // No --duration: the flight's end ends the run, with every field up to it accounted for.
+  const RunResult r = run("--config " + config("") + " --set motion.flight=" + (mDir / "short.toml").string(), 60);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json s = summary();
+  const double fields = s.at("fields_emitted").get<double>() + s.at("fields_missed").get<double>();
+  EXPECT_GT(fields, 1.5 * 60000.0 / 1001.0 - 5.0) << s.dump(2);
+  EXPECT_LT(fields, 1.5 * 60000.0 / 1001.0 + 5.0) << s.dump(2);
 }
 
 TEST_F(ServiceRun, SigtermMidRunStopsCleanlyWithACompleteFile) {
@@ -183,14 +297,16 @@ TEST_F(ServiceRun, FrameTimeControllerCoarsensAndTheSummarySaysHowFar) {
 TEST_F(ServiceRun, TheChannelLooksWhereItsViewOffsetPoints) {
   // Straight ahead the lower half of the picture is terrain; the same flight with the channel's
   // eye pitched 90° up sees sky there, which is much brighter. An offset that did not reach the
-  // renderer and the warp would leave the two pictures alike.
-  const RunResult ahead = run("--config " + config() + " --duration 2");
+  // renderer and the warp would leave the two pictures alike (within a few levels). The haze is
+  // held at 12 km: the test terrain's default (3 km) lightens the terrain towards the sky's colour.
+  const RunResult ahead = run("--config " + config() + " --set render.visibility_m=12000 --duration 2");
   ASSERT_EQ(ahead.exitCode, 0) << ahead.output;
   const double aheadLuma = lastFrameLuma(120, 240);
-  const RunResult up = run("--config " + config("[view]\noffset_deg = [0, 90, 0]\n") + " --duration 2");
+  const RunResult up =
+      run("--config " + config("[view]\noffset_deg = [0, 90, 0]\n") + " --set render.visibility_m=12000 --duration 2");
   ASSERT_EQ(up.exitCode, 0) << up.output;
   const double upLuma = lastFrameLuma(120, 240);
-  EXPECT_GT(upLuma, aheadLuma + 40.0) << "ahead " << aheadLuma << ", up " << upLuma;
+  EXPECT_GT(upLuma, aheadLuma + 25.0) << "ahead " << aheadLuma << ", up " << upLuma;
   EXPECT_EQ(summary().at("fields_black").get<int>(), 0);
 }
 

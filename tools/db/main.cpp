@@ -1,7 +1,7 @@
 // fieldcast-db: the terrain database tool.
 //   fieldcast-db build --builtin [--size N --seed S --spacing M] -o out.fctdb
 //   fieldcast-db build --dem elevation.tif [--ortho photo.jpg] -o out.fctdb
-//   fieldcast-db info db.fctdb          header, levels, sizes, compression, the data's height range
+//   fieldcast-db info db.fctdb          header, georeference, levels, sizes, compression, height ranges
 //   fieldcast-db verify db.fctdb        reads and checks every tile; exit 1 on any failure
 //   fieldcast-db preview db.fctdb -o level.png [--level L] [--shaded]
 //   fieldcast-db landmarks [--size N --seed S --spacing M]
@@ -9,6 +9,7 @@
 
 #include <ig_core/BuiltinTerrain.h>
 #include <ig_core/ElevationImport.h>
+#include <ig_core/Georeference.h>
 #include <ig_core/TerrainBuilder.h>
 #include <ig_core/TerrainDatabase.h>
 
@@ -134,6 +135,9 @@ int runBuild(const BuildArgs& a) {
     std::printf("%s: %dx%d voxels, spacing %.3f m, origin (%.1f, %.1f), heights %.2f .. %.2f m, %zu nodata filled\n",
                 a.dem.c_str(), dem.widthVox, dem.heightVox, dem.spacingM, dem.originM.x, dem.originM.y, dem.minM,
                 dem.maxM, dem.nodataFilled);
+    std::printf(
+        "%s: georeference %s\n", a.dem.c_str(),
+        dem.crs.empty() ? "none (the file gives no CRS)" : Georeference::fromCrs(dem.crs).description().c_str());
     grid = quantiseElevation(dem);
     if (!a.ortho.empty()) {
       OrthophotoPlacement placement;
@@ -193,15 +197,46 @@ StoredHeightRange scanLevel0Heights(const DatabaseReader& reader) {
   return r;
 }
 
+/// The CRS and where the grid's corner voxels lie on the Earth; or how a database without a CRS is
+/// placed (the tangent plane the host link uses).
+void printGeoreference(const DatabaseLayout& l) {
+  const TerrainGeometry& g = l.geometry;
+  if (l.crs.empty()) {
+    std::printf("  georef      none (%s); latitude/longitude map onto the %s, world (0, 0) there\n",
+                l.version < 2 ? "a version 1 database" : "no CRS", Georeference::tangentPlane().description().c_str());
+    return;
+  }
+  try {
+    const Georeference geo = Georeference::fromCrs(l.crs);
+    std::printf("  georef      %s: world x, y are its easting and northing\n", geo.description().c_str());
+    std::printf("  crs         %s\n", l.crs.c_str());
+    const auto corner = [&](int i, int j) {
+      const glm::dvec3 world(g.originM.x + i * g.spacingM, g.originM.y + j * g.spacingM, 0.0);
+      const std::optional<GeodeticPosition> p = geo.toGeodetic(world);
+      char text[64] = "outside the CRS's domain";
+      if (p) {
+        std::snprintf(text, sizeof text, "%.6f %s, %.6f %s", std::fabs(p->latitudeDeg), p->latitudeDeg < 0 ? "S" : "N",
+                      std::fabs(p->longitudeDeg), p->longitudeDeg < 0 ? "W" : "E");
+      }
+      return std::string(text);
+    };
+    std::printf("  corners     voxel centres: south-west %s, north-east %s (WGS 84)\n", corner(0, 0).c_str(),
+                corner(g.widthVox - 1, g.heightVox - 1).c_str());
+  } catch (const GeoreferenceError& e) {
+    std::printf("  georef      unusable: %s\n  crs         %s\n", e.what(), l.crs.c_str());
+  }
+}
+
 int runInfo(const std::string& path) {
   const DatabaseReader reader(path);
   const DatabaseLayout& l = reader.layout();
   const TerrainGeometry& g = l.geometry;
   const StoredHeightRange stored = scanLevel0Heights(reader);
-  std::printf("%s: Fieldcast terrain database, version %u\n", path.c_str(), kDatabaseVersion);
+  std::printf("%s: Fieldcast terrain database, version %u\n", path.c_str(), l.version);
   std::printf("  grid        %d x %d voxels, spacing %.3f m (%.1f x %.1f km)\n", g.widthVox, g.heightVox, g.spacingM,
               g.widthVox * g.spacingM / 1000.0, g.heightVox * g.spacingM / 1000.0);
   std::printf("  origin      voxel (0,0) centre at x %.3f, y %.3f m\n", g.originM.x, g.originM.y);
+  printGeoreference(l);
   if (stored.tilesRead > 0) {
     std::printf("  heights     data %.2f .. %.2f m (lowest and highest voxel, from all %llu level-0 tiles%s)\n",
                 g.heightM(stored.minQ), g.heightM(stored.maxQ), static_cast<unsigned long long>(stored.tilesRead),

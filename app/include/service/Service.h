@@ -22,8 +22,9 @@ class Service {
   Service(const Service&) = delete;
   Service& operator=(const Service&) = delete;
 
-  /// Starts the render thread, waits for its first frame (so the video does not open on black
-  /// longer than the first render takes), starts the outputs and the field thread. Throws on failure.
+  /// Locks memory where allowed, opens the outputs, starts the render thread and waits for its
+  /// first frame, then starts the field thread, which warms up (one warp of that frame) before the
+  /// field clock and its first deadline exist. Throws on failure.
   void start();
   /// False once a thread has hit a fatal error (see fatalError()) or the run's duration is over.
   bool running() const noexcept;

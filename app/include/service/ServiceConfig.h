@@ -1,15 +1,18 @@
 #pragma once
 // The service configuration: config/fieldcast.toml, validated. Composition only: each module
 // reads its own section into its own settings (ig_core [terrain] and [render], prp_warp [warp],
-// io_bridge [output], [sinks] and [input], motion [motion]); the service reads [view], [metrics]
-// and [threads]. Every key is documented in config/README.md; an unknown key, a wrong type or a
+// io_bridge [output], [sinks] and [input], motion [motion]); the service reads [view], [host],
+// [metrics] and [threads]. Every key is documented in config/README.md; an unknown key, a wrong type or a
 // value out of range is an error naming the file, line and key.
 
+#include <ig_core/Georeference.h>
 #include <ig_core/RenderConfig.h>
 #include <ig_core/TerrainConfig.h>
+#include <io_bridge/HostLink.h>
 #include <io_bridge/InputConfig.h>
 #include <io_bridge/SinksConfig.h>
 #include <io_bridge/StreamFormat.h>
+#include <motion/HostMotion.h>
 #include <motion/MotionConfig.h>
 #include <prp_warp/PrpSettings.h>
 
@@ -30,6 +33,14 @@ struct MetricsConfig {
   std::filesystem::path summaryJson;  ///< JSON summary written at exit; empty: none
 };
 
+/// [host]: the CIGI host link, used when motion.source = "host".
+struct HostConfig {
+  io::HostLinkConfig link;
+  motion::HostMotionOptions motion;
+  std::int8_t databaseNumber = 1;  ///< what Start of Frame reports as the loaded database
+  core::GeodeticOrigin origin = core::kBuiltinTerrainOrigin;  ///< world (0, 0) of a database without a CRS
+};
+
 /// [threads]: scheduling.
 struct ThreadsConfig {
   bool realtimeFieldThread = true;  ///< ask for SCHED_FIFO for the field thread
@@ -45,6 +56,7 @@ struct ServiceConfig {
   warp::PrpSettings warp;
   io::StreamFormat output;
   motion::MotionConfig motion;
+  HostConfig host;
   io::SinksConfig sinks;
   io::InputConfig input;
   MetricsConfig metrics;

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -35,8 +36,21 @@ struct ServiceCounters {
   std::atomic<std::uint64_t> fieldsMissed{0};      ///< deadlines passed without a field
   std::atomic<std::uint64_t> marginViolations{0};  ///< output pixels sampled outside the frame
   std::atomic<std::uint64_t> warpFallbacks{0};     ///< fields warped by the rotation-only fallback
+  /// warpFallbacks by reason: few points, all sky, degenerate, no range image (FallbackReason − 1).
+  std::atomic<std::uint64_t> warpFallbacksByReason[4]{};
+  std::atomic<std::uint64_t> fieldsMissedFirstSecond{0};  ///< of fieldsMissed, those of the run's first second
   std::atomic<std::uint64_t> qualityMilliSum{0};   ///< frames' quality knobs × 1000, summed (see recordFrame)
   std::atomic<std::uint64_t> framesGrazing{0};     ///< frames rendered with the grazing-angle rule on
+};
+
+/// How the run started (the field clock's start-up, DESIGN.md §4): set once, before the first field.
+struct StartupFigures {
+  double toFirstFieldS = 0.0;        ///< Service::start() → the first field's wake-up
+  double warmUpWarpMs = 0.0;         ///< the field thread's warm-up warp (before the field clock started)
+  std::uint64_t warmUpFrame = 0;     ///< number of the frame it warped (0: none)
+  double firstWakeAfterWarmUpMs = 0.0;  ///< the first field's wake-up − the end of the warm-up
+  bool memoryLocked = false;         ///< mlockall(MCL_CURRENT | MCL_FUTURE) granted
+  std::uint64_t tileMisses = 0;      ///< terrain samples answered by a coarser level before the first field
 };
 
 /// Figures of the whole run, for --summary and the end-of-run log.
@@ -48,6 +62,11 @@ struct ServiceFigures {
   std::uint64_t fieldsMissed = 0;
   std::uint64_t marginViolations = 0;
   std::uint64_t warpFallbacks = 0;
+  std::uint64_t fallbacksFewPoints = 0, fallbacksAllSky = 0, fallbacksDegenerate = 0, fallbacksNoRange = 0;
+  std::uint64_t fieldsMissedFirstSecond = 0;
+  StartupFigures startup;
+  std::uint64_t tileMissesRun = 0;  ///< tile misses after the start-up (startup.tileMisses before it)
+  double visibilityM = 0.0;         ///< the haze range rendered with
   double meanQuality = 0.0;  ///< mean quality knob over the frames rendered (0 when none)
   std::uint64_t framesGrazing = 0;
   DurationSummary render, warp, frameAge, jitter, stickLatency;
@@ -83,6 +102,22 @@ class ServiceMetrics {
   /// Call from one thread (the metrics/main thread).
   std::string intervalLine(TimePoint now);
 
+  /// Records how the run started and the terrain's tile-miss total at the first field (the
+  /// start-up's misses). Call once, before the first field, from the thread that starts them.
+  void setStartup(const StartupFigures& startup) noexcept {
+    mStartup = startup;
+    mLastTileMisses = startup.tileMisses;
+  }
+  /// The tile misses since the previous call (the first call: since the start-up), given the
+  /// terrain's running total (TileCacheStats::viewMisses). Call from the intervalLine thread.
+  std::uint64_t tileMissesSince(std::uint64_t total) noexcept {
+    const std::uint64_t delta = total >= mLastTileMisses ? total - mLastTileMisses : 0;
+    mLastTileMisses = std::max(total, mLastTileMisses);
+    return delta;
+  }
+  /// The haze range the frames are rendered with, for the summary.
+  void setVisibility(double visibilityM) noexcept { mVisibilityM = visibilityM; }
+
   /// Render rate of the last interval reported by intervalLine(), Hz.
   double lastRenderHz() const noexcept { return mLastRenderHz; }
 
@@ -102,6 +137,9 @@ class ServiceMetrics {
   std::uint64_t mLastQualityMilli = 0;
   std::uint64_t mLastGrazing = 0;
   double mLastRenderHz = 0.0;
+  StartupFigures mStartup;
+  std::uint64_t mLastTileMisses = 0;
+  double mVisibilityM = 0.0;
 };
 
 /// The figures as JSON (seconds, counts), with `extra` fields merged at the top level.

@@ -54,8 +54,8 @@ inline std::uint32_t windowColour(const CasterFrame& f, CasterThread& t, TileWin
                                       Crossing& x, double blend) noexcept {
   const int l = x.level;
   const double p = pow2(l);
-  const double mMaj = (x.i + 0.5) * p - 0.5;
-  const double mMin = (x.j + 0.5 + x.phi) * p - 0.5;
+  const double mMaj = (x.i + 0.5 + (x.onMinorLine ? x.phi : 0.0)) * p - 0.5;
+  const double mMin = (x.j + 0.5 + (x.onMinorLine ? 0.0 : x.phi)) * p - 0.5;
   const double ux = levelIndex(c.xMajor ? mMaj : mMin, l + 1);
   const double uy = levelIndex(c.xMajor ? mMin : mMaj, l + 1);
   const int x0 = floorToInt(ux);
@@ -112,6 +112,22 @@ __attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFram
   return x.colour;
 }
 
+// Colour of a crossing on a grid line of the minor axis (Crossing::onMinorLine): linear along that
+// line between voxels (i, j) and (i + 1, j), blended with the next level as crossingColour does.
+[[gnu::noinline]] void minorLineColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                                       Crossing& x) noexcept {
+  const int l = x.level;
+  const int vx = c.xMajor ? x.i : x.j;
+  const int vy = c.xMajor ? x.j : x.i;
+  const std::uint32_t c0 = windowColour(f, t, w, l, vx, vy);
+  const std::uint32_t c1 = c.xMajor ? windowColour(f, t, w, l, vx + 1, vy) : windowColour(f, t, w, l, vx, vy + 1);
+  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
+  x.haveColour = true;
+  if (!f.blend || l + 1 >= f.levels) return;
+  const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
+  if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
+}
+
 // Fills the sub-rows of a supersampled column (several per pixel) between two crossings, as
 // fillSpanReference does for one per pixel; the sink averages them into pixels.
 __attribute__((always_inline)) inline void fillSpanSubRows(const CrossingSpan span, const ColumnFill& column,
@@ -121,6 +137,14 @@ __attribute__((always_inline)) inline void fillSpanSubRows(const CrossingSpan sp
   forEachSpanRow(span, column, shading, vStop, qInOut, vqInOut,
                  [&](int q, const SpanPixel& p) { sink.emit(q, p.colour, p.rangeM); });
 }
+
+// Where a voxel spans at least this many pixels, a fill between two crossings of the major axis is
+// split at the crossings of the minor axis's grid lines between them. Every column then samples
+// the terrain on the grid lines of both axes, so the image does not change where the columns' major
+// axis does (looking along a grid diagonal). Farther away a fill covers a few pixels and the extra
+// crossings would cost more than they show: splitting every fill made the bench's frames 1.2–2×
+// slower (measured on a loaded machine).
+constexpr double kMinorLinesVoxelPx = 4.0;
 
 // Where the ray of the next sub-row ended its march (marchPlaneAxis's advanceRowRay), and why.
 struct RowRayEnd {
@@ -184,6 +208,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double nZ = c.nZ, upZ = c.upZ, fwdZ = c.fwdZ;
   double p = 0, gA = 0, baseStep = 0, minOffset = 0, yMinor = 0, zMinor = 0, yStep = 0, zStep = 0;
   double switchDepth = 0;
+  // Nearer than this a voxel of the level spans kMinorLinesVoxelPx pixels or more: there the fills
+  // are bounded by the minor axis's grid lines too (see the fill below).
+  const double minorLinesDepth0 = k.fxPx / (f.unitsPerM * kMinorLinesVoxelPx);
+  double minorLinesDepth = 0;
   int majLast = 0, minLast = 0;
   const auto enterLevel = [&](int lv) __attribute__((always_inline)) {
     p = pow2(lv);
@@ -195,6 +223,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     yStep = c.upMaj * sx * p;
     zStep = c.fwdMaj * sx * p;
     switchDepth = lv + 1 < f.levels ? lodDepth * p : std::numeric_limits<double>::infinity();
+    minorLinesDepth = minorLinesDepth0 * p;
     // The register window belongs to the old level.
     tileHeights = nullptr;
     wx0 = std::numeric_limits<int>::min() / 4;
@@ -400,6 +429,71 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     steps += 2 * static_cast<std::uint64_t>(lines);
     return {end, line, minor, dMinor};
   };
+  // Fills the sub-rows from the next one up to `to`'s row, which see the terrain between the
+  // crossings `from` and `to`, interpolated perspective-correctly; true when the column is full.
+  const auto fillBetween = [&](Crossing & from, Crossing & to) __attribute__((always_inline))->bool {
+    // (Only a crossing that fills rows is projected to its row and coloured.)
+    const double fromInvDepth = 1.0 / from.depth;
+    const double toInvDepth = 1.0 / to.depth;
+    const double fromV = k.cyPx - k.fyPx * from.yc * fromInvDepth;
+    const double toV = k.cyPx - k.fyPx * to.yc * toInvDepth;
+    const CrossingSpan span{static_cast<float>(fromV),
+                            static_cast<float>(1.0 / (toV - fromV)),
+                            static_cast<float>(fromInvDepth),
+                            static_cast<float>(toInvDepth),
+                            crossingColour(f, t, window, c, from),
+                            crossingColour(f, t, window, c, to)};
+    const int qFirst = q;
+    if (sink.s != 1) {
+      fillSpanSubRows(span, fill, sink, toV, q, vq);
+    } else if (fill.shading.grey) {
+      fillSpan<true>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, toV, q, vq);
+    } else {
+      fillSpan<false>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, toV, q, vq);
+    }
+    rowSlope = (k.cyPx - vq) * invFy;
+    if (grazingLod) {
+      stretch = stretchOfRow(q);
+      switchZc = switchDepth / stretch;
+    }
+    t.rays += static_cast<std::uint64_t>(qFirst - q);
+    return q < 0;
+  };
+  // The crossings of the minor axis's grid lines that lie strictly between crossing `from` on line
+  // i − sx and `to` on line i (both of the current level), in order from `from`, at most two. On
+  // minor line m the terrain is linear along the major axis between voxels (i − sx, m) and (i, m),
+  // and the plane's g changes along it by baseStep + nZ·Δh: a crossing where g changes sign.
+  const auto solveMinorLines = [&](const Crossing& from, const Crossing& to, Crossing* out) -> int {
+    const double a = from.j + from.phi;
+    const double b = to.j + to.phi;
+    const int step = b > a ? 1 : -1;
+    int m = b > a ? floorToInt(a) + 1 : ceilToInt(a) - 1;
+    int found = 0;
+    const double baseFrom = base - baseStep, yFrom = yLine - yStep, zFrom = zLine - zStep;
+    for (int n = 0; n < 2 && (m - b) * step < 0.0; ++n, m += step) {
+      const double h0 = height(level, i - sx, m);
+      const double h1 = height(level, i, m);
+      const double g0 = gA * m + nZ * h0 + baseFrom;
+      const double g1 = g0 + baseStep + nZ * (h1 - h0);
+      steps += 2;
+      if ((g0 > 0.0) == (g1 > 0.0)) continue;  // the column's terrain passes this line beyond the two
+      const double psi = g0 / (g0 - g1);        // fraction from line i − sx toward line i
+      const double h = h0 + psi * (h1 - h0);
+      const double zc = zFrom + psi * zStep + m * zMinor + h * fwdZ;
+      if (!(zc > 1e-6)) continue;
+      Crossing& x = out[found++];
+      x.yc = yFrom + psi * yStep + m * yMinor + h * upZ;
+      x.depth = zc;
+      x.lodDepth = zc * stretch;
+      x.level = level;
+      x.i = sx > 0 ? i - 1 : i;
+      x.phi = sx > 0 ? psi : 1.0 - psi;
+      x.j = m;
+      x.onMinorLine = true;
+      x.haveColour = false;
+    }
+    return found;
+  };
   for (;;) {
     if (prevP->depth > pauseDepth) {
       // Past the depth band: the next columns march it before this one goes on.
@@ -508,36 +602,33 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     skippedSincePrev = false;
     beforeSeed = kNoSeed;
     if (fills) {
-      // (Only a crossing that fills rows is projected to its row and coloured.)
-      const double prevInvDepth = 1.0 / prev.depth;
-      const double curInvDepth = 1.0 / cur.depth;
-      const double prevV = k.cyPx - k.fyPx * prev.yc * prevInvDepth;
-      const double curV = k.cyPx - k.fyPx * cur.yc * curInvDepth;
-      // The sub-rows from the next one up to this crossing's row see the terrain between the two
-      // grid lines.
-      const CrossingSpan span{static_cast<float>(prevV),
-                              static_cast<float>(1.0 / (curV - prevV)),
-                              static_cast<float>(prevInvDepth),
-                              static_cast<float>(curInvDepth),
-                              crossingColour(f, t, window, c, prev),
-                              crossingColour(f, t, window, c, cur)};
-      const int qFirst = q;
-      if (sink.s != 1) {
-        fillSpanSubRows(span, fill, sink, curV, q, vq);
-      } else if (fill.shading.grey) {
-        fillSpan<true>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, curV, q, vq);
+      // Between two lines of the major axis the column's terrain may cross lines of the minor axis:
+      // their crossings bound the fill too. Without them a column sampled only the lines of its
+      // own major axis, and where the columns' major axis changes (looking along a grid diagonal)
+      // the image changed from one set of samples to the other in one column: a seam, plain close
+      // up where a voxel spans many rows (DiagonalSeam test).
+      Crossing onMinor[2];
+      int minorCrossings = 0;
+      if (cur.depth < minorLinesDepth && prev.level == level && prev.i == i - sx) {
+        minorCrossings = solveMinorLines(prev, cur, onMinor);
+      }
+      Crossing* from = &prev;
+      for (int m = 0; m < minorCrossings; ++m) {
+        Crossing& mid = onMinor[m];
+        minorLineColour(f, t, window, c, mid);
+        if (mid.yc > rowSlope * mid.depth && fillBetween(*from, mid)) {
+          recordStop(mid);
+          return -1;
+        }
+        from = &mid;
+      }
+      if (cur.yc > rowSlope * cur.depth) {
+        if (fillBetween(*from, cur)) {
+          recordStop(cur);
+          return -1;
+        }
       } else {
-        fillSpan<false>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, curV, q, vq);
-      }
-      rowSlope = (k.cyPx - vq) * invFy;
-      if (grazingLod) {
-        stretch = stretchOfRow(q);
-        switchZc = switchDepth / stretch;
-      }
-      t.rays += static_cast<std::uint64_t>(qFirst - q);
-      if (q < 0) {
-        recordStop(cur);
-        return -1;
+        lastFilledNothing = true;  // a crossing of a minor line hides it
       }
     }
     std::swap(prevP, curP);

@@ -53,6 +53,9 @@ struct Crossing {
   int level = 0;
   int i = 0;  ///< level-L major index of the grid line
   int j = 0;  ///< minor segment j .. j+1 (level-L indices)
+  /// On a grid line of the minor axis instead (see marchPlaneAxis): j is that line, the crossing
+  /// lies on major segment i .. i+1 at fraction phi.
+  bool onMinorLine = false;
   bool haveColour = false;
   Rgb colour;
 };

@@ -1,5 +1,7 @@
 #include <ig_core/RenderConfig.h>
 
+#include <algorithm>
+
 namespace fieldcast::core {
 
 RenderConfig readRenderConfig(ConfigReader& t, int defaultWidthPx, int defaultHeightPx) {
@@ -19,8 +21,12 @@ RenderConfig readRenderConfig(ConfigReader& t, int defaultWidthPx, int defaultHe
   s.colourMode = t.boolean("grey", false) ? FrameColour::Grey : FrameColour::Rgb;
   c.widthPx = static_cast<int>(t.integer("width", defaultWidthPx, 16, 8192));
   c.heightPx = static_cast<int>(t.integer("height", defaultHeightPx, 16, 8192));
+  c.visibilityGiven = t.has("visibility_m");
+  if (c.visibilityGiven) s.hazeRangeM = t.number("visibility_m", s.hazeRangeM, 0.0, 1e7);
   t.finish();
   return c;
 }
+
+double defaultVisibilityM(double extentM) noexcept { return std::max(3000.0, 0.75 * extentM); }
 
 }  // namespace fieldcast::core

@@ -13,9 +13,10 @@ namespace {
 
 struct SweepPose {
   double headingDeg, pitchDeg, altitudeM, fovDeg;
+  int displayWidthPx = 80;
 };
 
-// Heading all round, pitch −2°..−89°, altitude 20 m..5 km, field of view 20°..90°.
+// Heading all round, pitch −2°..−89°, altitude 20 m..5 km, field of view 20°..90°; and the diagonals.
 std::vector<SweepPose> sweep() {
   const std::array<double, 8> pitches{-2, -5, -10, -20, -35, -55, -75, -89};
   const std::array<double, 6> altitudes{20, 60, 200, 700, 2000, 5000};
@@ -25,6 +26,13 @@ std::vector<SweepPose> sweep() {
     poses.push_back({std::fmod(17.0 + k * 137.5, 360.0), pitches[static_cast<std::size_t>(k % 8)],
                      altitudes[static_cast<std::size_t>((k * 5) % 6)], fovs[static_cast<std::size_t>((k * 3) % 4)]});
   }
+  // Along the grid diagonals, where the columns' major axis changes (DiagonalSeam): an 81-pixel
+  // display's centre column looks exactly along the heading.
+  poses.push_back({45.0, -8.0, 20.0, 70.0, 81});
+  poses.push_back({135.0, -20.0, 60.0, 45.0, 81});
+  poses.push_back({225.0, -35.0, 200.0, 90.0, 81});
+  poses.push_back({315.0, -5.0, 20.0, 20.0, 81});
+  poses.push_back({44.99, -12.0, 60.0, 45.0, 81});
   return poses;
 }
 
@@ -41,7 +49,7 @@ void sweepAgainstTheReference(double maxAnisotropy) {
   for (const SweepPose& s : sweep()) {
     ViewRequest request;
     request.pose = poseAbove(view, 420.0, 380.0, s.altitudeM, s.headingDeg, s.pitchDeg);
-    request.display = Intrinsics::fromHorizontalFov(80, 60, radians(s.fovDeg));
+    request.display = Intrinsics::fromHorizontalFov(s.displayWidthPx, 60, radians(s.fovDeg));
     const Frame fast = renderer.render(request);
     const Frame ref = reference.render(request, settings);
     const HitAgreement a = compareHits(fast, ref, view.geometry(), settings);

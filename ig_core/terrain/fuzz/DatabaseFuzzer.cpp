@@ -32,7 +32,13 @@ void repairChecksums(std::vector<std::byte>& file) {
       std::memcpy(e + 16, &sum, 8);
     }
   }
-  const std::uint64_t indexSum = XXH3_64bits(file.data() + kDatabaseHeaderBytes, entries * kTileIndexEntryBytes);
+  // Version 2: the checksum covers the georeference after the index too.
+  std::uint32_t version = 0, georeferenceBytes = 0;
+  std::memcpy(&version, file.data() + 8, 4);
+  if (version >= 2) std::memcpy(&georeferenceBytes, file.data() + 112, 4);
+  const std::uint64_t covered =
+      std::min<std::uint64_t>(entries * kTileIndexEntryBytes + georeferenceBytes, file.size() - kDatabaseHeaderBytes);
+  const std::uint64_t indexSum = XXH3_64bits(file.data() + kDatabaseHeaderBytes, covered);
   std::memcpy(file.data() + 96, &indexSum, 8);
   const std::uint64_t headerSum = XXH3_64bits(file.data(), 120);
   std::memcpy(file.data() + 120, &headerSum, 8);
@@ -47,8 +53,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::span<const std::byte> bytes(file);
   try {
     const DatabaseLayout layout = parseDatabaseHeader(bytes.first(std::min(size, kDatabaseHeaderBytes)), size, "fuzz");
+    const std::size_t indexBytes = layout.tileCount * kTileIndexEntryBytes;
     const std::vector<TileIndexEntry> index =
-        parseTileIndex(bytes.subspan(kDatabaseHeaderBytes, layout.tileCount * kTileIndexEntryBytes), layout, "fuzz");
+        parseTileIndex(bytes.subspan(kDatabaseHeaderBytes, indexBytes), layout, "fuzz");
+    (void)parseGeoreference(bytes.subspan(kDatabaseHeaderBytes + indexBytes, layout.georeferenceBytes), "fuzz");
     TileBuffers tile;
     for (std::size_t k = 0; k < std::min<std::size_t>(index.size(), 4); ++k) {
       try {

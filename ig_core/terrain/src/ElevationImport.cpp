@@ -12,7 +12,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <numbers>
 
 namespace fieldcast::core {
 namespace detail {
@@ -60,7 +59,10 @@ RawElevation readElevationImage(const std::filesystem::path& path, const ImportO
     spdlog::warn("{}: 8-bit heights: only 256 levels of elevation", name);
   }
   GeoTiffInfo geo;
-  if (std::string(in->format_name()) == "tiff") geo = readGeoTiffTags(path);
+  if (std::string(in->format_name()) == "tiff") {
+    checkTiffComplete(path);
+    geo = readGeoTiffTags(path);
+  }
   const std::optional<double> nodata = options.nodata ? options.nodata : geo.nodata;
 
   RawElevation out;
@@ -68,8 +70,12 @@ RawElevation readElevationImage(const std::filesystem::path& path, const ImportO
   out.height = spec.height;
   const auto count = static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height);
   std::vector<std::byte> buffer(count * format.size());
-  if (!in->read_image(0, 0, 0, 1, format, buffer.data())) {
-    throw ImportError(name + ": cannot read the pixels: " + in->geterror());
+  // A strip that does not decode leaves an error behind even when read_image returns true
+  // (OpenImageIO 2.4 fills it with zeros): either way the file cannot be read whole.
+  if (!in->read_image(0, 0, 0, 1, format, buffer.data()) || in->has_error()) {
+    std::string reason = in->geterror();
+    if (const auto end = reason.find('\n'); end != std::string::npos) reason.resize(end);
+    throw ImportError(name + ": cannot read the pixels (the file cannot be read whole): " + reason);
   }
   out.heightsM.resize(count);
   out.valid.resize(count);
@@ -86,27 +92,38 @@ RawElevation readElevationImage(const std::filesystem::path& path, const ImportO
   }
 
   if (geo.pixelSizeX && geo.pixelSizeY) {
-    double sx = *geo.pixelSizeX;
-    double sy = *geo.pixelSizeY;
+    const double sx = *geo.pixelSizeX;
+    const double sy = *geo.pixelSizeY;
     if (!(sx > 0.0) || !(sy > 0.0) || !std::isfinite(sx) || !std::isfinite(sy)) {
       throw ImportError(name + ": GeoTIFF pixel size " + std::to_string(sx) + " x " + std::to_string(sy) +
                         " is not positive (expected a north-up grid)");
     }
     if (geo.geographic) {
-      // Degrees: convert at the grid's centre latitude to a local metric frame (origin 0, 0).
-      const double lat = geo.tieY ? *geo.tieY - 0.5 * sy * out.height : 0.0;
-      sx *= 111320.0 * std::cos(lat * std::numbers::pi / 180.0);
-      sy *= 110574.0;
-      spdlog::warn("{}: geographic coordinates; using a local frame with {:.3f} m spacing", name, std::sqrt(sx * sy));
-      out.spacingM = std::sqrt(sx * sy);
-    } else {
-      if (std::fabs(sx - sy) > 0.01 * sx) {
-        throw ImportError(name + ": pixels are " + std::to_string(sx) + " x " + std::to_string(sy) +
-                          ", not square; resample to square pixels first (e.g. gdalwarp -tr)");
+      if (!geo.tieX || !geo.tieY) {
+        throw ImportError(name + ": geographic (degree) grid without a tie point: cannot place it");
       }
-      out.spacingM = sx;
-      if (geo.tieX && geo.tieY) {
-        out.originM = glm::dvec2(*geo.tieX + 0.5 * sx, *geo.tieY - (out.height - 0.5) * sy);
+      GeographicPlacement placement{*geo.tieX, *geo.tieY, sx, sy, "EPSG:4326"};
+      if (geo.epsg) {
+        placement.crs = "EPSG:" + std::to_string(*geo.epsg);
+      } else {
+        spdlog::warn("{}: geographic grid without an EPSG code in its GeoKeys; taking WGS 84 (EPSG:4326)", name);
+      }
+      return reprojectGeographic(out, placement, path);
+    }
+    if (std::fabs(sx - sy) > 0.01 * sx) {
+      throw ImportError(name + ": pixels are " + std::to_string(sx) + " x " + std::to_string(sy) +
+                        ", not square; resample to square pixels first (e.g. gdalwarp -tr)");
+    }
+    out.spacingM = sx;
+    if (geo.tieX && geo.tieY) {
+      out.originM = glm::dvec2(*geo.tieX + 0.5 * sx, *geo.tieY - (out.height - 0.5) * sy);
+      if (geo.epsg) {
+        out.crs = "EPSG:" + std::to_string(*geo.epsg);
+      } else {
+        spdlog::warn(
+            "{}: no EPSG code in the GeoKeys (user-defined or absent CRS); the database gets no "
+            "georeference",
+            name);
       }
     }
   }
@@ -209,6 +226,11 @@ ElevationGrid importElevation(const std::filesystem::path& path, const ImportOpt
   grid.heightsM = std::move(raw.heightsM);
   if (options.spacingM > 0.0) {
     grid.spacingM = options.spacingM;
+    if (!raw.crs.empty()) {
+      spdlog::warn("{}: the given spacing overrides the file's, so its georeference no longer fits: dropped",
+                   path.string());
+      raw.crs.clear();
+    }
   } else if (raw.spacingM) {
     grid.spacingM = *raw.spacingM;
     grid.spacingFromFile = true;
@@ -219,6 +241,7 @@ ElevationGrid importElevation(const std::filesystem::path& path, const ImportOpt
     throw ImportError(path.string() + ": voxel spacing " + std::to_string(grid.spacingM) + " is not positive");
   }
   grid.originM = raw.originM.value_or(glm::dvec2(0.0, 0.0));
+  grid.crs = raw.crs;
   const auto [lo, hi] = std::minmax_element(grid.heightsM.begin(), grid.heightsM.end());
   grid.minM = *lo;
   grid.maxM = *hi;
@@ -236,6 +259,7 @@ TerrainGrid quantiseElevation(const ElevationGrid& elevation) {
   grid.geometry.heightVox = elevation.heightVox;
   grid.geometry.spacingM = elevation.spacingM;
   grid.geometry.originM = elevation.originM;
+  grid.crs = elevation.crs;
   grid.geometry.heightBaseM = q.baseM;
   grid.geometry.heightStepM = q.stepM;
   grid.heightQ.resize(elevation.heightsM.size());

@@ -1,6 +1,7 @@
 // GeoTIFF georeferencing tags through libtiff (OpenImageIO 2.4 does not expose them).
 // Tags: ModelPixelScale 33550, ModelTiepoint 33922, ModelTransformation 34264,
-// GeoKeyDirectory 34735 (GTModelType 1024, GTRasterType 1025), GDAL_NODATA 42113.
+// GeoKeyDirectory 34735 (GTModelType 1024, GTRasterType 1025, GeographicType 2048,
+// ProjectedCSType 3072), GDAL_NODATA 42113.
 #include "ElevationReaders.h"
 
 #include <tiffio.h>
@@ -80,6 +81,7 @@ GeoTiffInfo readGeoTiffTags(const std::filesystem::path& path) {
   }
   const std::uint16_t* keys = nullptr;
   bool pixelIsPoint = false;
+  std::uint16_t geographicCode = 0, projectedCode = 0;
   if (getArray(tif.get(), kGeoKeyDirectory, count, keys) && count >= 4) {
     const std::uint32_t keyCount = keys[3];
     for (std::uint32_t k = 0; k < keyCount && 4 + 4 * k + 3 < count; ++k) {
@@ -87,8 +89,13 @@ GeoTiffInfo readGeoTiffTags(const std::filesystem::path& path) {
       if (key[1] != 0) continue;  // value stored elsewhere: not one of the short keys used here
       if (key[0] == 1024) info.geographic = key[3] == 2;
       if (key[0] == 1025) pixelIsPoint = key[3] == 2;
+      if (key[0] == 2048) geographicCode = key[3];
+      if (key[0] == 3072) projectedCode = key[3];
     }
   }
+  constexpr std::uint16_t kUserDefined = 32767;
+  const std::uint16_t code = info.geographic ? geographicCode : projectedCode;
+  if (code != 0 && code != kUserDefined) info.epsg = code;
   // PixelIsPoint: the tie point is the centre of pixel (0, 0), not its corner.
   if (pixelIsPoint && info.tieX && info.pixelSizeX && info.pixelSizeY) {
     *info.tieX -= 0.5 * *info.pixelSizeX;

@@ -45,6 +45,7 @@ BuildReport writeTerrainDatabase(const TerrainGrid& grid, const std::filesystem:
   layout.geometry.levels = 1;
   layout.geometry.levels = layout.geometry.maxLevels();
   layout.voxelColour = options.voxelColour;
+  layout.crs = grid.crs;
   const TerrainGeometry& g = layout.geometry;
   if (g.widthVox < 1 || g.heightVox < 1 || g.widthVox > kMaxDatabaseSideVox || g.heightVox > kMaxDatabaseSideVox ||
       options.tileShift < kMinTileShift || options.tileShift > kMaxTileShift) {

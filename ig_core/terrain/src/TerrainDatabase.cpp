@@ -40,6 +40,7 @@ constexpr std::size_t kOffTileCount = 80;
 constexpr std::size_t kOffIndexOffset = 88;
 constexpr std::size_t kOffIndexChecksum = 96;
 constexpr std::size_t kOffFileBytes = 104;
+constexpr std::size_t kOffGeoreferenceBytes = 112;  // version 2; reserved (0) in version 1
 constexpr std::size_t kOffHeaderChecksum = 120;
 constexpr std::uint32_t kTileEncodingDeltaZstd = 1;
 
@@ -133,9 +134,9 @@ DatabaseLayout parseDatabaseHeader(std::span<const std::byte> header, std::uint6
     fail(fileName, "not a Fieldcast terrain database (wrong magic; expected \"FCTERRDB\")");
   }
   const auto version = load<std::uint32_t>(header, kOffVersion);
-  if (version != kDatabaseVersion) {
-    fail(fileName, "unsupported database version " + std::to_string(version) + " (this build reads version " +
-                       std::to_string(kDatabaseVersion) + ")");
+  if (version < kOldestDatabaseVersion || version > kDatabaseVersion) {
+    fail(fileName, "unsupported database version " + std::to_string(version) + " (this build reads versions " +
+                       std::to_string(kOldestDatabaseVersion) + " to " + std::to_string(kDatabaseVersion) + ")");
   }
   if (load<std::uint64_t>(header, kOffHeaderChecksum) != xxh3(header.first(kOffHeaderChecksum))) {
     fail(fileName, "header checksum mismatch (corrupt header)");
@@ -145,6 +146,7 @@ DatabaseLayout parseDatabaseHeader(std::span<const std::byte> header, std::uint6
                        std::to_string(kDatabaseHeaderBytes));
   }
   DatabaseLayout layout;
+  layout.version = version;
   TerrainGeometry& g = layout.geometry;
   const auto width = load<std::uint32_t>(header, kOffWidth);
   const auto height = load<std::uint32_t>(header, kOffHeight);
@@ -201,6 +203,16 @@ DatabaseLayout parseDatabaseHeader(std::span<const std::byte> header, std::uint6
   if (layout.tileCount > (layout.fileBytes - kDatabaseHeaderBytes) / kTileIndexEntryBytes) {
     fail(fileName, "tile index of " + std::to_string(layout.tileCount) + " entries does not fit in the file");
   }
+  if (version >= 2) {
+    layout.georeferenceBytes = load<std::uint32_t>(header, kOffGeoreferenceBytes);
+    if (layout.georeferenceBytes > kMaxGeoreferenceBytes) {
+      fail(fileName, "georeference of " + std::to_string(layout.georeferenceBytes) + " bytes (at most " +
+                         std::to_string(kMaxGeoreferenceBytes) + ")");
+    }
+    if (layout.georeferenceBytes > layout.fileBytes - kDatabaseHeaderBytes - layout.tileCount * kTileIndexEntryBytes) {
+      fail(fileName, "georeference of " + std::to_string(layout.georeferenceBytes) + " bytes does not fit in the file");
+    }
+  }
   return layout;
 }
 
@@ -210,7 +222,7 @@ std::vector<TileIndexEntry> parseTileIndex(std::span<const std::byte> index, con
   if (index.size() != indexBytes) {
     fail(fileName, "tile index is " + std::to_string(index.size()) + " bytes, expected " + std::to_string(indexBytes));
   }
-  const std::uint64_t dataStart = kDatabaseHeaderBytes + indexBytes;
+  const std::uint64_t dataStart = kDatabaseHeaderBytes + indexBytes + layout.georeferenceBytes;
   const std::size_t maxCompressed = ZSTD_compressBound(rawTileBytes(layout.geometry.tileShift, layout.voxelColour));
   std::vector<TileIndexEntry> entries(static_cast<std::size_t>(layout.tileCount));
   for (std::size_t k = 0; k < entries.size(); ++k) {
@@ -240,7 +252,20 @@ std::vector<std::byte> serializeTileIndex(std::span<const TileIndexEntry> entrie
   return bytes;
 }
 
-std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout, std::span<const std::byte> indexBytes) {
+std::string parseGeoreference(std::span<const std::byte> block, const std::string& fileName) {
+  std::string text(block.size(), '\0');
+  for (std::size_t k = 0; k < block.size(); ++k) {
+    const auto c = static_cast<unsigned char>(block[k]);
+    if (c < 0x20 || c == 0x7F) {
+      fail(fileName, "georeference holds a control character at byte " + std::to_string(k) + " (corrupt?)");
+    }
+    text[k] = static_cast<char>(c);
+  }
+  return text;
+}
+
+std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout,
+                                               std::span<const std::byte> indexAndGeoreference) {
   std::vector<std::byte> header(kDatabaseHeaderBytes, std::byte{0});
   const std::span<std::byte> h(header);
   const TerrainGeometry& g = layout.geometry;
@@ -260,8 +285,9 @@ std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout, std
   store<std::uint32_t>(h, kOffTileEncoding, kTileEncodingDeltaZstd);
   store<std::uint64_t>(h, kOffTileCount, layout.tileCount);
   store<std::uint64_t>(h, kOffIndexOffset, kDatabaseHeaderBytes);
-  store<std::uint64_t>(h, kOffIndexChecksum, xxh3(indexBytes));
+  store<std::uint64_t>(h, kOffIndexChecksum, xxh3(indexAndGeoreference));
   store<std::uint64_t>(h, kOffFileBytes, layout.fileBytes);
+  store<std::uint32_t>(h, kOffGeoreferenceBytes, static_cast<std::uint32_t>(layout.crs.size()));
   store<std::uint64_t>(h, kOffHeaderChecksum, xxh3(std::span<const std::byte>(header).first(kOffHeaderChecksum)));
   return header;
 }
@@ -379,13 +405,17 @@ DatabaseReader::DatabaseReader(const std::filesystem::path& path) : mPath(path) 
     }
     readExactly(mFd, 0, header, name);
     mLayout = parseDatabaseHeader(header, fileBytes, name);
-    // parseDatabaseHeader has checked that the index fits inside the file.
-    std::vector<std::byte> index(static_cast<std::size_t>(mLayout.tileCount * kTileIndexEntryBytes));
-    readExactly(mFd, kDatabaseHeaderBytes, index, name);
-    if (xxh3(index) != load<std::uint64_t>(header, kOffIndexChecksum)) {
-      fail(name, "tile index checksum mismatch (corrupt index)");
+    // parseDatabaseHeader has checked that the index and the georeference fit inside the file.
+    const auto indexBytes = static_cast<std::size_t>(mLayout.tileCount * kTileIndexEntryBytes);
+    std::vector<std::byte> indexAndGeoreference(indexBytes + mLayout.georeferenceBytes);
+    readExactly(mFd, kDatabaseHeaderBytes, indexAndGeoreference, name);
+    if (xxh3(indexAndGeoreference) != load<std::uint64_t>(header, kOffIndexChecksum)) {
+      fail(name, mLayout.georeferenceBytes > 0 ? "tile index or georeference checksum mismatch (corrupt index)"
+                                               : "tile index checksum mismatch (corrupt index)");
     }
-    mIndex = parseTileIndex(index, mLayout, name);
+    const std::span<const std::byte> all(indexAndGeoreference);
+    mIndex = parseTileIndex(all.first(indexBytes), mLayout, name);
+    mLayout.crs = parseGeoreference(all.subspan(indexBytes), name);
   } catch (...) {
     ::close(mFd);
     throw;
@@ -422,10 +452,18 @@ DatabaseWriter::DatabaseWriter(std::filesystem::path path, const DatabaseLayout&
     fail(name, "a database stores every level down to one tile (" + std::to_string(mLayout.geometry.maxLevels()) +
                    "), got " + std::to_string(mLayout.geometry.levels));
   }
+  if (mLayout.crs.size() > kMaxGeoreferenceBytes) {
+    fail(name, "georeference of " + std::to_string(mLayout.crs.size()) + " bytes (at most " +
+                   std::to_string(kMaxGeoreferenceBytes) + ")");
+  }
+  // The writer's own check of what the reader will refuse.
+  (void)parseGeoreference(std::as_bytes(std::span(mLayout.crs)), name);
+  mLayout.version = kDatabaseVersion;
+  mLayout.georeferenceBytes = static_cast<std::uint32_t>(mLayout.crs.size());
   mLayout.tileCount = totalTileCount(mLayout.geometry);
   mIndex.resize(static_cast<std::size_t>(mLayout.tileCount));
   mWritten.assign(mIndex.size(), false);
-  mEnd = kDatabaseHeaderBytes + mLayout.tileCount * kTileIndexEntryBytes;
+  mEnd = kDatabaseHeaderBytes + mLayout.tileCount * kTileIndexEntryBytes + mLayout.georeferenceBytes;
   std::filesystem::path folder = mPath.parent_path();
   if (folder.empty()) folder = ".";
   // An unnamed file vanishes by itself if the build dies; it gets a name only once complete.
@@ -470,9 +508,11 @@ std::uint64_t DatabaseWriter::commit() {
     if (!mWritten[k]) fail(name, "tile " + std::to_string(k) + " was never written");
   }
   mLayout.fileBytes = mEnd;
-  const std::vector<std::byte> index = serializeTileIndex(mIndex);
-  const std::vector<std::byte> header = serializeDatabaseHeader(mLayout, index);
-  writeAt(kDatabaseHeaderBytes, index);
+  std::vector<std::byte> indexAndGeoreference = serializeTileIndex(mIndex);
+  const std::span<const std::byte> crs = std::as_bytes(std::span(mLayout.crs));
+  indexAndGeoreference.insert(indexAndGeoreference.end(), crs.begin(), crs.end());
+  const std::vector<std::byte> header = serializeDatabaseHeader(mLayout, indexAndGeoreference);
+  writeAt(kDatabaseHeaderBytes, indexAndGeoreference);
   writeAt(0, header);
   if (::fsync(mFd) != 0) fail(name, systemError("fsync failed"));
   if (mNamedTemp.empty()) {

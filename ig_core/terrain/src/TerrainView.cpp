@@ -73,7 +73,8 @@ double TerrainView::heightAtM(double xM, double yM, int level) const noexcept {
 
 void TerrainView::publish(int level, int tx, int ty, const TerrainTile* tile) noexcept {
   Level& l = mLevels[static_cast<std::size_t>(level)];
-  l.slots[static_cast<std::size_t>(ty * l.tilesX + tx)].store(tile, std::memory_order_release);
+  // seq_cst, not release: see tile() and TileCache::lease().
+  l.slots[static_cast<std::size_t>(ty * l.tilesX + tx)].store(tile, std::memory_order_seq_cst);
 }
 
 }  // namespace fieldcast::core

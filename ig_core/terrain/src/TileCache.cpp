@@ -58,9 +58,10 @@ FrameLease TileCache::lease() const noexcept {
   for (std::size_t k = 0; k < kLeaseSlots; ++k) {
     std::atomic<std::uint64_t>& slot = mLeases[(start + k) % kLeaseSlots].epoch;
     std::uint64_t expected = 0;
+    // Sequentially consistent, like the view's tile loads and stores and reclaim()'s slot loads:
+    // in their single total order either reclaim() sees this slot taken, or our tile loads see the
+    // withdrawal. Plain seq_cst operations rather than fences, so ThreadSanitizer can check it.
     if (slot.compare_exchange_strong(expected, epoch, std::memory_order_seq_cst)) {
-      // Pairs with the fence in evict(): either the evictor sees this slot, or we see the withdrawal.
-      std::atomic_thread_fence(std::memory_order_seq_cst);
       return FrameLease(&slot);
     }
   }
@@ -169,9 +170,8 @@ bool TileCache::loadTile(int level, int tx, int ty, bool pinned) {
 
 void TileCache::evict(std::size_t level, std::size_t index) {
   std::unique_ptr<Entry> entry = std::move(mResident[level][index]);
+  // A seq_cst store (TerrainView::publish): a reader whose lease reclaim() does not see cannot see the tile.
   mView->publish(entry->level, entry->tx, entry->ty, nullptr);
-  // Pairs with the fence in lease(): a reader whose lease we do not see below cannot see the tile.
-  std::atomic_thread_fence(std::memory_order_seq_cst);
   auto retired = std::make_unique<Retired>();
   retired->epoch = mEpoch.fetch_add(1, std::memory_order_seq_cst);
   retired->when = std::chrono::steady_clock::now();
@@ -186,7 +186,6 @@ void TileCache::evict(std::size_t level, std::size_t index) {
 
 void TileCache::reclaim(bool force) {
   if (mRetired.empty()) return;
-  std::atomic_thread_fence(std::memory_order_seq_cst);
   std::uint64_t oldestReader = std::numeric_limits<std::uint64_t>::max();
   for (const LeaseSlot& slot : mLeases) {
     const std::uint64_t e = slot.epoch.load(std::memory_order_seq_cst);

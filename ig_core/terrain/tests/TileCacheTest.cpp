@@ -6,10 +6,12 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
+#include <thread>
 
 namespace fieldcast::core {
 namespace {
@@ -218,6 +220,51 @@ TEST_F(TileCacheTest, AnEvictedTileOutlivesTheLeasesThatCouldSeeIt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   EXPECT_EQ(cache.stats().retiredPending, 0u);
+}
+
+
+// Readers on their own threads, each under a lease, sample level-0 tiles while the loader pages
+// them in and out under a small budget with no grace period: the lease alone keeps every tile a
+// reader can see alive. A reclaim that ignored a lease would hand a reader freed memory: wrong
+// heights here, a use-after-free under ASan, a data race under ThreadSanitizer (scripts/test.sh
+// runs this test under both).
+TEST_F(TileCacheTest, ReadersOnOtherThreadsNeverSeeAFreedTile) {
+  TileCacheOptions options;
+  options.budgetBytes = 30 * tileBytes();  // 21 pinned + room for a few level-0 tiles
+  options.retireGrace = std::chrono::milliseconds(0);
+  TileCache cache(std::make_unique<DatabaseTileSource>(dbPath()), options);
+
+  std::atomic<bool> stop{false};
+  std::atomic<std::uint64_t> wrong{0}, levelZero{0}, frames{0};
+  auto reader = [&](int seed) {
+    for (std::uint64_t frame = 0; !stop.load(std::memory_order_relaxed); ++frame) {
+      const FrameLease lease = cache.lease();
+      for (int k = 0; k < 256; ++k) {
+        const int i = static_cast<int>((frame * 37 + static_cast<std::uint64_t>(k * 101 + seed)) % kSide);
+        const int j = static_cast<int>((frame * 53 + static_cast<std::uint64_t>(k * 211 + seed * 7)) % kSide);
+        const TerrainTile* tile = cache.view().tile(0, i >> 5, j >> 5);
+        if (tile == nullptr) continue;
+        ++levelZero;
+        std::this_thread::yield();  // hold the pointer a while, as a renderer's column does
+        if (tile->heightQ[static_cast<std::size_t>((j & 31) * 32 + (i & 31))] != sMemory->view().heightQ(0, i, j)) ++wrong;
+      }
+      ++frames;
+    }
+  };
+  std::thread first(reader, 1), second(reader, 2);
+  // Drive the loader round the level-0 tiles in bursts, so tiles are evicted while readers hold them.
+  for (int round = 0; round < 40; ++round) {
+    for (int k = 0; k < 16; ++k) cache.request(0, (k + round) % 16, (round * 5 + k / 4) % 16);
+    ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
+  }
+  stop = true;
+  first.join();
+  second.join();
+  const TileCacheStats stats = cache.stats();
+  EXPECT_GT(stats.evictions, 100u);   // the budget forced paging while the readers ran
+  EXPECT_GT(levelZero.load(), 0u);    // the readers did see level-0 tiles
+  EXPECT_GT(frames.load(), 2u);
+  EXPECT_EQ(wrong.load(), 0u);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 #pragma once
 // The [motion] section of the service configuration (keys in config/README.md): what moves the
-// eye point — a scripted flight or the stick's flight model — and how long the run lasts.
+// eye point — a scripted flight, the stick's flight model or a CIGI host — and how long the run lasts.
 
 #include <fieldcast/ConfigReader.h>
 #include <fieldcast/Pose.h>
@@ -11,7 +11,7 @@
 namespace fieldcast::motion {
 
 /// Where the ownship's pose comes from.
-enum class MotionKind : std::uint8_t { Flight, Stick };
+enum class MotionKind : std::uint8_t { Flight, Stick, Host };
 
 /// What [motion] sets.
 struct MotionConfig {

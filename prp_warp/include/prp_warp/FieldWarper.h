@@ -52,6 +52,8 @@ enum class FieldStatus : std::uint8_t {
 struct FieldWarperCounters {
   std::atomic<std::uint64_t> fields{0};
   std::atomic<std::uint64_t> fitFallbacks{0};
+  /// fitFallbacks by FallbackReason (index 0, None, stays 0).
+  std::atomic<std::uint64_t> fallbacksByReason[5]{};
   std::atomic<std::uint64_t> marginViolations{0};  ///< output pixels, summed over fields
   std::atomic<std::uint64_t> fieldsWithViolations{0};
   std::atomic<std::uint64_t> blackFields{0};  ///< NoFrame or BadFrame

@@ -46,11 +46,21 @@ enum class WarpStatus : std::uint8_t {
   BadOutput,  ///< the output image has the wrong shape or format for the field
 };
 
+/// Why a warp used its fallback (the rotation-only homography, or the quadratic for a 3D warp).
+enum class FallbackReason : std::uint8_t {
+  None,
+  FewPoints,   ///< too few usable control points for the fit
+  AllSky,      ///< every usable control point at infinity
+  Degenerate,  ///< the points' layout left the fit rank-deficient
+  NoRange,     ///< a 3D warp was given a frame without its range image
+};
+
 /// What one field's warp did.
 struct WarpResult {
   WarpStatus status = WarpStatus::Ok;
   std::uint32_t marginViolations = 0;  ///< output pixels whose source fell outside the frame
   bool fellBack = false;               ///< the warp could not be fitted and used its fallback (counted by the caller)
+  FallbackReason fallbackReason = FallbackReason::None;  ///< why, when fellBack
 };
 
 /// A field warp. Each instance serves one raster size and one thread; it owns its scratch, so

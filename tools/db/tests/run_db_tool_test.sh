@@ -1,6 +1,6 @@
 #!/bin/sh
 # fieldcast-db run for real (issue 23): `info` reports the data's own height range beside the
-# quantisation's; every numeric option is checked with a message naming it and the range; an
+# quantisation's, and the georeference; every numeric option is checked with a message naming it and the range; an
 # output folder that cannot be written is refused before the import.
 set -eu
 tool=$1
@@ -98,5 +98,39 @@ expect_refused "-o $work: is a folder" build --dem "$asc" -o "$work"
 expect_refused "plainfile is not a folder" build --dem "$asc" -o "$work/plainfile/x.fctdb"
 [ ! -e "$work/missing" ] || fail "a folder was created"
 
+# Item 2: info prints the georeference: none for a grid without a CRS (and how the host link
+# then places latitude/longitude) ...
+"$tool" info "$work/slope.fctdb" > "$work/out.txt" 2>&1 || fail "info failed"
+grep -q "Fieldcast terrain database, version 2" "$work/out.txt" || fail "info does not say version 2"
+grep -q "georef      none (no CRS); latitude/longitude map onto the local tangent plane at 46.000000 N, 7.000000 E" \
+  "$work/out.txt" || fail "info does not say the database has no georeference and where the tangent plane is"
+# ... and, from GeoTIFFs written by GDAL (when gdal-bin is installed), the CRS and where the grid
+# lies: a UTM grid keeps its EPSG code; a grid in degrees becomes a local transverse Mercator; a
+# striped file cut short is refused (items 1 and 2).
+if command -v gdal_translate > /dev/null 2>&1; then
+  gdal_translate -q -of GTiff -a_srs EPSG:32633 -a_ullr 640000 5200160 640200 5200000 -ot Float32 \
+    "$asc" "$work/utm.tif"
+  "$tool" build --dem "$work/utm.tif" --tile-shift 4 --threads 1 -o "$work/utm.fctdb" > /dev/null 2>&1 ||
+    fail "build of a UTM GeoTIFF failed"
+  "$tool" info "$work/utm.fctdb" > "$work/out.txt" 2>&1 || fail "info failed"
+  grep -q "georef      WGS 84 / UTM zone 33N (EPSG:32633): world x, y are its easting and northing" "$work/out.txt" ||
+    fail "info does not name the UTM CRS"
+  grep -q "crs         EPSG:32633" "$work/out.txt" || fail "info does not print the CRS as stored"
+  # Voxel (0, 0) centre at (640005, 5200005): 46.937... N, 16.8392... E (gdaltransform agrees).
+  grep -q "corners     voxel centres: south-west 46.93" "$work/out.txt" || fail "info does not place the corners"
+  gdal_translate -q -of GTiff -a_srs EPSG:4326 -a_ullr 7.0 47.0 7.01 46.99 -ot Float32 "$asc" "$work/deg.tif"
+  "$tool" build --dem "$work/deg.tif" --tile-shift 4 --threads 1 -o "$work/deg.fctdb" > /dev/null 2>&1 ||
+    fail "build of a GeoTIFF in degrees failed"
+  "$tool" info "$work/deg.fctdb" > "$work/out.txt" 2>&1 || fail "info failed"
+  grep -q 'crs         PROJCRS\["Local transverse Mercator at 46.995000, 7.005000 on WGS 84 (Fieldcast)"' \
+    "$work/out.txt" || fail "info does not print the local transverse Mercator of a grid in degrees"
+  grep -q "corners     voxel centres: south-west 46.990" "$work/out.txt" || fail "the degree grid is misplaced"
+  gdal_translate -q -of GTiff -a_srs EPSG:32633 -ot Int16 -co COMPRESS=LZW -co BLOCKYSIZE=2 "$asc" "$work/lzw.tif"
+  head -c 700 "$work/lzw.tif" > "$work/cut.tif"
+  expect_refused "cut.tif: cut short: strips" build --dem "$work/cut.tif" -o "$work/bad.fctdb"
+else
+  echo "SKIP: GeoTIFF georeference checks (gdal_translate not found; scripts/install-deps.sh --interop)"
+fi
+
 [ "$failures" -eq 0 ] || { echo "$failures checks failed"; exit 1; }
-echo "fieldcast-db: data height range, option checks and output folder check OK"
+echo "fieldcast-db: data height range, georeference, option checks and output folder check OK"

@@ -17,9 +17,17 @@ struct RenderConfig {
   double hfovDeg = 60.0;   ///< horizontal field of view of the display window
   int widthPx = 720;       ///< display window rendered (the output raster by default)
   int heightPx = 486;
-  RenderSettings settings;               ///< quality, grazing rule, margin, range image, colour
+  RenderSettings settings;               ///< quality, grazing rule, margin, range image, colour, haze
   FrameTimeControllerConfig controller;  ///< target 0: fixed quality
+  /// visibility_m was given (it is then settings.hazeRangeM); otherwise the service sets the haze
+  /// range from the database's extent (defaultVisibilityM).
+  bool visibilityGiven = false;
 };
+
+/// The haze range for a database `extentM` across (its longer side): three quarters of it, so
+/// the far edge seen from one side is in haze but the whole database can be seen from above;
+/// at least 3 km, so a small database is not greyed out. The built-in 16 km terrain gets 12.3 km.
+double defaultVisibilityM(double extentM) noexcept;
 
 /// Reads [render]; the display window defaults to `defaultWidthPx` × `defaultHeightPx` (the
 /// output raster). Throws ConfigError.

@@ -3,6 +3,8 @@
 // uncompressed, LZW or Deflate) and 16-bit PNG through OpenImageIO, with the GeoTIFF tags
 // (ModelPixelScale, ModelTiepoint, ModelTransformation, GDAL_NODATA, raster type) read through
 // libtiff; ESRI ASCII grids (.asc); raw little-endian grids with a small TOML sidecar.
+// GeoTIFF CRSs given by EPSG code are kept; grids in geographic degrees are reprojected (PROJ)
+// onto a square metric grid in a transverse Mercator projection centred on the grid.
 // Nodata holes are filled (push-pull interpolation) and counted.
 
 #include <ig_core/TerrainBuilder.h>
@@ -31,7 +33,10 @@ struct ElevationGrid {
   int heightVox = 0;
   double spacingM = 1.0;         ///< voxel pitch (square voxels)
   glm::dvec2 originM{0.0, 0.0};  ///< world x, y of the centre of the south-west voxel
-  std::vector<float> heightsM;   ///< W×H, holes filled
+  /// CRS of world x, y ("EPSG:n" or WKT, DatabaseLayout::crs); empty when the file has none.
+  /// Geographic (degree) grids come reprojected to a transverse Mercator centred on the grid.
+  std::string crs;
+  std::vector<float> heightsM;  ///< W×H, holes filled
   double minM = 0.0;
   double maxM = 0.0;
   std::size_t nodataFilled = 0;  ///< voxels that were nodata and got interpolated

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace fieldcast::core {
@@ -17,6 +18,7 @@ struct TerrainGrid {
   TerrainGeometry geometry;               ///< size, spacing, origin, quantisation; levels are derived
   std::vector<std::uint16_t> heightQ;     ///< W×H quantised heights, row-major (row = j, north)
   std::vector<std::uint32_t> colourRgba;  ///< W×H colours (R | G<<8 | B<<16 | A<<24)
+  std::string crs;                        ///< CRS of world x, y (DatabaseLayout::crs); empty: none
 };
 
 /// How heights in metres map onto 16-bit steps.

@@ -1,6 +1,7 @@
 #pragma once
 // The on-disk terrain database (format described in ig_core/README.md, "Database format"):
-// a fixed 128-byte header, a tile index, then zstd-compressed tiles, each with an XXH3 checksum.
+// a fixed 128-byte header, a tile index, the georeference (version 2), then zstd-compressed
+// tiles, each with an XXH3 checksum.
 // Every level of the pyramid is stored, tile by tile; tiles hold the same arrays TerrainTile
 // points at (heights, conservative max mip, colours).
 //
@@ -31,8 +32,12 @@ enum class VoxelColour : std::uint8_t { Rgba = 0, Grey = 1 };
 
 /// "FCTERRDB": the first eight bytes of every database.
 inline constexpr char kDatabaseMagic[8] = {'F', 'C', 'T', 'E', 'R', 'R', 'D', 'B'};
-/// Format version this code writes and the only one it reads.
-inline constexpr std::uint32_t kDatabaseVersion = 1;
+/// Format version this code writes. Version 2 added the georeference (the CRS text after the index).
+inline constexpr std::uint32_t kDatabaseVersion = 2;
+/// Oldest version this code reads: version 1 files open with no georeference.
+inline constexpr std::uint32_t kOldestDatabaseVersion = 1;
+/// Longest georeference (CRS text) a database may hold, in bytes.
+inline constexpr std::uint32_t kMaxGeoreferenceBytes = 64 * 1024;
 /// Size of the fixed header in bytes; the tile index follows it.
 inline constexpr std::size_t kDatabaseHeaderBytes = 128;
 /// Size of one tile index entry in bytes.
@@ -47,8 +52,14 @@ inline constexpr int kMaxTileShift = 11;
 struct DatabaseLayout {
   TerrainGeometry geometry;  ///< levels and tile shift included
   VoxelColour voxelColour = VoxelColour::Rgba;
-  std::uint64_t tileCount = 0;  ///< all tiles of all levels
-  std::uint64_t fileBytes = 0;  ///< the length the header promises
+  std::uint32_t version = kDatabaseVersion;  ///< as read (the writer always writes kDatabaseVersion)
+  /// The coordinate reference system of world x, y: "EPSG:n" or WKT (as PROJ reads it); empty when
+  /// the database has no georeference (version 1 files, the built-in terrain, grids without one).
+  /// World x, y are coordinates in this CRS; originM places the grid in it.
+  std::string crs;
+  std::uint32_t georeferenceBytes = 0;  ///< length of the CRS text in the file (parseDatabaseHeader)
+  std::uint64_t tileCount = 0;          ///< all tiles of all levels
+  std::uint64_t fileBytes = 0;          ///< the length the header promises
 };
 
 /// Where one tile lies in the file.
@@ -79,11 +90,17 @@ std::size_t rawTileBytes(int tileShift, VoxelColour mode) noexcept;
 /// Throws TerrainDatabaseError naming the file and the field that is wrong.
 DatabaseLayout parseDatabaseHeader(std::span<const std::byte> header, std::uint64_t actualFileBytes,
                                    const std::string& fileName);
-/// Parses and validates the tile index (layout.tileCount entries). Throws TerrainDatabaseError.
+/// Parses and validates the tile index (layout.tileCount entries; the tiles start after it and the
+/// georeference). Throws TerrainDatabaseError.
 std::vector<TileIndexEntry> parseTileIndex(std::span<const std::byte> index, const DatabaseLayout& layout,
                                            const std::string& fileName);
-/// Serialises `layout` into a header for an index of `index` (checksums included).
-std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout, std::span<const std::byte> indexBytes);
+/// Checks the georeference block (layout.georeferenceBytes of text after the index: printable
+/// ASCII/UTF-8, no control characters) and returns it as the CRS. Throws TerrainDatabaseError.
+std::string parseGeoreference(std::span<const std::byte> block, const std::string& fileName);
+/// Serialises `layout` into a header for the index and georeference bytes that follow it
+/// (`indexAndGeoreference`, which the header's second checksum covers).
+std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout,
+                                               std::span<const std::byte> indexAndGeoreference);
 /// Serialises index entries.
 std::vector<std::byte> serializeTileIndex(std::span<const TileIndexEntry> entries);
 

@@ -65,9 +65,11 @@ class TerrainView {
   int levels() const noexcept { return mGeometry.levels; }
 
   /// Tile (tx, ty) of `level`, or nullptr when it is not resident. RT-safe, lock-free.
+  /// The load is seq_cst (a plain load on x86-64 and arm64, like acquire): TileCache's lease
+  /// rule needs it ordered with the lease slots in one total order (TileCache.cpp, lease()).
   const TerrainTile* tile(int level, int tx, int ty) const noexcept {
     const Level& l = mLevels[static_cast<std::size_t>(level)];
-    return l.slots[static_cast<std::size_t>(ty * l.tilesX + tx)].load(std::memory_order_acquire);
+    return l.slots[static_cast<std::size_t>(ty * l.tilesX + tx)].load(std::memory_order_seq_cst);
   }
 
   /// Quantised height of voxel (i, j) of `level`, clamped to the grid. RT-safe.

@@ -44,6 +44,8 @@ class TileSource {
   virtual void readTile(int level, int tx, int ty, TileBuffers& out) = 0;
   /// Names the source in logs and errors (the file path).
   virtual std::string name() const = 0;
+  /// CRS of world x, y (DatabaseLayout::crs); empty when the terrain has none.
+  virtual std::string crs() const { return {}; }
 };
 
 /// A TileSource reading a database file.
@@ -54,6 +56,7 @@ class DatabaseTileSource final : public TileSource {
   const TerrainGeometry& geometry() const override { return mReader.geometry(); }
   void readTile(int level, int tx, int ty, TileBuffers& out) override { mReader.readTile(level, tx, ty, out); }
   std::string name() const override { return mReader.path().string(); }
+  std::string crs() const override { return mReader.layout().crs; }
   const DatabaseReader& reader() const noexcept { return mReader; }
 
  private:
@@ -130,6 +133,8 @@ class TileCache {
   const TerrainGeometry& geometry() const noexcept { return mView->geometry(); }
   /// Where the tiles come from (a file path).
   std::string sourceName() const { return mSource->name(); }
+  /// CRS of world x, y, empty when none: Georeference::forTerrain(crs()) places latitude/longitude.
+  std::string crs() const { return mSource->crs(); }
 
   /// Takes a lease for the current frame. RT-safe, lock-free.
   FrameLease lease() const noexcept;

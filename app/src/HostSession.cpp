@@ -1,0 +1,265 @@
+#include "HostSession.h"
+
+#include <fieldcast/Conventions.h>
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace fieldcast::app {
+namespace {
+
+namespace cigi = io::cigi;
+
+constexpr double kSecondsPerTick = 10e-6;  // CIGI timestamps count 10 µs ticks
+// How long a height answer waits for the full-resolution tiles under it before the best resident
+// level answers: the loader reads a tile in about a millisecond, so this is only for a busy disk.
+constexpr Nanoseconds kHeightWait = std::chrono::milliseconds(100);
+
+// The terrain surface the renderer draws at full resolution: bilinear between level-0 voxel centres.
+double heightOfTerrain(const core::TileCache& terrain, double x, double y) { return terrain.heightAtM(x, y, 0); }
+
+bool insideDatabase(const core::TerrainGeometry& g, double x, double y) {
+  return x >= g.originM.x && y >= g.originM.y && x <= g.originM.x + g.spacingM * (g.widthVox - 1) &&
+         y <= g.originM.y + g.spacingM * (g.heightVox - 1);
+}
+
+// A world position `offset` (CIGI body axes: x forward, y right, z down, metres) from `pose`.
+glm::dvec3 bodyOffset(const Pose& pose, double x, double y, double z) {
+  const CameraAxes axes = cameraAxes(pose);
+  return pose.positionM + axes.forward * x + axes.right * y - axes.up * z;
+}
+
+struct TileXY {
+  int tx, ty;
+};
+
+// The level-0 tiles holding the four voxel centres the bilinear surface at `pointM` reads.
+std::array<TileXY, 4> levelZeroTilesUnder(const core::TerrainGeometry& g, const glm::dvec3& pointM) {
+  const double fi = (pointM.x - g.originM.x) / g.spacingM, fj = (pointM.y - g.originM.y) / g.spacingM;
+  std::array<TileXY, 4> tiles{};
+  for (int k = 0; k < 4; ++k) {
+    const int i = std::clamp(static_cast<int>(std::floor(fi)) + (k & 1), 0, g.widthVox - 1);
+    const int j = std::clamp(static_cast<int>(std::floor(fj)) + (k >> 1), 0, g.heightVox - 1);
+    tiles[static_cast<std::size_t>(k)] = {i >> g.tileShift, j >> g.tileShift};
+  }
+  return tiles;
+}
+
+}  // namespace
+
+HostSession::HostSession(motion::HostMotion& ownship, core::TileCache& terrain, core::Georeference georeference,
+                         std::int8_t databaseNumber, const Clock& clock)
+    : mOwnship(ownship),
+      mTerrain(terrain),
+      mGeoreference(std::move(georeference)),
+      mDatabaseNumber(databaseNumber),
+      mClock(clock) {}
+
+double HostSession::unwrapHostTime(std::uint32_t ticks) {
+  if (!mHaveTime) {
+    mHaveTime = true;
+    mHostTimeS = ticks * kSecondsPerTick;
+  } else {
+    // The signed difference: wraps (every 11.9 h) go forward, a reordered datagram a little back.
+    const auto step = static_cast<std::int32_t>(ticks - mLastTicks);
+    mHostTimeS += step * kSecondsPerTick;
+  }
+  mLastTicks = ticks;
+  return mHostTimeS;
+}
+
+void HostSession::onMessage(const io::HostMessage& message) {
+  mMessages.fetch_add(1, std::memory_order_relaxed);
+  const auto& control = std::get<cigi::IgControl>(message.packets.front());
+  if (control.igMode != mMode.load(std::memory_order_relaxed)) {
+    spdlog::info("host: IG mode {} commanded", control.igMode == cigi::IgMode::Operate ? "operate" : "reset/standby");
+    mMode.store(control.igMode, std::memory_order_relaxed);
+    mModeChanges.fetch_add(1, std::memory_order_relaxed);
+    if (control.igMode == cigi::IgMode::ResetStandby) {
+      mEntities.clear();  // a reset forgets the scene's entities; the ownship holds its last pose
+      mOtherEntities.store(0, std::memory_order_relaxed);
+    }
+  }
+  mLastHostFrame.store(control.hostFrameNumber, std::memory_order_relaxed);
+  // Without a valid host timestamp the arrival time stands in for it (jitter then reaches the pose).
+  const double hostTimeS = control.timestampValid
+                               ? unwrapHostTime(control.timestampTicks)
+                               : std::chrono::duration<double>(message.arrival.time_since_epoch()).count();
+  const bool operate = control.igMode == cigi::IgMode::Operate;
+
+  // The ownship's Entity Control and Rate Control may come in either order: collect, then apply.
+  const cigi::EntityControl* ownship = nullptr;
+  const cigi::RateControl* ownshipRates = nullptr;
+  for (const cigi::HostPacket& packet : message.packets) {
+    if (const auto* entity = std::get_if<cigi::EntityControl>(&packet)) {
+      if (!operate) continue;  // CIGI: entity updates are ignored outside operate mode
+      if (entity->entityId == 0) {
+        ownship = entity;
+      } else if (entity->entityState == cigi::EntityState::Active) {
+        mEntities[entity->entityId] = *entity;
+      } else {
+        mEntities.erase(entity->entityId);
+      }
+    } else if (const auto* rates = std::get_if<cigi::RateControl>(&packet)) {
+      if (rates->entityId == 0 && !rates->applyToArticulatedPart) ownshipRates = rates;
+    } else if (const auto* request = std::get_if<cigi::HatHotRequest>(&packet)) {
+      answer(*request, message.arrival);
+    }
+  }
+  mOtherEntities.store(mEntities.size(), std::memory_order_relaxed);
+  if (ownship != nullptr) applyOwnship(*ownship, ownshipRates, hostTimeS, message.arrival, control.hostFrameNumber);
+}
+
+void HostSession::applyOwnship(const cigi::EntityControl& entity, const cigi::RateControl* rates, double hostTimeS,
+                               TimePoint arrival, std::uint32_t hostFrame) {
+  const std::optional<glm::dvec3> position =
+      mGeoreference.toWorld({entity.latitudeDegOrXM, entity.longitudeDegOrYM, entity.altitudeMOrZM});
+  if (!position) return;  // not a place on the Earth: HostMotion keeps its track
+  motion::HostSample sample;
+  sample.hostTimeS = hostTimeS;
+  sample.arrival = arrival;
+  sample.pose = Pose{*position, radians(entity.yawDeg), radians(entity.pitchDeg), radians(entity.rollDeg)};
+  sample.hostFrame = hostFrame;
+  if (rates != nullptr) {
+    sample.hasRates = true;
+    if (rates->frame == cigi::RateFrame::World) {
+      // CIGI's world rates are north, east, down; ours are east, north, up.
+      sample.velocityMps = {rates->yRateMps, rates->xRateMps, -rates->zRateMps};
+    } else {
+      sample.velocityMps = bodyOffset(sample.pose, rates->xRateMps, rates->yRateMps, rates->zRateMps) - *position;
+    }
+    sample.angularRateRadS = {radians(rates->yawRateDegps), radians(rates->pitchRateDegps),
+                              radians(rates->rollRateDegps)};
+  }
+  mOwnship.addSample(sample);
+  mOwnshipUpdates.fetch_add(1, std::memory_order_relaxed);
+}
+
+void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) {
+  mHatHotRequests.fetch_add(1, std::memory_order_relaxed);
+  PendingHeight pending{request, std::nullopt, arrival + kHeightWait};
+  std::optional<glm::dvec3>& point = pending.pointM;
+  if (request.coordinateSystem == cigi::CoordinateSystem::Geodetic) {
+    point = mGeoreference.toWorld({request.latitudeDegOrXM, request.longitudeDegOrYM, request.altitudeMOrZM});
+  } else if (request.entityId == 0) {
+    point = bodyOffset(mOwnship.poseAt(arrival), request.latitudeDegOrXM, request.longitudeDegOrYM,
+                       request.altitudeMOrZM);
+  } else if (const auto it = mEntities.find(request.entityId); it != mEntities.end()) {
+    const cigi::EntityControl& e = it->second;
+    if (const auto base = mGeoreference.toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM})) {
+      const Pose pose{*base, radians(e.yawDeg), radians(e.pitchDeg), radians(e.rollDeg)};
+      point = bodyOffset(pose, request.latitudeDegOrXM, request.longitudeDegOrYM, request.altitudeMOrZM);
+    }
+  }
+  if (point && insideDatabase(mTerrain.geometry(), point->x, point->y) && !fullResolutionResident(*point)) {
+    requestFullResolution(*point);
+    mHeightsWaiting.push_back(pending);  // answered once the tiles are in, or at the deadline
+    return;
+  }
+  respond(pending);
+}
+
+bool HostSession::fullResolutionResident(const glm::dvec3& pointM) const {
+  return std::ranges::all_of(levelZeroTilesUnder(mTerrain.geometry(), pointM), [&](const TileXY& t) {
+    return mTerrain.view().tile(0, t.tx, t.ty) != nullptr;
+  });
+}
+
+void HostSession::requestFullResolution(const glm::dvec3& pointM) {
+  for (const TileXY& t : levelZeroTilesUnder(mTerrain.geometry(), pointM)) {
+    mTerrain.request(0, t.tx, t.ty, -1.0);  // ahead of the prefetch
+  }
+}
+
+void HostSession::answerWaitingHeights(TimePoint now) {
+  std::erase_if(mHeightsWaiting, [&](const PendingHeight& pending) {
+    if (now < pending.deadline && !fullResolutionResident(*pending.pointM)) {
+      requestFullResolution(*pending.pointM);  // again: a prefetch may have replaced the request
+      return false;
+    }
+    respond(pending);
+    return true;
+  });
+}
+
+void HostSession::respond(const PendingHeight& pending) {
+  const cigi::HatHotRequest& request = pending.request;
+  const std::optional<glm::dvec3>& point = pending.pointM;
+  const bool valid = point.has_value() && insideDatabase(mTerrain.geometry(), point->x, point->y);
+  const double terrainM = valid ? heightOfTerrain(mTerrain, point->x, point->y) : 0.0;
+  const double aboveM = valid ? point->z - terrainM : 0.0;
+  const auto frameLsn = static_cast<std::uint8_t>(mLastHostFrame.load(std::memory_order_relaxed) & 0x0F);
+  if (valid) mHatHotAnswered.fetch_add(1, std::memory_order_relaxed);
+
+  if (request.requestType == cigi::HatHotRequestType::Extended) {
+    cigi::HatHotExtendedResponse response;
+    response.hatHotId = request.hatHotId;
+    response.valid = valid;
+    response.hostFrameNumberLsn = frameLsn;
+    response.heightAboveTerrainM = aboveM;
+    response.heightOfTerrainM = terrainM;
+    if (valid) {
+      // The surface normal of the drawn surface, from its slope across one voxel.
+      const double d = 0.5 * mTerrain.geometry().spacingM;
+      const double dzdx = (heightOfTerrain(mTerrain, point->x + d, point->y) -
+                           heightOfTerrain(mTerrain, point->x - d, point->y)) / (2 * d);
+      const double dzdy = (heightOfTerrain(mTerrain, point->x, point->y + d) -
+                           heightOfTerrain(mTerrain, point->x, point->y - d)) / (2 * d);
+      const glm::dvec3 normal = glm::normalize(glm::dvec3(-dzdx, -dzdy, 1.0));
+      response.normalAzimuthDeg = static_cast<float>(degrees(std::atan2(normal.x, normal.y)));
+      response.normalElevationDeg = static_cast<float>(degrees(std::asin(normal.z)));
+    }
+    mHatHotExtendedDue.push_back(response);
+  } else {
+    cigi::HatHotResponse response;
+    response.hatHotId = request.hatHotId;
+    response.valid = valid;
+    response.hostFrameNumberLsn = frameLsn;
+    const bool ofTerrain = request.requestType == cigi::HatHotRequestType::HeightOfTerrain;
+    response.responseType =
+        ofTerrain ? cigi::HatHotResponseType::HeightOfTerrain : cigi::HatHotResponseType::HeightAboveTerrain;
+    response.heightM = ofTerrain ? terrainM : aboveM;
+    mHatHotDue.push_back(response);
+  }
+}
+
+bool HostSession::onField(const io::FieldAnnouncement& field, cigi::IgMessageBuilder& out) {
+  answerWaitingHeights(mClock.now());
+  cigi::StartOfFrame sof;
+  sof.databaseNumber = mDatabaseNumber;
+  sof.igMode = mMode.load(std::memory_order_relaxed);
+  sof.igStatus = static_cast<std::uint8_t>(mOwnship.state(field.displayTime) == motion::HostPoseState::Holding
+                                               ? HostIgStatus::OwnshipHeld
+                                               : HostIgStatus::Normal);
+  sof.igFrameNumber = static_cast<std::uint32_t>(field.fieldNumber);
+  sof.timestampValid = true;
+  sof.timestampTicks =
+      static_cast<std::uint32_t>(field.displayTime.time_since_epoch().count() / 10'000);  // 10 µs ticks, wrapping
+  sof.lastHostFrameNumber = mLastHostFrame.load(std::memory_order_relaxed);
+  out.start(sof);
+  // Answers that do not fit wait for the next field's message.
+  std::size_t sent = 0;
+  while (sent < mHatHotDue.size() && out.add(mHatHotDue[sent])) ++sent;
+  mHatHotDue.erase(mHatHotDue.begin(), mHatHotDue.begin() + static_cast<std::ptrdiff_t>(sent));
+  sent = 0;
+  while (sent < mHatHotExtendedDue.size() && out.add(mHatHotExtendedDue[sent])) ++sent;
+  mHatHotExtendedDue.erase(mHatHotExtendedDue.begin(), mHatHotExtendedDue.begin() + static_cast<std::ptrdiff_t>(sent));
+  return true;
+}
+
+HostSessionFigures HostSession::figures() const noexcept {
+  HostSessionFigures f;
+  f.messages = mMessages.load(std::memory_order_relaxed);
+  f.ownshipUpdates = mOwnshipUpdates.load(std::memory_order_relaxed);
+  f.hatHotRequests = mHatHotRequests.load(std::memory_order_relaxed);
+  f.hatHotAnswered = mHatHotAnswered.load(std::memory_order_relaxed);
+  f.otherEntities = mOtherEntities.load(std::memory_order_relaxed);
+  f.modeChanges = mModeChanges.load(std::memory_order_relaxed);
+  f.lastHostFrame = mLastHostFrame.load(std::memory_order_relaxed);
+  return f;
+}
+
+}  // namespace fieldcast::app

@@ -1,0 +1,94 @@
+#pragma once
+// What the host's CIGI packets mean to this IG (io_bridge/src/host/README.md has the packet
+// table): IG Control's mode and frame numbers, the ownship's pose and rates (entity 0) into the
+// host motion source, other entities into a table, HAT/HOT requests answered from the terrain;
+// and, once per field, the Start of Frame with the answers due. Runs on the HostLink's thread.
+//
+// Heights are those of the surface the renderer draws at full resolution (bilinear between the
+// level-0 voxel centres). When a request's level-0 tiles are not resident, they are requested
+// ahead of the prefetch and the answer waits for them (at most 100 ms, then the best resident
+// level answers), so an answer may come one or more fields after its request.
+
+#include <fieldcast/Time.h>
+#include <ig_core/Georeference.h>
+#include <ig_core/TileCache.h>
+#include <io_bridge/HostLink.h>
+#include <motion/HostMotion.h>
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <vector>
+
+namespace fieldcast::app {
+
+/// Start of Frame's IG status codes (CIGI leaves them to the IG; 0 is normal).
+enum class HostIgStatus : std::uint8_t {
+  Normal = 0,
+  OwnshipHeld = 1,  ///< the host fell silent for longer than the extrapolation bound: the pose is held
+};
+
+/// Figures of the session. Read from any thread.
+struct HostSessionFigures {
+  std::uint64_t messages = 0;
+  std::uint64_t ownshipUpdates = 0;
+  std::uint64_t hatHotRequests = 0;
+  std::uint64_t hatHotAnswered = 0;  ///< valid answers (inside the database)
+  std::uint64_t otherEntities = 0;   ///< entities other than the ownship, active now
+  std::uint64_t modeChanges = 0;
+  std::uint32_t lastHostFrame = 0;
+};
+
+class HostSession final : public io::HostHandler {
+ public:
+  /// `ownship` receives entity 0's samples; `terrain` answers height requests; `georeference`
+  /// places geodetic positions (owned here: used on the link's thread only).
+  HostSession(motion::HostMotion& ownship, core::TileCache& terrain, core::Georeference georeference,
+              std::int8_t databaseNumber, const Clock& clock);
+
+  void onMessage(const io::HostMessage& message) override;
+  bool onField(const io::FieldAnnouncement& field, io::cigi::IgMessageBuilder& out) override;
+
+  /// The mode the host last commanded (Operate until told otherwise). Any thread.
+  io::cigi::IgMode mode() const noexcept { return mMode.load(std::memory_order_relaxed); }
+  HostSessionFigures figures() const noexcept;
+
+ private:
+  double unwrapHostTime(std::uint32_t ticks);
+  void applyOwnship(const io::cigi::EntityControl& entity, const io::cigi::RateControl* rates, double hostTimeS,
+                    TimePoint arrival, std::uint32_t hostFrame);
+  // A height request whose answer waits for the full-resolution tiles under its point.
+  struct PendingHeight {
+    io::cigi::HatHotRequest request;
+    std::optional<glm::dvec3> pointM;  ///< nothing: not a place this database can answer
+    TimePoint deadline;
+  };
+  void answer(const io::cigi::HatHotRequest& request, TimePoint arrival);
+  bool fullResolutionResident(const glm::dvec3& pointM) const;
+  void requestFullResolution(const glm::dvec3& pointM);
+  void answerWaitingHeights(TimePoint now);
+  void respond(const PendingHeight& pending);
+
+  motion::HostMotion& mOwnship;
+  core::TileCache& mTerrain;
+  core::Georeference mGeoreference;
+  std::int8_t mDatabaseNumber;
+  const Clock& mClock;
+  std::atomic<io::cigi::IgMode> mMode{io::cigi::IgMode::Operate};
+
+  // Link thread only.
+  bool mHaveTime = false;
+  std::uint32_t mLastTicks = 0;
+  double mHostTimeS = 0.0;
+  std::map<std::uint16_t, io::cigi::EntityControl> mEntities;  // active entities other than the ownship
+  std::vector<PendingHeight> mHeightsWaiting;
+  std::vector<io::cigi::HatHotResponse> mHatHotDue;
+  std::vector<io::cigi::HatHotExtendedResponse> mHatHotExtendedDue;
+
+  std::atomic<std::uint64_t> mMessages{0}, mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0},
+      mOtherEntities{0}, mModeChanges{0};
+  std::atomic<std::uint32_t> mLastHostFrame{0};
+};
+
+}  // namespace fieldcast::app

@@ -1,0 +1,150 @@
+// The service driven by `fieldcast-host` over loopback CIGI, both run as a user runs them, on a
+// small built-in terrain: the host's flight moves the picture, every field has its Start of Frame,
+// the heights the IG answers are those of the terrain it draws, and the link counts what it saw.
+#include "../common/RunFieldcast.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <arpa/inet.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using fieldcast::testing::RunResult;
+
+// A UDP port nobody uses now (bound, read back, released).
+std::uint16_t freePort() {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
+  socklen_t length = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &length);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+RunResult runHost(const std::string& args, int timeoutS) {
+  const std::string command =
+      "timeout -s KILL " + std::to_string(timeoutS) + " " + std::string(FIELDCAST_HOST_EXE) + " " + args + " 2>&1";
+  RunResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
+  const int status = pclose(pipe);
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+class HostRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    mDir = fs::temp_directory_path() / ("fieldcast_host_" + std::to_string(getpid()));
+    fs::create_directories(mDir / "cache");
+    // 512 × 512 voxels at 2 m: a 1 km square. The host flies across it at 100 m/s.
+    std::ofstream(mDir / "flight.toml") << R"(name = "host pass"
+end = "hold"
+[[waypoint]]
+t = 0
+position = [100.0, 100.0, 300.0]
+[[waypoint]]
+t = 4
+position = [500.0, 600.0, 260.0]
+[[waypoint]]
+t = 8
+position = [900.0, 500.0, 280.0]
+)";
+    mPort = freePort();
+    std::ofstream(mDir / "fieldcast.toml")
+        << "[terrain]\nsource = \"builtin\"\ncache_dir = \"" << (mDir / "cache").string()
+        << "\"\nbuiltin_size = 512\nmemory_budget_mb = 64\n"
+        << "[render]\nthreads = 2\n"
+        << "[output]\nrate = 59.94\nscan = \"progressive\"\nwidth = 320\nheight = 240\nformat = \"grey8\"\n"
+        << "[motion]\nsource = \"host\"\nstart = [500.0, 500.0, 400.0, 0.0]\n"
+        << "[host]\nport = " << mPort << "\n"
+        << "[sinks.y4m]\nenabled = true\npath = \"out/video.y4m\"\n"
+        << "[metrics]\nsummary_json = \"out/summary.json\"\n"
+        << "[threads]\nrealtime_field_thread = false\n";
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(mDir);
+  }
+
+  // Luma planes of the Y4M file's frames (320×240 mono).
+  std::vector<std::string> frames() const {
+    constexpr std::size_t kLuma = 320 * 240;
+    std::ifstream in(mDir / "out/video.y4m", std::ios::binary);
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> all;
+    std::string luma(kLuma, '\0');
+    while (std::getline(in, line) && in.read(luma.data(), kLuma)) all.push_back(luma);
+    return all;
+  }
+
+  fs::path mDir;
+  std::uint16_t mPort = 0;
+};
+
+double meanAbsoluteDifference(const std::string& a, const std::string& b) {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) sum += std::abs(int(static_cast<unsigned char>(a[k])) - int(static_cast<unsigned char>(b[k])));
+  return sum / static_cast<double>(a.size());
+}
+
+TEST_F(HostRun, AByteSwappedJitteryHostDrivesTheService) {
+  const std::string config = (mDir / "fieldcast.toml").string();
+  // The service runs 12 s of video; the host waits for it, then flies 6 s of the 8 s flight.
+  auto service = std::async(std::launch::async, [&] { return fieldcast::testing::runFieldcast("--config " + config + " --duration 12", 120); });
+  const RunResult host = runHost("--config " + config + " --flight " + (mDir / "flight.toml").string() +
+                                     " --duration 6 --swap --jitter-ms 3 --clock-offset 3600 --wait-for-ig 60 --summary " +
+                                     (mDir / "host.json").string(),
+                                 120);
+  const RunResult run = service.get();
+  ASSERT_EQ(host.exitCode, 0) << host.output;
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+
+  const nlohmann::json h = nlohmann::json::parse(std::ifstream(mDir / "host.json"));
+  const nlohmann::json s = nlohmann::json::parse(std::ifstream(mDir / "out/summary.json"));
+  // One Start of Frame per field while the host flew (each field's, or the next one's when the
+  // link was late and two coalesced): the host sees the field rate.
+  EXPECT_NEAR(h["start_of_frame_rate_hz"].get<double>(), 59.94, 1.0) << h.dump();
+  EXPECT_GT(h["start_of_frames"].get<int>(), 300);
+  // Heights: answered for (nearly) every request, equal to the drawn surface's.
+  EXPECT_GT(h["height_answers_valid"].get<int>(), 340) << h.dump();
+  EXPECT_LT(h["height_error_max_m"].get<double>(), 0.05) << h.dump();
+  // The link: every datagram accepted, all byte-swapped, the ownship samples taken.
+  const nlohmann::json& link = s["host"];
+  EXPECT_EQ(link["datagrams_rejected"].get<int>(), 0) << link.dump();
+  EXPECT_EQ(link["datagrams_byte_swapped"], link["datagrams_accepted"]) << link.dump();
+  EXPECT_EQ(link["ownship_samples"].get<int>(), h["host_frames_sent"].get<int>()) << link.dump();
+  EXPECT_EQ(link["host_restarts"].get<int>(), 0) << link.dump();
+  // Fixed-rate video throughout.
+  EXPECT_EQ(s["fields_black"].get<int>(), 0);
+  EXPECT_LE(s["fields_missed"].get<int>(), 12) << s.dump();  // 2% on a shared 2-core machine
+
+  // The picture follows the host: it changes while the host flies and stands still once the host
+  // is silent and the pose is held.
+  const std::vector<std::string> video = frames();
+  ASSERT_GT(video.size(), 600u);
+  const std::size_t last = video.size() - 1;
+  EXPECT_LT(meanAbsoluteDifference(video[last], video[last - 60]), 0.5);  // held: the same picture
+  double largest = 0.0;
+  for (std::size_t k = 60; k + 60 < last - 120; k += 30) largest = std::max(largest, meanAbsoluteDifference(video[k], video[k + 60]));
+  EXPECT_GT(largest, 10.0);  // flying: a second apart, the picture moved
+}
+
+}  // namespace

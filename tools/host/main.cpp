@@ -1,0 +1,87 @@
+// fieldcast-host — a scripted CIGI 3.3 host: flies a flight file as the host of a Fieldcast IG
+// (or any IG) over UDP, and reports what the IG sent back.
+//   fieldcast-host --config config/host.toml --flight config/flights/ridge_run.toml --duration 20
+// The configuration is the IG's own (its [terrain] and [host] sections): the host places the
+// flight on the Earth through the same georeference and checks the IG's heights against the same
+// terrain.
+#include "ScriptedHost.h"
+
+#include <service/ServiceConfig.h>
+#include <tools/OptionChecks.h>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+int main(int argc, char** argv) {
+  using namespace fieldcast;
+  CLI::App app("fieldcast-host: a scripted CIGI 3.3 host for a Fieldcast IG");
+  std::string configPath = FIELDCAST_DEFAULT_CONFIG;
+  std::string flightPath;
+  std::string summaryPath;
+  std::string ig = "127.0.0.1";
+  tools::ScriptedHostOptions options;
+  int igPort = -1;
+  app.add_option("--config", configPath, "the IG's configuration ([terrain], [host])")->check(CLI::ExistingFile);
+  app.add_option("--flight", flightPath, "flight file to fly (config/flights/*.toml)")->required()->check(CLI::ExistingFile);
+  app.add_option("--ig", ig, "the IG's IPv4 address");
+  app.add_option("--ig-port", igPort, "the IG's port (default: host.port of the configuration)")
+      ->check(tools::intRange(1, 65535, ""));
+  app.add_option("--port", options.localPort, "this host's port for the IG's replies (0: any)")
+      ->check(tools::intRange(0, 65535, ""));
+  app.add_option("--rate", options.rateHz, "host frames per second")->check(tools::finiteRange(1, 1000, "Hz"));
+  app.add_option("--duration", options.durationS, "seconds to fly")->check(tools::finiteRange(0.1, 1e6, "s"));
+  app.add_option("--jitter-ms", options.jitterMs, "each datagram leaves up to this late")
+      ->check(tools::finiteRange(0, 1000, "ms"));
+  app.add_option("--loss", options.lossFraction, "share of host frames not sent")->check(tools::finiteRange(0, 1, ""));
+  app.add_flag("--swap", options.byteSwapped, "send in the other byte order");
+  app.add_option("--clock-offset", options.clockOffsetS, "added to the host timestamps, seconds")
+      ->check(tools::finiteRange(-40000, 40000, "s"));
+  app.add_option("--silent-from", options.silentFromS, "fall silent at this flight time, seconds")
+      ->check(tools::finiteRange(0, 1e6, "s"));
+  app.add_option("--silent-for", options.silentForS, "... for this long, seconds")->check(tools::finiteRange(0, 1e6, "s"));
+  app.add_option("--wait-for-ig", options.waitForIgS, "first wait this long for the IG to answer, seconds")
+      ->check(tools::finiteRange(0, 3600, "s"));
+  app.add_flag("!--no-heights", options.requestHeights, "do not request HAT/HOT each frame");
+  app.add_option("--summary", summaryPath, "write the report as JSON here");
+  CLI11_PARSE(app, argc, argv);
+  options.igAddress = ig;
+
+  try {
+    const app::ServiceConfig config = app::loadServiceConfig(configPath);
+    options.igPort = igPort > 0 ? static_cast<std::uint16_t>(igPort) : config.host.link.port;
+    const motion::ScriptedTrajectory flight = motion::ScriptedTrajectory::load(flightPath);
+    std::unique_ptr<core::TileCache> terrain = core::openTerrain(config.terrain);
+    const core::Georeference georeference = core::Georeference::forTerrain(terrain->crs(), config.host.origin);
+    std::printf("host: flying %s for %.1f s at %.1f Hz to %s:%u (%s)\n", flightPath.c_str(), options.durationS,
+                options.rateHz, options.igAddress.c_str(), options.igPort, georeference.description().c_str());
+    const tools::ScriptedHostReport report = tools::runScriptedHost(options, flight, *terrain, georeference);
+    std::fputs(tools::describe(report).c_str(), stdout);
+    if (!summaryPath.empty()) {
+      nlohmann::json j;
+      j["host_frames_sent"] = report.framesSent;
+      j["host_frames_dropped"] = report.framesDropped;
+      j["start_of_frames"] = report.startOfFrames;
+      j["start_of_frame_rate_hz"] = report.startOfFrameRateHz;
+      j["ownship_held_frames"] = report.ownshipHeldFrames;
+      j["height_answers"] = report.heightAnswers;
+      j["height_answers_valid"] = report.heightAnswersValid;
+      j["height_error_max_m"] = report.heightErrorMaxM;
+      j["height_error_p95_m"] = report.heightErrorP95M;
+      j["answer_latency_p50_ms"] = report.answerLatencyP50Ms;
+      j["answer_latency_p99_ms"] = report.answerLatencyP99Ms;
+      j["rejected_datagrams"] = report.rejectedDatagrams;
+      std::ofstream out(summaryPath);
+      out << j.dump(2) << "\n";
+      if (!out) throw std::runtime_error("--summary: cannot write " + summaryPath);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fieldcast-host: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
