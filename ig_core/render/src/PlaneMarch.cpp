@@ -143,8 +143,9 @@ __attribute__((always_inline)) inline void fillSpanSubRows(const CrossingSpan sp
 // the terrain on the grid lines of both axes, so the image does not change where the columns' major
 // axis does (looking along a grid diagonal). Farther away a fill covers a few pixels and the extra
 // crossings would cost more than they show: splitting every fill made the bench's frames 1.2–2×
-// slower (measured on a loaded machine).
-constexpr double kMinorLinesVoxelPx = 4.0;
+// slower. At 8 pixels the horizon view costs 15% more, at 4 pixels 20%; at 16 the seam shows
+// again (RENDERER.md, "Both axes' grid lines near the camera").
+constexpr double kMinorLinesVoxelPx = 8.0;
 
 // Where the ray of the next sub-row ended its march (marchPlaneAxis's advanceRowRay), and why.
 struct RowRayEnd {
