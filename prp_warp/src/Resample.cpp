@@ -14,8 +14,11 @@
 #endif
 
 // The branch-free loops are built twice, for AVX2 and for baseline x86-64, and chosen at load
-// time: the service runs on whatever CPU the rig has (FIELDCAST_NATIVE is off by default).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+// time: the service runs on whatever CPU the rig has (FIELDCAST_NATIVE is off by default). Not
+// under ThreadSanitizer: the loader runs the clones' ifunc resolver before TSan's runtime is up,
+// and the instrumented resolver crashes the program at start.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(__SANITIZE_THREAD__)
 #define FIELDCAST_WARP_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define FIELDCAST_WARP_CLONES

@@ -1,5 +1,5 @@
 #pragma once
-// Runs the built `fieldcast` executable (FIELDCAST_EXE) as a user would, for integration tests.
+// Runs the built executables (`fieldcast`: FIELDCAST_EXE) as a user would, for integration tests.
 
 #include <sys/wait.h>
 
@@ -14,11 +14,11 @@ struct RunResult {
   std::string output;  ///< stdout and stderr together
 };
 
-/// Runs `fieldcast <args>` through the shell. Every run is bounded by coreutils' timeout, so a
+/// Runs `<executable> <args>` through the shell. Every run is bounded by coreutils' timeout, so a
 /// hang fails the test that caused it instead of stalling the suite.
-inline RunResult runFieldcast(const std::string& args, int timeoutS = 120) {
+inline RunResult runProgram(const std::string& executable, const std::string& args, int timeoutS = 120) {
   const std::string command =
-      "timeout -s KILL " + std::to_string(timeoutS) + " " + std::string(FIELDCAST_EXE) + " " + args + " 2>&1";
+      "timeout -s KILL " + std::to_string(timeoutS) + " " + executable + " " + args + " 2>&1";
   RunResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
@@ -27,6 +27,11 @@ inline RunResult runFieldcast(const std::string& args, int timeoutS = 120) {
   const int status = pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+/// Runs `fieldcast <args>` (FIELDCAST_EXE), as runProgram does.
+inline RunResult runFieldcast(const std::string& args, int timeoutS = 120) {
+  return runProgram(FIELDCAST_EXE, args, timeoutS);
 }
 
 }  // namespace fieldcast::testing

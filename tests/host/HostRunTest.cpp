@@ -37,16 +37,7 @@ std::uint16_t freePort() {
 }
 
 RunResult runHost(const std::string& args, int timeoutS) {
-  const std::string command =
-      "timeout -s KILL " + std::to_string(timeoutS) + " " + std::string(FIELDCAST_HOST_EXE) + " " + args + " 2>&1";
-  RunResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return result;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
-  const int status = pclose(pipe);
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return fieldcast::testing::runProgram(FIELDCAST_HOST_EXE, args, timeoutS);
 }
 
 class HostRun : public ::testing::Test {
