@@ -69,6 +69,7 @@ void Channel::renderMain() noexcept {
     pacing.maxRateHz = render.maxRateHz;
     pacing.controller = render.controller;
     pacing.initialQuality = render.settings.quality;
+    pacing.hazeRangeM = mHazeRangeM;
     RenderLoop loop(renderer, mMotion, mSettings.view.display, mFrames, mMetrics, pacing, &mTerrain);
     spdlog::info("render: {} worker threads, {}x{} display, margin {:.0f}%", renderer.threads(),
                  mSettings.view.display.widthPx, mSettings.view.display.heightPx, render.settings.marginFraction * 100);

@@ -86,6 +86,9 @@ class Channel {
 
   /// Opens every output: an unwritable path fails here, before anything runs. Throws.
   void startOutputs();
+  /// Where the render loop reads a runtime haze range (HostSession::hazeRangeM; see RenderPacing);
+  /// call before startRendering. Null: the configured haze throughout.
+  void setHazeRange(const std::atomic<double>* rangeM) noexcept { mHazeRangeM = rangeM; }
   /// Starts the render thread.
   void startRendering();
   /// Decides the field clock's start once the field thread is warm (called on that thread).
@@ -132,6 +135,7 @@ class Channel {
   std::thread mRenderThread;
   std::thread mFieldThread;
   std::atomic<bool> mStopRender{false};
+  const std::atomic<double>* mHazeRangeM = nullptr;
   std::atomic<bool> mStopFields{false};
   std::atomic<bool> mFieldsDone{false};
   std::atomic<bool> mFieldClockReady{false};

@@ -1,6 +1,7 @@
 #include "HostSession.h"
 
 #include <fieldcast/Conventions.h>
+#include <ig_core/LineOfSight.h>
 
 #include <spdlog/spdlog.h>
 
@@ -107,6 +108,16 @@ void HostSession::onMessage(const io::HostMessage& message) {
       if (rates->entityId == 0 && !rates->applyToArticulatedPart) ownshipRates = rates;
     } else if (const auto* request = std::get_if<cigi::HatHotRequest>(&packet)) {
       answer(*request, message.arrival);
+    } else if (const auto* atmosphere = std::get_if<cigi::AtmosphereControl>(&packet)) {
+      // Not an entity update: applies in every mode. CIGI's 0 is no visibility, the renderer's 0
+      // no haze: hence the 1 m floor.
+      if (std::isfinite(atmosphere->visibilityRangeM) && atmosphere->visibilityRangeM >= 0.0f) {
+        mHazeRangeM.store(std::max(1.0, static_cast<double>(atmosphere->visibilityRangeM)), std::memory_order_relaxed);
+      }
+    } else if (const auto* segment = std::get_if<cigi::LosSegmentRequest>(&packet)) {
+      answer(*segment, message.arrival);
+    } else if (const auto* vector = std::get_if<cigi::LosVectorRequest>(&packet)) {
+      answer(*vector, message.arrival);
     }
   }
   mOtherEntities.store(mEntities.size(), std::memory_order_relaxed);
@@ -142,24 +153,169 @@ void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) 
   mHatHotRequests.fetch_add(1, std::memory_order_relaxed);
   PendingHeight pending{request, std::nullopt, arrival + kHeightWait};
   std::optional<glm::dvec3>& point = pending.pointM;
-  if (request.coordinateSystem == cigi::CoordinateSystem::Geodetic) {
-    point = mGeoreference.toWorld({request.latitudeDegOrXM, request.longitudeDegOrYM, request.altitudeMOrZM});
-  } else if (request.entityId == 0) {
-    point = bodyOffset(mOwnship.poseAt(arrival), request.latitudeDegOrXM, request.longitudeDegOrYM,
-                       request.altitudeMOrZM);
-  } else if (const auto it = mEntities.find(request.entityId); it != mEntities.end()) {
-    const cigi::EntityControl& e = it->second;
-    if (const auto base = mGeoreference.toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM})) {
-      const Pose pose{*base, radians(e.yawDeg), radians(e.pitchDeg), radians(e.rollDeg)};
-      point = bodyOffset(pose, request.latitudeDegOrXM, request.longitudeDegOrYM, request.altitudeMOrZM);
-    }
-  }
+  point = placePoint(request.coordinateSystem, request.entityId, request.latitudeDegOrXM, request.longitudeDegOrYM,
+                     request.altitudeMOrZM, arrival);
   if (point && insideDatabase(mTerrain.geometry(), point->x, point->y) && !fullResolutionResident(*point)) {
     requestFullResolution(*point);
     mHeightsWaiting.push_back(pending);  // answered once the tiles are in, or at the deadline
     return;
   }
   respond(pending);
+}
+
+std::optional<Pose> HostSession::entityPose(std::uint16_t entityId, TimePoint at) const {
+  if (entityId == 0) return mOwnship.poseAt(at);
+  const auto it = mEntities.find(entityId);
+  if (it == mEntities.end()) return std::nullopt;
+  const cigi::EntityControl& e = it->second;
+  const auto base = mGeoreference.toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM});
+  if (!base) return std::nullopt;
+  return Pose{*base, radians(e.yawDeg), radians(e.pitchDeg), radians(e.rollDeg)};
+}
+
+std::optional<glm::dvec3> HostSession::placePoint(cigi::CoordinateSystem system, std::uint16_t entityId, double a,
+                                                  double b, double c, TimePoint at) const {
+  if (system == cigi::CoordinateSystem::Geodetic) return mGeoreference.toWorld({a, b, c});
+  const std::optional<Pose> pose = entityPose(entityId, at);
+  if (!pose) return std::nullopt;
+  return bodyOffset(*pose, a, b, c);
+}
+
+void HostSession::answer(const cigi::LosSegmentRequest& request, TimePoint arrival) {
+  mLosRequests.fetch_add(1, std::memory_order_relaxed);
+  PendingLos pending;
+  pending.losId = request.losId;
+  pending.extended = request.requestType == cigi::LosRequestType::Extended;
+  pending.segment = true;
+  pending.responseSystem = request.responseCoordinateSystem;
+  pending.deadline = arrival + kHeightWait;
+  const auto from = placePoint(request.sourceCoordinateSystem, request.entityId, request.sourceLatitudeDegOrXM,
+                               request.sourceLongitudeDegOrYM, request.sourceAltitudeMOrZM, arrival);
+  const auto to = placePoint(request.destinationCoordinateSystem, request.entityId, request.destinationLatitudeDegOrXM,
+                             request.destinationLongitudeDegOrYM, request.destinationAltitudeMOrZM, arrival);
+  if (request.responseCoordinateSystem == cigi::CoordinateSystem::Entity) {
+    pending.responseEntity = entityPose(request.entityId, arrival);
+  }
+  if (from && to && glm::length(*to - *from) > 0.0) {
+    pending.valid = true;
+    pending.fromM = *from;
+    pending.maxRangeM = glm::length(*to - *from);
+    pending.direction = (*to - *from) / pending.maxRangeM;
+  }
+  queueLos(pending);
+}
+
+void HostSession::answer(const cigi::LosVectorRequest& request, TimePoint arrival) {
+  mLosRequests.fetch_add(1, std::memory_order_relaxed);
+  PendingLos pending;
+  pending.losId = request.losId;
+  pending.extended = request.requestType == cigi::LosRequestType::Extended;
+  pending.responseSystem = request.responseCoordinateSystem;
+  pending.deadline = arrival + kHeightWait;
+  const auto from = placePoint(request.sourceCoordinateSystem, request.entityId, request.sourceLatitudeDegOrXM,
+                               request.sourceLongitudeDegOrYM, request.sourceAltitudeMOrZM, arrival);
+  const bool entityRelative = request.sourceCoordinateSystem == cigi::CoordinateSystem::Entity;
+  const std::optional<Pose> entity = entityRelative || request.responseCoordinateSystem == cigi::CoordinateSystem::Entity
+                                         ? entityPose(request.entityId, arrival)
+                                         : std::nullopt;
+  if (request.responseCoordinateSystem == cigi::CoordinateSystem::Entity) pending.responseEntity = entity;
+  // Azimuth clockwise from true north (entity-relative: from the entity's x axis, in its body
+  // axes), elevation up from the horizontal (from its x-y plane).
+  const double az = radians(request.azimuthDeg), el = radians(request.elevationDeg);
+  const double forward = std::cos(el) * std::cos(az), right = std::cos(el) * std::sin(az), up = std::sin(el);
+  if (from && (!entityRelative || entity) && request.maxRangeM >= request.minRangeM && request.maxRangeM > 0.0f) {
+    pending.valid = true;
+    pending.fromM = *from;
+    if (entityRelative) {
+      const CameraAxes axes = cameraAxes(*entity);
+      pending.direction = axes.forward * forward + axes.right * right + axes.up * up;
+    } else {
+      pending.direction = {right, forward, up};  // east, north, up
+    }
+    pending.minRangeM = std::max(0.0, static_cast<double>(request.minRangeM));
+    pending.maxRangeM = request.maxRangeM;
+  }
+  queueLos(pending);
+}
+
+void HostSession::queueLos(PendingLos pending) {
+  if (pending.valid && !losTilesResident(pending, true)) {
+    mLosWaiting.push_back(pending);  // answered once the tiles are in, or at the deadline
+    return;
+  }
+  respond(pending);
+}
+
+bool HostSession::losTilesResident(const PendingLos& pending, bool requestMissing) {
+  bool all = true;
+  const glm::dvec3 from = pending.fromM + pending.minRangeM * pending.direction;
+  const glm::dvec3 to = pending.fromM + pending.maxRangeM * pending.direction;
+  for (const glm::ivec2& t : core::lineOfSightTiles(mTerrain.geometry(), from, to)) {
+    if (mTerrain.view().tile(0, t.x, t.y) != nullptr) continue;
+    all = false;
+    if (!requestMissing) break;
+    mTerrain.request(0, t.x, t.y, -1.0);  // ahead of the prefetch
+  }
+  return all;
+}
+
+void HostSession::answerWaitingLos(TimePoint now) {
+  std::erase_if(mLosWaiting, [&](const PendingLos& pending) {
+    if (now < pending.deadline && !losTilesResident(pending, true)) return false;
+    respond(pending);
+    return true;
+  });
+}
+
+void HostSession::respond(const PendingLos& pending) {
+  const core::LineOfSightHit hit =
+      pending.valid ? core::lineOfSight(mTerrain.view(), pending.fromM, pending.direction, pending.minRangeM,
+                                        pending.maxRangeM)
+                    : core::LineOfSightHit{};
+  if (hit.hit) mLosHits.fetch_add(1, std::memory_order_relaxed);
+  const auto frameLsn = static_cast<std::uint8_t>(mLastHostFrame.load(std::memory_order_relaxed) & 0x0F);
+  // One answer per request (the first crossing). Valid: the ray met the terrain; Visible (Segment):
+  // it did not, so the destination is seen from the source.
+  if (!pending.extended) {
+    cigi::LosResponse response;
+    response.losId = pending.losId;
+    response.valid = hit.hit;
+    response.visible = pending.valid && !hit.hit && pending.segment;
+    response.hostFrameNumberLsn = frameLsn;
+    response.responseCount = 1;
+    response.rangeM = hit.rangeM;
+    mLosDue.push_back(response);
+    return;
+  }
+  cigi::LosExtendedResponse response;
+  response.losId = pending.losId;
+  response.valid = hit.hit;
+  response.rangeValid = hit.hit;
+  response.visible = pending.valid && !hit.hit && pending.segment;
+  response.hostFrameNumberLsn = frameLsn;
+  response.responseCount = 1;
+  if (hit.hit) {
+    response.rangeM = hit.rangeM;
+    if (pending.responseSystem == cigi::CoordinateSystem::Entity && pending.responseEntity) {
+      // Offsets from the entity in its body axes: x forward, y right, z down.
+      const CameraAxes axes = cameraAxes(*pending.responseEntity);
+      const glm::dvec3 d = hit.pointM - pending.responseEntity->positionM;
+      response.latitudeDegOrXM = glm::dot(d, axes.forward);
+      response.longitudeDegOrYM = glm::dot(d, axes.right);
+      response.altitudeMOrZM = -glm::dot(d, axes.up);
+    } else if (const auto geo = mGeoreference.toGeodetic(hit.pointM)) {
+      response.latitudeDegOrXM = geo->latitudeDeg;
+      response.longitudeDegOrYM = geo->longitudeDeg;
+      response.altitudeMOrZM = geo->altitudeM;
+    }
+    response.red = static_cast<std::uint8_t>(hit.colourRgba & 0xFFu);
+    response.green = static_cast<std::uint8_t>((hit.colourRgba >> 8) & 0xFFu);
+    response.blue = static_cast<std::uint8_t>((hit.colourRgba >> 16) & 0xFFu);
+    response.alpha = static_cast<std::uint8_t>((hit.colourRgba >> 24) & 0xFFu);
+    response.normalAzimuthDeg = static_cast<float>(degrees(std::atan2(hit.normal.x, hit.normal.y)));
+    response.normalElevationDeg = static_cast<float>(degrees(std::asin(hit.normal.z)));
+  }
+  mLosExtendedDue.push_back(response);
 }
 
 bool HostSession::fullResolutionResident(const glm::dvec3& pointM) const {
@@ -228,6 +384,7 @@ void HostSession::respond(const PendingHeight& pending) {
 
 bool HostSession::onField(const io::FieldAnnouncement& field, cigi::IgMessageBuilder& out) {
   answerWaitingHeights(mClock.now());
+  answerWaitingLos(mClock.now());
   cigi::StartOfFrame sof;
   sof.databaseNumber = mDatabaseNumber;
   sof.igMode = mMode.load(std::memory_order_relaxed);
@@ -247,6 +404,12 @@ bool HostSession::onField(const io::FieldAnnouncement& field, cigi::IgMessageBui
   sent = 0;
   while (sent < mHatHotExtendedDue.size() && out.add(mHatHotExtendedDue[sent])) ++sent;
   mHatHotExtendedDue.erase(mHatHotExtendedDue.begin(), mHatHotExtendedDue.begin() + static_cast<std::ptrdiff_t>(sent));
+  sent = 0;
+  while (sent < mLosDue.size() && out.add(mLosDue[sent])) ++sent;
+  mLosDue.erase(mLosDue.begin(), mLosDue.begin() + static_cast<std::ptrdiff_t>(sent));
+  sent = 0;
+  while (sent < mLosExtendedDue.size() && out.add(mLosExtendedDue[sent])) ++sent;
+  mLosExtendedDue.erase(mLosExtendedDue.begin(), mLosExtendedDue.begin() + static_cast<std::ptrdiff_t>(sent));
   return true;
 }
 
@@ -256,6 +419,8 @@ HostSessionFigures HostSession::figures() const noexcept {
   f.ownshipUpdates = mOwnshipUpdates.load(std::memory_order_relaxed);
   f.hatHotRequests = mHatHotRequests.load(std::memory_order_relaxed);
   f.hatHotAnswered = mHatHotAnswered.load(std::memory_order_relaxed);
+  f.losRequests = mLosRequests.load(std::memory_order_relaxed);
+  f.losHits = mLosHits.load(std::memory_order_relaxed);
   f.otherEntities = mOtherEntities.load(std::memory_order_relaxed);
   f.modeChanges = mModeChanges.load(std::memory_order_relaxed);
   f.lastHostFrame = mLastHostFrame.load(std::memory_order_relaxed);

@@ -1,13 +1,16 @@
 #pragma once
 // What the host's CIGI packets mean to this IG (io_bridge/src/host/README.md has the packet
 // table): IG Control's mode and frame numbers, the ownship's pose and rates (entity 0) into the
-// host motion source, other entities into a table, HAT/HOT requests answered from the terrain;
-// and, once per field, the Start of Frame with the answers due. Runs on the HostLink's thread.
+// host motion source, other entities into a table, HAT/HOT requests answered from the terrain,
+// Line of Sight Segment and Vector requests answered by a level-0 march (core::lineOfSight),
+// Atmosphere Control's visibility published as the haze range; and, once per field, the Start of
+// Frame with the answers due. Runs on the HostLink's thread.
 //
 // Heights are those of the surface the renderer draws at full resolution (bilinear between the
 // level-0 voxel centres). When a request's level-0 tiles are not resident, they are requested
 // ahead of the prefetch and the answer waits for them (at most 100 ms, then the best resident
-// level answers), so an answer may come one or more fields after its request.
+// level answers), so an answer may come one or more fields after its request. LOS requests wait
+// the same way for the level-0 tiles under their whole segment (or vector, to its maximum range).
 
 #include <fieldcast/Time.h>
 #include <ig_core/Georeference.h>
@@ -35,6 +38,8 @@ struct HostSessionFigures {
   std::uint64_t ownshipUpdates = 0;
   std::uint64_t hatHotRequests = 0;
   std::uint64_t hatHotAnswered = 0;  ///< valid answers (inside the database)
+  std::uint64_t losRequests = 0;
+  std::uint64_t losHits = 0;         ///< LOS answers that met the terrain
   std::uint64_t otherEntities = 0;   ///< entities other than the ownship, active now
   std::uint64_t modeChanges = 0;
   std::uint32_t lastHostFrame = 0;
@@ -53,6 +58,10 @@ class HostSession final : public io::HostHandler {
   /// The mode the host last commanded (Operate until told otherwise). Any thread.
   io::cigi::IgMode mode() const noexcept { return mMode.load(std::memory_order_relaxed); }
   HostSessionFigures figures() const noexcept;
+  /// The haze range the host's Atmosphere Control asks for: its visibility range in metres, taken
+  /// as the renderer's hazeRangeM (the meaning render.visibility_m has), at least 1 m; 0 until
+  /// the host sends one. The render loop reads it before each frame. Any thread.
+  const std::atomic<double>& hazeRangeM() const noexcept { return mHazeRangeM; }
 
  private:
   double unwrapHostTime(std::uint32_t ticks);
@@ -65,6 +74,29 @@ class HostSession final : public io::HostHandler {
     TimePoint deadline;
   };
   void answer(const io::cigi::HatHotRequest& request, TimePoint arrival);
+  // A line-of-sight request, reduced to a world ray; it waits like a height request.
+  struct PendingLos {
+    std::uint16_t losId = 0;
+    bool extended = false;
+    bool segment = false;  ///< a Segment request (visible = the destination is)
+    bool valid = false;    ///< the source (and destination) could be placed
+    io::cigi::CoordinateSystem responseSystem = io::cigi::CoordinateSystem::Geodetic;
+    std::optional<Pose> responseEntity;  ///< entity-relative answers: the source entity's pose
+    glm::dvec3 fromM{0.0};
+    glm::dvec3 direction{0.0};  ///< unit
+    double minRangeM = 0.0, maxRangeM = 0.0;
+    TimePoint deadline;
+  };
+  void answer(const io::cigi::LosSegmentRequest& request, TimePoint arrival);
+  void answer(const io::cigi::LosVectorRequest& request, TimePoint arrival);
+  void queueLos(PendingLos pending);
+  bool losTilesResident(const PendingLos& pending, bool requestMissing);
+  void answerWaitingLos(TimePoint now);
+  void respond(const PendingLos& pending);
+  // The world pose of entity `entityId` (0: the ownship at `at`), when known.
+  std::optional<Pose> entityPose(std::uint16_t entityId, TimePoint at) const;
+  std::optional<glm::dvec3> placePoint(io::cigi::CoordinateSystem system, std::uint16_t entityId, double a, double b,
+                                       double c, TimePoint at) const;
   bool fullResolutionResident(const glm::dvec3& pointM) const;
   void requestFullResolution(const glm::dvec3& pointM);
   void answerWaitingHeights(TimePoint now);
@@ -85,10 +117,14 @@ class HostSession final : public io::HostHandler {
   std::vector<PendingHeight> mHeightsWaiting;
   std::vector<io::cigi::HatHotResponse> mHatHotDue;
   std::vector<io::cigi::HatHotExtendedResponse> mHatHotExtendedDue;
+  std::vector<PendingLos> mLosWaiting;
+  std::vector<io::cigi::LosResponse> mLosDue;
+  std::vector<io::cigi::LosExtendedResponse> mLosExtendedDue;
 
   std::atomic<std::uint64_t> mMessages{0}, mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0},
-      mOtherEntities{0}, mModeChanges{0};
+      mLosRequests{0}, mLosHits{0}, mOtherEntities{0}, mModeChanges{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
+  std::atomic<double> mHazeRangeM{0.0};
 };
 
 }  // namespace fieldcast::app

@@ -36,6 +36,14 @@ RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
     mTiles->prefetch(request.pose, (ahead.positionM - request.pose.positionM) * 10.0, mDisplay);
     frame.lease = mTiles->lease();
   }
+  if (mPacing.hazeRangeM != nullptr) {
+    const double haze = mPacing.hazeRangeM->load(std::memory_order_relaxed);
+    if (haze > 0.0 && haze != mRenderer.settings().hazeRangeM) {
+      core::RenderSettings settings = mRenderer.settings();
+      settings.hazeRangeM = haze;
+      mRenderer.setSettings(settings);  // applies to this frame on: in-flight frames keep theirs
+    }
+  }
   // The producer's spare slot holds a frame the field thread has let go of: its buffers are reused.
   frame.ticket = mRenderer.submit(request, std::move(mFrames.back()));
   return frame;

@@ -25,6 +25,9 @@ struct RenderPacing {
   double maxRateHz = 0.0;                      ///< 0: free-running; otherwise frames start no more often than this
   core::FrameTimeControllerConfig controller;  ///< target 0: fixed quality
   double initialQuality = 1.0;
+  /// When set and > 0: the haze range (m) of the frames submitted from then on (the CIGI host's
+  /// visibility, HostSession::hazeRangeM); read before each frame.
+  const std::atomic<double>* hazeRangeM = nullptr;
 };
 
 class RenderLoop {

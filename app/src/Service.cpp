@@ -1,6 +1,7 @@
 #include <service/Service.h>
 
 #include "Channel.h"
+#include "CockpitActions.h"
 #include "FieldLoop.h"
 #include "HostSession.h"
 #include "KeyboardFlight.h"
@@ -100,6 +101,12 @@ std::unique_ptr<io::StickInput> openStick(const io::InputConfig& config, Clock& 
   } catch (const std::exception& e) {
     throw std::runtime_error("input.stick: " + std::string(e.what()));
   }
+  try {
+    options.arrivals = io::makeArrivalWatch(config.stick);  // USB hotplug where libusb has it
+    if (options.arrivals) spdlog::info("input.stick: reconnects on USB hotplug arrival, polling as the fallback");
+  } catch (const std::exception& e) {
+    spdlog::warn("input.stick: no USB hotplug ({}); reconnecting by polling", e.what());
+  }
   return std::make_unique<io::StickInput>(std::move(factory), std::move(profile), options, clock);
 }
 
@@ -135,7 +142,8 @@ struct Service::Parts {
   std::unique_ptr<io::HostLink> hostLink;
   const motion::MotionSource* ownship = nullptr;
   std::unique_ptr<io::StickInput> stick;
-  std::unique_ptr<io::GpioInputs> gpio;  // the external field sync, when configured
+  std::unique_ptr<io::GpioInputs> gpio;     // the external field sync and the cockpit discretes, when configured
+  std::unique_ptr<CockpitActions> cockpit;  // freeze/reset/trigger: the ownship of a flight or the stick model
   std::uint64_t syncPulsesSeen = 0;
   KeyboardFlight keyboard;  // the live window's keys, when there is no stick
   PendingInput pendingInput{0};
@@ -159,13 +167,24 @@ struct Service::Parts {
 
   // Per field: a new external sync pulse, once the estimator is locked, disciplines the clock.
   void applyExternalSync() noexcept {
+    if (config.input.sync.empty()) return;
     const io::SyncEstimate estimate = gpio->sync();
     if (!estimate.locked || estimate.pulses == syncPulsesSeen) return;
     syncPulsesSeen = estimate.pulses;
     channel->fieldClock()->externalSync(estimate.lastPulse);
   }
 
-  // Per field, before the pose is asked for: the stick flight model integrates up to the field.
+  // Per field, before the pose is asked for: freeze, reset and trigger from the discretes and the
+  // stick's mapped buttons, at the field's display time.
+  void actOnCockpit(const warp::FieldTick& tick) noexcept {
+    io::DiscreteSnapshot discretes;
+    if (gpio) discretes = gpio->discretes();
+    const std::uint64_t buttons = stick ? stick->controlsAt(clock.now()).buttons : 0;
+    cockpit->beforeField(tick.displayTime, gpio ? &discretes : nullptr, buttons);
+  }
+
+  // Per field, before the pose is asked for: the stick flight model integrates up to the field
+  // (in the flight's time, which stands still while the cockpit is frozen).
   void stepFlight(const warp::FieldTick& tick) noexcept {
     const TimePoint now = clock.now();
     motion::FlightControls controls;
@@ -182,7 +201,7 @@ struct Service::Parts {
       lastInputTime = inputTime;
       pendingInput.store(inputTime.time_since_epoch().count(), std::memory_order_release);
     }
-    flightModel->step(tick.displayTime, controls);
+    flightModel->step(cockpit->flightTime(tick.displayTime), controls);
   }
 };
 
@@ -215,7 +234,10 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
     const int level = p.terrain->stats().pinnedFromLevel;
     p.flight->setTerrainFloor([view, level](double x, double y) { return terrainCeilingM(*view, level, x, y); });
     p.flown = std::make_unique<FlownFlight>(*p.flight);
-    p.ownship = p.flown.get();
+    // Reset: time 0 of the flight is now.
+    p.cockpit = std::make_unique<CockpitActions>(*p.flown, io::CockpitButtons{},
+                                                 [flown = p.flown.get()](TimePoint now) { flown->setStart(now); });
+    p.ownship = p.cockpit.get();
   } else if (config.motion.source == motion::MotionKind::Host) {
     p.hostMotion = std::make_unique<motion::HostMotion>(config.host.motion, config.motion.start);
     p.ownship = p.hostMotion.get();
@@ -234,8 +256,14 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
     p.flightModel = std::make_unique<motion::FlightModel>(
         motion::FlightModelParams{}, config.motion.start, config.motion.startSpeedMps, p.clock.now(),
         [terrain](double x, double y) { return terrain->heightAtM(x, y); });
-    p.ownship = p.flightModel.get();
     p.stick = openStick(config.input, p.clock);
+    // Reset: the start pose and speed, now.
+    p.cockpit = std::make_unique<CockpitActions>(
+        *p.flightModel, p.stick ? p.stick->profile().cockpit : io::CockpitButtons{},
+        [model = p.flightModel.get(), start = config.motion.start, speed = config.motion.startSpeedMps](TimePoint now) {
+          model->reset(start, speed, now);
+        });
+    p.ownship = p.cockpit.get();
   }
 
   p.channel = std::make_unique<Channel>(
@@ -249,13 +277,31 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
         }
       });
 
-  if (!config.input.sync.empty()) {
+  const std::pair<const char*, const std::string*> gpioLines[] = {{"sync", &config.input.sync},
+                                                                  {"freeze", &config.input.freeze},
+                                                                  {"reset", &config.input.reset},
+                                                                  {"trigger", &config.input.trigger}};
+  for (const auto& [key, spec] : gpioLines) {
+    if (spec->empty()) continue;
     try {
-      p.gpio = std::make_unique<io::GpioInputs>(std::chrono::microseconds(500), config.output.fieldRate);
-      p.gpio->addSync(io::openGpiodEdgeLine(io::parseGpioLineSpec(config.input.sync)));
+      if (!p.gpio) p.gpio = std::make_unique<io::GpioInputs>(std::chrono::microseconds(500), config.output.fieldRate);
+      auto line = io::openGpiodEdgeLine(io::parseGpioLineSpec(*spec));
+      const std::string_view k(key);
+      if (k == "sync") {
+        p.gpio->addSync(std::move(line));
+      } else {
+        p.gpio->addDiscrete(k == "freeze"  ? io::Discrete::Freeze
+                            : k == "reset" ? io::Discrete::Reset
+                                           : io::Discrete::Trigger,
+                            std::move(line));
+      }
     } catch (const std::exception& e) {
-      throw std::runtime_error("input.sync: " + std::string(e.what()));
+      throw std::runtime_error("input." + std::string(key) + ": " + std::string(e.what()));
     }
+  }
+  if (p.gpio && !p.cockpit &&
+      (!config.input.freeze.empty() || !config.input.reset.empty() || !config.input.trigger.empty())) {
+    spdlog::warn("input: the cockpit discretes act on a scripted flight or the stick flight, not on the host's motion");
   }
 }
 
@@ -282,6 +328,7 @@ void Service::start() {
   if (p.gpio) p.gpio->start();
   if (p.hostLink) p.hostLink->start();
 
+  if (p.hostSession) p.channel->setHazeRange(&p.hostSession->hazeRangeM());  // the host's visibility
   p.channel->startRendering();
   p.started.store(true);
   const TimePoint giveUp = p.clock.now() + kFirstFrameTimeout;
@@ -292,9 +339,10 @@ void Service::start() {
   }
 
   FieldLoop::BeforeField beforeField;
-  if (p.flightModel || p.gpio || p.hostLink) {
+  if (p.flightModel || p.gpio || p.hostLink || p.cockpit) {
     beforeField = [&p](const warp::FieldTick& tick) {
       if (p.gpio) p.applyExternalSync();
+      if (p.cockpit) p.actOnCockpit(tick);
       if (p.hostLink) p.hostLink->fieldStarted(tick.fieldNumber, tick.displayTime);  // its Start of Frame
       if (p.flightModel) p.stepFlight(tick);
     };
@@ -379,6 +427,10 @@ ServiceFigures Service::stop() {
     summary["terrain"] = p.terrain->sourceName();
     summary["sinks_dropped"] = p.channel->sinksDropped();
     summary["fatal_error"] = fatalError();
+    if (p.cockpit) {
+      const CockpitFigures c = p.cockpit->figures();
+      summary["cockpit"] = {{"freezes", c.freezes}, {"resets", c.resets}, {"triggers", c.triggers}};
+    }
     if (p.hostLink) summary["host"] = hostSummary(p.hostLink->counters(), p.hostSession->figures(), p.hostMotion->counters());
     const auto& path = p.config.metrics.summaryJson;
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());

@@ -29,6 +29,14 @@ FlightModel::FlightModel(const FlightModelParams& params, const Pose& start, dou
   mState.store(mWorking);
 }
 
+void FlightModel::reset(const Pose& pose, double speedMps, TimePoint time) noexcept {
+  mWorking = FlightState{};
+  mWorking.time = time;
+  mWorking.pose = pose;
+  mWorking.speedMps = speedMps;
+  mState.store(mWorking);
+}
+
 void FlightModel::integrate(FlightState& s, double dt, const FlightControls& c) const {
   const auto clamp1 = [](double v) { return std::clamp(v, -1.0, 1.0); };
   // Rates from the stick; a limit stops the rate, it does not bounce.

@@ -27,8 +27,25 @@ std::uint16_t terrainCeilingQ(const TerrainView& view) noexcept {
   return ceiling;
 }
 
+std::uint32_t basePlaneColour(const TerrainView& view) noexcept {
+  const TerrainGeometry& g = view.geometry();
+  const int top = g.levels - 1;
+  std::array<double, 3> sum{};
+  for (int j = 0; j < g.levelHeightVox(top); ++j) {
+    for (int i = 0; i < g.levelWidthVox(top); ++i) {
+      const std::uint32_t c = view.colourRgba(top, i, j);
+      for (int k = 0; k < 3; ++k) sum[static_cast<std::size_t>(k)] += (c >> (8 * k)) & 0xFFu;
+    }
+  }
+  const double n = static_cast<double>(g.levelWidthVox(top)) * g.levelHeightVox(top);
+  std::uint32_t rgba = 0xFF000000u;
+  for (int k = 0; k < 3; ++k)
+    rgba |= static_cast<std::uint32_t>(std::lround(sum[static_cast<std::size_t>(k)] / n)) << (8 * k);
+  return rgba;
+}
+
 CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, const RenderSettings& settings,
-                         std::uint16_t ceiling, Image* img, float* range) noexcept
+                         std::uint16_t ceiling, std::uint32_t baseRgba, Image* img, float* range) noexcept
     : view(&v),
       geo(&geometry),
       shading(settings),
@@ -52,14 +69,18 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
   camZq = (p.z - g.heightBaseM) * quantaPerM;
   invLodDepth0M = 1.0 / geometry.lodDepth0M();
   ceilingQ = ceiling;
+  baseAboveM = p.z - g.heightBaseM;
+  baseColourRgba = baseRgba;
+  baseColour = unpackRgb(baseRgba);
 }
 
 namespace {
 
 inline float rayLength(double xc, double yc) noexcept { return static_cast<float>(std::sqrt(1.0 + xc * xc + yc * yc)); }
 
-// Sky in sub-rows q = qFrom ... 0 of the column at camera-space x `xc`: the elevation sine of a ray
-// is its world z over its length, both linear / quadratic in the camera-space yc of the row.
+// Rays that missed the terrain in sub-rows q = qFrom ... 0 of the column at camera-space x `xc`:
+// sky, or the base plane beyond the edge (a descending ray). A ray's world z and length are linear
+// / quadratic in the camera-space yc of the row.
 void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double xc, int qFrom) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const CameraAxes& ax = f.geo->axes();
@@ -67,8 +88,9 @@ void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double
   const double az = xc * ax.right.z + ax.forward.z;
   for (int q = qFrom; q >= 0; --q) {
     const double yc = (k.cyPx - (q + 0.5) * invS) / k.fyPx;
-    const float len = rayLength(xc, yc);
-    sink.emit(q, f.shading.sky(static_cast<float>(az + yc * ax.up.z) / len), std::numeric_limits<float>::infinity());
+    float rangeM;
+    const Rgb c = f.missed(az + yc * ax.up.z, rayLength(xc, yc), rangeM);
+    sink.emit(q, c, rangeM);
   }
   t.rays += static_cast<std::uint64_t>(std::max(qFrom + 1, 0));
 }
@@ -117,7 +139,9 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
     } else {
       havePrev = false;  // nowhere near the terrain: the next ray starts afresh
     }
-    sink.emit(q, f.shading.sky(static_cast<float>(d.z) / length), std::numeric_limits<float>::infinity());
+    float rangeM;
+    const Rgb c = f.missed(d.z, length, rangeM);
+    sink.emit(q, c, rangeM);
     ++t.rays;
   }
   return -1;
@@ -286,8 +310,9 @@ void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) no
         } else {
           havePrev = false;  // nowhere near the terrain: the next ray starts afresh
         }
-        const Rgb c = f.shading.sky(static_cast<float>(d.z / length));
-        sum += c;
+        float rangeM;
+        sum += f.missed(d.z, length, rangeM);
+        if (sub == s / 2) rangePx = rangeM;
       }
       if (f.image != nullptr) f.shading.store(f.image->row(v), u, sum, scale);
       if (f.rangeM != nullptr)
@@ -300,9 +325,18 @@ CastResult castRay(const CasterFrame& f, double u, double v, CasterThread& t) no
   const glm::dvec3 d = f.geo->ray(u, v);
   RayLine r;
   CastResult out;
-  if (!setupLine(f, d, r)) return out;
-  const MarchHit h = ray_march::march(f, t, r, firstHitStart(f, r));
-  if (!h.hit) return out;
+  const MarchHit h = setupLine(f, d, r) ? ray_march::march(f, t, r, firstHitStart(f, r)) : MarchHit{};
+  if (!h.hit) {
+    // The base plane beyond the edge is a surface too (the warp fits to it), or the sky.
+    const double rangeM = basePlaneRangeM(f.baseAboveM, d.z, glm::length(d));
+    if (!std::isfinite(rangeM)) return out;
+    out.hit = true;
+    out.depthM = rangeM / glm::length(d);
+    out.level = f.geo->lodLevel(out.depthM, d);
+    out.pointM = f.geo->pose().positionM + out.depthM * d;
+    out.colour = f.baseColourRgba;
+    return out;
+  }
   out.hit = true;
   out.level = h.at.level;
   out.depthM = h.m / r.aMaj;

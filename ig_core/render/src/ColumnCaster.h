@@ -21,11 +21,21 @@ namespace fieldcast::core {
 
 /// Highest quantised height anywhere in the terrain (max over the top level's max mip).
 std::uint16_t terrainCeilingQ(const TerrainView& view) noexcept;
+/// Colour of the base plane beyond the terrain's edge: the mean colour of the top level (always
+/// resident), RGBA8.
+std::uint32_t basePlaneColour(const TerrainView& view) noexcept;
 
 /// Everything one frame's columns need, read-only while the columns are cast.
 struct CasterFrame {
   CasterFrame(const TerrainView& view, const ViewGeometry& geometry, const RenderSettings& settings,
-              std::uint16_t ceilingQ, Image* image, float* rangeM) noexcept;
+              std::uint16_t ceilingQ, std::uint32_t baseColourRgba, Image* image, float* rangeM) noexcept;
+
+  /// What a ray that missed the terrain sees (world z `dz`, `length` per metre of depth): the base
+  /// plane, or the sky; `rangeOutM` gets the range (infinite for the sky). RT-safe.
+  Rgb missed(double dz, double length, float& rangeOutM) const noexcept {
+    rangeOutM = static_cast<float>(basePlaneRangeM(baseAboveM, dz, length));
+    return shading.missed(baseColour, rangeOutM, static_cast<float>(dz / length));
+  }
 
   const TerrainView* view;
   const ViewGeometry* geo;
@@ -43,6 +53,9 @@ struct CasterFrame {
   double quantaPerM;                  ///< height quanta per metre
   double ceilingQ;                    ///< highest terrain height, quanta
   double invLodDepth0M;               ///< 1 / ViewGeometry::lodDepth0M()
+  double baseAboveM;                  ///< camera height over the base plane (quantised height 0)
+  std::uint32_t baseColourRgba;       ///< the base plane's colour, RGBA8
+  Rgb baseColour;                     ///< the same, unpacked
   /// The columns of a staging block march in step, in depth bands this ratio deep (see
   /// castColumns; below 1 acts as 1). Any value gives the same image; tests set it near 1 to pause
   /// at almost every crossing, and to infinity to march each column to its end.
@@ -74,13 +87,13 @@ struct alignas(64) CasterThread {
   void resetTiles() noexcept { tiles.fill(CachedTile{}); }
 };
 
-/// What one ray saw.
+/// What one ray saw: the terrain, the base plane beyond its edge (also a hit), or the sky.
 struct CastResult {
   bool hit = false;
   int level = 0;             ///< level of detail the hit was found at
   double depthM = 0.0;       ///< depth (forward-axis distance) of the hit
   glm::dvec3 pointM{0.0};    ///< world hit point
-  std::uint32_t colour = 0;  ///< terrain colour at the hit (level blend not applied)
+  std::uint32_t colour = 0;  ///< terrain colour at the hit (level blend not applied), or the base plane's
 };
 
 /// Casts columns [u0, u1) of the frame into its image (and range). Allocation-free once the

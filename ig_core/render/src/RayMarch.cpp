@@ -193,10 +193,13 @@ bool setupLine(const CasterFrame& f, const glm::dvec3& d, RayLine& r) noexcept {
   } else if (r.cMin < 0.0 || r.cMin > minSize) {
     return false;
   }
-  // Height slab: below the highest terrain point.
+  // Height slab: below the highest terrain point ...
   const double above = f.camZq - f.ceilingQ;
   if (r.zPer < 0.0) {
     lo = std::max(lo, above / -r.zPer);
+    // ... and above the base plane (quantised height 0, below all terrain; half a quantum lower
+    // so no terrain hit is clipped): seen from outside, the grid's sides end there.
+    hi = std::min(hi, (f.camZq + 0.5) / -r.zPer);
   } else if (above > 0.0) {
     return false;
   } else if (r.zPer > 0.0) {

@@ -1,6 +1,7 @@
 // The reference: one ray per pixel, marched in steps of 1/8 voxel of the level of detail at the
 // current depth against the bilinear surface of that level (TerrainView::heightAtM), the crossing
-// refined by bisection. No coherence, no fixed point, no caching: easy to check by reading.
+// refined by bisection. No coherence, no fixed point, no caching: easy to check by reading. A ray
+// that meets no terrain meets the base plane beyond the edge (RENDERER.md) or sees the sky.
 #include <ig_core/ReferenceRenderer.h>
 
 #include "ColumnCaster.h"
@@ -9,6 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
+
+#include <glm/geometric.hpp>
 
 namespace fieldcast::core {
 namespace {
@@ -29,7 +32,7 @@ Rgb bilinearColour(const TerrainView& view, int level, double x, double y) {
 }  // namespace
 
 ReferenceRenderer::ReferenceRenderer(const TerrainView& view)
-    : mView(view), mCeilingM(view.geometry().heightM(terrainCeilingQ(view))) {}
+    : mView(view), mCeilingM(view.geometry().heightM(terrainCeilingQ(view))), mBaseColourRgba(basePlaneColour(view)) {}
 
 ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u, double v) const noexcept {
   const TerrainGeometry& g = mView.geometry();
@@ -48,9 +51,20 @@ ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u
   };
   const double x1 = g.originM.x + (g.widthVox - 1) * g.spacingM;
   const double y1 = g.originM.y + (g.heightVox - 1) * g.spacingM;
+  // Seen from outside, the grid's sides end at the base plane (half a height quantum below it, so
+  // no terrain hit is clipped); the fast caster clips descending rays alike.
+  const double floorM = g.heightBaseM - 0.5 * g.heightStepM;
+  if (d.z < 0.0) hi = std::min(hi, (floorM - c.z) / d.z);
+  // A ray that meets no terrain meets the base plane beyond the edge, or sees the sky.
+  const auto missed = [&]() -> Hit {
+    const double rangeM = basePlaneRangeM(c.z - g.heightBaseM, d.z, glm::length(d));
+    if (!std::isfinite(rangeM)) return {};
+    const double depth = rangeM / glm::length(d);
+    return Hit{true, c + depth * d, depth, geo.lodLevel(depth, d), true};
+  };
   if (!slab(c.x, d.x, g.originM.x, x1) || !slab(c.y, d.y, g.originM.y, y1) || !slab(c.z, d.z, -1e12, mCeilingM) ||
       lo > hi) {
-    return {};
+    return missed();
   }
   const double horizontal = std::sqrt(d.x * d.x + d.y * d.y);
   const auto above = [&](double t, int level) {
@@ -89,7 +103,7 @@ ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u
     level = levelNext;
     f = fNext;
   }
-  return {};
+  return missed();
 }
 
 Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings& settings) const {
@@ -109,7 +123,11 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
         const glm::dvec3 d = geo.ray(u + 0.5, vs);
         const double length = glm::length(d);
         Rgb colour;
-        if (h.hit) {
+        if (h.basePlane) {
+          const auto range = static_cast<float>(h.depthM * length);
+          colour = shading.terrain(unpackRgb(mBaseColourRgba), range);
+          if (sub == s / 2) rangePx = range;
+        } else if (h.hit) {
           const TerrainGeometry& g = mView.geometry();
           const double x = (h.pointM.x - g.originM.x) / g.spacingM;
           const double y = (h.pointM.y - g.originM.y) / g.spacingM;

@@ -18,7 +18,8 @@ class Renderer::InFlight {
         maxAnisotropy(s.maxAnisotropy),
         frame(frameShell(request, s, s.rangeImage, std::move(recycle))),
         geometry(frame.pose, frame.intrinsics, r.mView.geometry(), s),
-        caster(r.mView, geometry, s, r.mCeilingQ, &frame.image, s.rangeImage ? frame.rangeM.data() : nullptr) {
+        caster(r.mView, geometry, s, r.mCeilingQ, r.mBaseColourRgba, &frame.image,
+               s.rangeImage ? frame.rangeM.data() : nullptr) {
     frame.renderStart = MonotonicClock::now();
     job.run = &InFlight::runColumns;
     job.context = this;
@@ -53,6 +54,7 @@ Renderer::Renderer(const TerrainView& view, const RenderSettings& settings, int 
     : mView(view),
       mSettings(settings),
       mCeilingQ(terrainCeilingQ(view)),
+      mBaseColourRgba(basePlaneColour(view)),
       mThreads(static_cast<std::size_t>(
           threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))),
       mCaller(std::make_unique<CasterThread>()),

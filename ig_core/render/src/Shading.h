@@ -1,6 +1,7 @@
 #pragma once
 // Pixel colour shared by the fast caster and the reference renderer: terrain colour with the
-// next level blended in, haze toward the horizon colour with range, and the sky gradient.
+// next level blended in, haze toward the horizon colour with range, the sky gradient, and what a
+// ray that misses the terrain sees (the base plane beyond the edge, or the sky).
 
 #include <ig_core/RenderSettings.h>
 
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -50,6 +52,14 @@ inline Rgb unpackRgb(std::uint32_t rgba) noexcept {
 #endif
 }
 inline Rgb mix(const Rgb& a, const Rgb& b, float t) noexcept { return Rgb{a.v + (b.v - a.v) * t}; }
+
+/// Range (metres) at which a ray that missed the terrain meets the base plane, the flat world
+/// beyond the database's edge (RENDERER.md, "Beyond the edge"), for a camera `aboveM` over the
+/// plane and a ray of world z `dz` and length `length` per metre of depth; infinite when it never
+/// does (level or climbing, or the camera not above the plane): then it sees the sky.
+inline double basePlaneRangeM(double aboveM, double dz, double length) noexcept {
+  return dz < 0.0 && aboveM > 0.0 ? aboveM * length / -dz : std::numeric_limits<double>::infinity();
+}
 
 /// Haze and the pixel store as a small value: hot loops keep it in registers. (Their pixel stores
 /// are bytes, which may alias anything, so members read through a reference would be read again
@@ -140,6 +150,12 @@ class Shading {
   Rgb sky(float sinElevation) const noexcept {
     const float t = std::sqrt(std::clamp(sinElevation, 0.0f, 1.0f));
     return mix(mHorizon, mZenith, t);
+  }
+
+  /// What a ray that missed the terrain sees: the base plane (colour `base`) at `rangeM`, in the
+  /// haze, or the sky when the range is infinite. RT-safe.
+  Rgb missed(const Rgb& base, float rangeM, float sinElevation) const noexcept {
+    return rangeM < std::numeric_limits<float>::infinity() ? terrain(base, rangeM) : sky(sinElevation);
   }
 
   bool grey() const noexcept { return mGrey; }

@@ -92,10 +92,11 @@ SweepResult castBoth(const TerrainView& view, const SweepPose& p) {
   Frame perRay = plane;
   CasterThread planeThread;
   CasterThread perRayThread;
-  castColumns(CasterFrame(view, geo, settings, ceiling, &plane.image, plane.rangeM.data()), 0, l.frame.widthPx,
-              planeThread);
-  castColumnsPerRay(CasterFrame(view, geo, settings, ceiling, &perRay.image, perRay.rangeM.data()), 0, l.frame.widthPx,
-                    perRayThread);
+  castColumns(CasterFrame(view, geo, settings, ceiling, basePlaneColour(view), &plane.image, plane.rangeM.data()), 0,
+              l.frame.widthPx, planeThread);
+  castColumnsPerRay(
+      CasterFrame(view, geo, settings, ceiling, basePlaneColour(view), &perRay.image, perRay.rangeM.data()), 0,
+      l.frame.widthPx, perRayThread);
   SweepResult r;
   r.agreement = compareHits(plane, perRay, view.geometry(), settings);
   for (std::size_t k = 0; k < plane.rangeM.size(); ++k) {
@@ -182,14 +183,15 @@ void pausingChangesNothing(const TerrainView& view, unsigned seed) {
     const std::uint16_t ceiling = terrainCeilingQ(view);
     const auto cast = [&](double band, CasterThread& thread) {
       Frame frame = v.blankFrame();
-      CasterFrame caster(view, v.geo, v.settings, ceiling, &frame.image, frame.rangeM.data());
+      CasterFrame caster(view, v.geo, v.settings, ceiling, basePlaneColour(view), &frame.image, frame.rangeM.data());
       caster.marchBand = band;
       castColumns(caster, 0, v.layout.frame.widthPx, thread);
       return frame;
     };
     CasterThread everyCrossing, bands, never;
     const Frame a = cast(1.0 + 1e-12, everyCrossing);
-    const Frame b = cast(CasterFrame(view, v.geo, v.settings, ceiling, nullptr, nullptr).marchBand, bands);
+    const Frame b =
+        cast(CasterFrame(view, v.geo, v.settings, ceiling, basePlaneColour(view), nullptr, nullptr).marchBand, bands);
     const Frame c = cast(std::numeric_limits<double>::infinity(), never);
     SCOPED_TRACE("pose " + std::to_string(n));
     EXPECT_EQ(never.pauses, 0u);

@@ -33,7 +33,7 @@ struct RayView {
   RayView(const TerrainView& view, const Pose& pose, double fovDeg)
       : k(Intrinsics::fromHorizontalFov(200, 150, radians(fovDeg))),
         geo(pose, k, view.geometry(), settings),
-        frame(view, geo, settings, terrainCeilingQ(view), nullptr, nullptr) {}
+        frame(view, geo, settings, terrainCeilingQ(view), basePlaneColour(view), nullptr, nullptr) {}
 };
 
 // The same grid line of the same level, and the crossing within 1/100 of a voxel there (the march

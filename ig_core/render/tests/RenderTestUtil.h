@@ -49,10 +49,16 @@ inline int voxelDistance(const TerrainGeometry& g, const glm::dvec3& a, const gl
 struct HitAgreement {
   int pixels = 0;
   int same = 0;         ///< same voxel or a neighbour at the fast frame's level, or both sky
-  int skyMismatch = 0;  ///< sky in one, terrain in the other, away from the terrain's edge
-  int atEdge = 0;       ///< sky in one, terrain within a voxel of the terrain's edge in the other
+  int skyMismatch = 0;  ///< one beyond the edge (sky or base plane), terrain in the other, away from the edge
+  int atEdge = 0;       ///< one beyond the edge, terrain within a voxel of the terrain's edge in the other
   double fraction() const { return pixels ? static_cast<double>(same) / pixels : 1.0; }
 };
+
+/// How far world point `p` lies inside the hull of the level-0 voxel centres (negative: outside).
+inline double insideGridM(const TerrainGeometry& g, const glm::dvec3& p) {
+  return std::min({p.x - g.originM.x, g.originM.x + (g.widthVox - 1) * g.spacingM - p.x, p.y - g.originM.y,
+                   g.originM.y + (g.heightVox - 1) * g.spacingM - p.y});
+}
 
 inline HitAgreement compareHits(const Frame& fast, const Frame& reference, const TerrainGeometry& g,
                                 const RenderSettings& settings) {
@@ -65,38 +71,39 @@ inline HitAgreement compareHits(const Frame& fast, const Frame& reference, const
       const float rf = fast.rangeM[k];
       const float rr = reference.rangeM[k];
       ++a.pixels;
-      if (std::isinf(rf) || std::isinf(rr)) {
-        if (std::isinf(rf) == std::isinf(rr)) {
-          ++a.same;
-          continue;
-        }
-        // One saw the sky, the other terrain. Where the terrain ends, the caster's last sample is the
-        // last grid line of its level: a hit within one voxel (at that level) of the edge counts as
-        // a neighbour.
-        const glm::dvec3 d = geo.ray(u + 0.5, v + 0.5);
-        const double r = std::isinf(rf) ? rr : rf;
-        const glm::dvec3 p = fast.pose.positionM + r * glm::normalize(d);
-        const double voxel = std::ldexp(g.spacingM, geo.lodLevel(r / glm::length(d), d));
-        const double edge = std::min({p.x - g.originM.x, g.originM.x + (g.widthVox - 1) * g.spacingM - p.x,
-                                      p.y - g.originM.y, g.originM.y + (g.heightVox - 1) * g.spacingM - p.y});
-        if (edge <= voxel) {
-          ++a.same;
-          ++a.atEdge;
-          continue;
-        }
-        ++a.skyMismatch;
-        if (std::getenv("FIELDCAST_DEBUG_HITS")) {
-          std::printf("  sky mismatch at (%d,%d): fast %s, hit at %.1f %.1f %.1f\n", u, v,
-                      std::isinf(rf) ? "sky" : "hit", p.x, p.y, p.z);
-        }
-        continue;
-      }
       const glm::dvec3 d = geo.ray(u + 0.5, v + 0.5);
       const glm::dvec3 unit = glm::normalize(d);
-      const glm::dvec3 pf = fast.pose.positionM + static_cast<double>(rf) * unit;
-      const glm::dvec3 pr = fast.pose.positionM + static_cast<double>(rr) * unit;
-      const int level = geo.lodLevel(rf / glm::length(d), d);
-      if (voxelDistance(g, pf, pr, level) <= 1) ++a.same;
+      if (std::isinf(rf) && std::isinf(rr)) {
+        ++a.same;
+        continue;
+      }
+      if (!std::isinf(rf) && !std::isinf(rr)) {
+        const glm::dvec3 pf = fast.pose.positionM + static_cast<double>(rf) * unit;
+        const glm::dvec3 pr = fast.pose.positionM + static_cast<double>(rr) * unit;
+        const int level = geo.lodLevel(rf / glm::length(d), d);
+        if (voxelDistance(g, pf, pr, level) <= 1) {
+          ++a.same;
+          continue;
+        }
+      }
+      // One saw terrain, the other past it: the sky, or the base plane outside the grid. Where the
+      // terrain ends, the caster's last sample is the last grid line of its level: a hit within
+      // one voxel (at that level) of the edge counts as a neighbour.
+      const double near = std::min(rf, rr);
+      const double far = std::max(rf, rr);
+      if (!std::isinf(far) && insideGridM(g, fast.pose.positionM + far * unit) >= 0.0) continue;  // both terrain
+      const glm::dvec3 p = fast.pose.positionM + near * unit;
+      const double voxel = std::ldexp(g.spacingM, geo.lodLevel(near / glm::length(d), d));
+      if (std::abs(insideGridM(g, p)) <= voxel) {
+        ++a.same;
+        ++a.atEdge;
+        continue;
+      }
+      ++a.skyMismatch;
+      if (std::getenv("FIELDCAST_DEBUG_HITS")) {
+        std::printf("  past-the-edge mismatch at (%d,%d): fast %s, hit at %.1f %.1f %.1f\n", u, v,
+                    rf > rr ? "past" : "hit", p.x, p.y, p.z);
+      }
     }
   }
   return a;

@@ -174,7 +174,7 @@ TEST(Renderer, StatsReportTheKnobsEachFrameWasSubmittedWith) {
 }
 
 // Pixels whose hit lies more than one voxel (at its level) outside the hull of the grid's voxel
-// centres: terrain the database does not have.
+// centres, above the base plane: terrain the database does not have.
 int hitsBeyondTheGrid(const Frame& f, const TerrainGeometry& g, const RenderSettings& settings) {
   const ViewGeometry geo(f.pose, f.intrinsics, g, settings);
   int beyond = 0;
@@ -185,6 +185,7 @@ int hitsBeyondTheGrid(const Frame& f, const TerrainGeometry& g, const RenderSett
       if (std::isinf(r)) continue;
       const glm::dvec3 d = geo.ray(u + 0.5, v + 0.5);
       const glm::dvec3 p = f.pose.positionM + static_cast<double>(r) * glm::normalize(d);
+      if (std::abs(p.z - g.heightBaseM) <= 1e-5 * r + 1e-3) continue;  // the base plane beyond the edge
       const double voxel = std::ldexp(g.spacingM, geo.lodLevel(r / glm::length(d), d));
       const glm::dvec2 lo = g.originM - voxel;
       const glm::dvec2 hi =
@@ -215,9 +216,11 @@ void planeMarchAgainstRayByRay(const TerrainView& view, const std::vector<ViewRe
     plane.rangeM.assign(static_cast<std::size_t>(l.frame.widthPx * l.frame.heightPx), 0.0f);
     Frame perRay = plane;
     CasterThread t;
-    castColumns(CasterFrame(view, geo, settings, ceiling, &plane.image, plane.rangeM.data()), 0, l.frame.widthPx, t);
-    castColumnsPerRay(CasterFrame(view, geo, settings, ceiling, &perRay.image, perRay.rangeM.data()), 0,
-                      l.frame.widthPx, t);
+    castColumns(CasterFrame(view, geo, settings, ceiling, basePlaneColour(view), &plane.image, plane.rangeM.data()), 0,
+                l.frame.widthPx, t);
+    castColumnsPerRay(
+        CasterFrame(view, geo, settings, ceiling, basePlaneColour(view), &perRay.image, perRay.rangeM.data()), 0,
+        l.frame.widthPx, t);
     EXPECT_EQ(hitsBeyondTheGrid(plane, view.geometry(), settings), 0);
     const HitAgreement a = compareHits(plane, perRay, view.geometry(), settings);
     total += a.pixels;

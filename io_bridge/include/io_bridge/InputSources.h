@@ -14,6 +14,7 @@
 
 #include <fieldcast/Time.h>
 
+#include <memory>
 #include <string>
 
 namespace fieldcast::io {
@@ -22,6 +23,11 @@ namespace fieldcast::io {
 /// Throws std::runtime_error at once when the spec itself is malformed; the factory throws when
 /// the device is not there.
 StickInput::SourceFactory makeSourceFactory(const std::string& spec, Clock& clock);
+
+/// For usb: sources where libusb has hotplug, a watch that wakes the reconnect wait when the
+/// device arrives; null otherwise (evdev, hidraw, replays, no hotplug: the backoff poll alone).
+/// Throws std::runtime_error when libusb cannot start or the callback cannot be registered.
+std::shared_ptr<DeviceArrivalWatch> makeArrivalWatch(const std::string& spec);
 
 /// True when `spec` names a recording (a replay does not reconnect).
 bool isReplaySpec(const std::string& spec) noexcept;

@@ -42,6 +42,15 @@ class Backoff {
   Nanoseconds mMin, mMax, mNext;
 };
 
+/// Tells the reconnect wait that the device may be back (a USB hotplug arrival), so it is
+/// reopened at once rather than at the next backoff poll. Owned by the input thread.
+class DeviceArrivalWatch {
+ public:
+  virtual ~DeviceArrivalWatch() = default;
+  /// Waits up to `timeout` for an arrival; true when one came.
+  virtual bool waitForArrival(Nanoseconds timeout) = 0;
+};
+
 /// Options of the stick input thread.
 struct StickInputOptions {
   Nanoseconds readTimeout{std::chrono::milliseconds(20)};  ///< longest block in one read (stop latency)
@@ -49,6 +58,8 @@ struct StickInputOptions {
   Nanoseconds backoffMax{std::chrono::seconds(5)};         ///< longest reconnection delay
   std::filesystem::path recordPath;                        ///< record every event here; empty: no recording
   bool reconnect = true;  ///< false: finish when the source ends or is lost (replays, pipes)
+  /// Reopen on arrival (libusb hotplug) while waiting; the backoff poll stays as the fallback. May be null.
+  std::shared_ptr<DeviceArrivalWatch> arrivals;
 };
 
 /// Figures of the input thread (read from any thread).
@@ -59,6 +70,7 @@ struct StickInputStats {
   std::uint64_t failedOpens = 0;
   std::uint64_t rejectedReports = 0;
   std::uint64_t droppedBursts = 0;
+  std::uint64_t arrivals = 0;  ///< reopen attempts brought forward by a hotplug arrival
 };
 
 /// The held state decayed toward neutral at time `t` (see StickInput). RT-safe.
@@ -87,6 +99,8 @@ class StickInput {
   /// The controls to apply at `t`: the newest state, or while the device is lost the held state
   /// decayed toward neutral. Any thread; lock-free, never waits for the input thread. RT-safe.
   ControlState controlsAt(TimePoint t) const noexcept { return decayToward(mPublished.load(), t, mProfile); }
+  /// The profile it maps with (its [buttons] cockpit actions, for the service).
+  const StickProfile& profile() const noexcept { return mProfile; }
   /// The newest published state, undecayed. RT-safe.
   ControlState latest() const noexcept { return mPublished.load(); }
   /// Counters. Any thread.
@@ -110,7 +124,7 @@ class StickInput {
   ControlState mHeld;
   SeqLock<ControlState> mPublished;
   std::atomic<std::uint64_t> mFrames{0}, mConnects{0}, mLosses{0}, mFailedOpens{0};
-  std::atomic<std::uint64_t> mRejected{0}, mDropped{0};
+  std::atomic<std::uint64_t> mRejected{0}, mDropped{0}, mArrivals{0};
   std::uint64_t mRejectedBefore = 0, mDroppedBefore = 0;  // totals of earlier connections
   std::atomic<bool> mRunning{false};
   std::thread mThread;

@@ -38,6 +38,14 @@ struct AxisBinding {
 /// What the published state does when the device disappears.
 enum class ThrottleOnLoss : std::uint8_t { Hold, Neutral };
 
+/// Which ControlState buttons (1…64, after `buttonOrder`) drive the cockpit's actions; 0: none.
+/// They act as the GPIO discretes of the same name do (app/src/CockpitActions.h).
+struct CockpitButtons {
+  int freeze = 0;   ///< each press toggles the freeze
+  int reset = 0;    ///< each press returns the flight to its start
+  int trigger = 0;  ///< each press is counted
+};
+
 /// A per-device mapping profile.
 struct StickProfile {
   std::string name = "generic";
@@ -45,6 +53,7 @@ struct StickProfile {
   std::array<AxisBinding, kAxisRoles> axes;  ///< indexed by AxisRole
   std::vector<std::uint16_t>
       buttonOrder;               ///< ControlState button n = device button buttonOrder[n−1]; empty: same numbers
+  CockpitButtons cockpit;        ///< [buttons] freeze / reset / trigger
   double defaultThrottle = 0.5;  ///< throttle when no throttle control is bound or present
   double lossDecayS = 1.0;       ///< seconds for roll/pitch/yaw to decay to neutral after a loss
   ThrottleOnLoss throttleOnLoss = ThrottleOnLoss::Hold;

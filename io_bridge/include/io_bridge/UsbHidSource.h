@@ -3,7 +3,8 @@
 // not bound to usbhid, or when the kernel driver is detached on purpose. The report descriptor is
 // fetched with GET_DESCRIPTOR(Report) and parsed by our parser; the interrupt-IN endpoint is read
 // with asynchronous transfers. The transport is a seam: LibusbTransport talks to hardware, tests
-// use a fake that delivers real report bytes. Reconnection after unplug is StickInput's backoff.
+// use a fake that delivers real report bytes. Reconnection after unplug is StickInput's backoff,
+// woken early by a libusb hotplug arrival where the platform has it (UsbHotplug.h).
 
 #include <io_bridge/HidReportDecoder.h>
 #include <io_bridge/InputSource.h>

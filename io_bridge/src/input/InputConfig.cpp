@@ -8,6 +8,9 @@ InputConfig readInputConfig(ConfigReader& t) {
   c.profile = t.path("profile", "");
   c.record = t.path("record", "");
   c.sync = t.string("sync", "");
+  c.freeze = t.string("freeze", "");
+  c.reset = t.string("reset", "");
+  c.trigger = t.string("trigger", "");
   t.finish();
   return c;
 }

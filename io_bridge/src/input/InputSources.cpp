@@ -5,10 +5,55 @@
 #include <io_bridge/HidrawSource.h>
 #include <io_bridge/InputRecording.h>
 #include <io_bridge/UsbHidSource.h>
+#include <io_bridge/UsbHotplug.h>
 
 #include <stdexcept>
 
 namespace fieldcast::io {
+
+namespace {
+
+struct UsbSpec {
+  UsbDeviceSelector selector;
+  std::vector<std::uint8_t> descriptor;
+};
+
+// "usb:…" (see InputSources.h).
+UsbSpec parseUsbSpec(const std::string& spec) {
+  std::string rest = spec.substr(4);
+  std::vector<std::uint8_t> descriptor;
+  if (const auto d = rest.find(":descriptor="); d != std::string::npos) {
+    descriptor = readHidDescriptorFile(rest.substr(d + 12));
+    (void)parseHidReportDescriptor(descriptor);  // refuse a bad file now, with its reason
+    rest.resize(d);
+  }
+  bool detach = false;
+  if (rest.size() > 7 && rest.substr(rest.size() - 7) == ":detach") {
+    detach = true;
+    rest.resize(rest.size() - 7);
+  }
+  UsbDeviceSelector sel;
+  if (rest.rfind("class:", 0) == 0) {
+    // A panel that is not bound to usbhid: the first device with an interface of that class.
+    const std::string cls = rest.substr(6);
+    std::size_t used = 0;
+    unsigned long v = 256;
+    try {
+      v = std::stoul(cls, &used, 0);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != cls.size() || v > 255)
+      throw std::runtime_error("input source \"" + spec + "\": expected usb:class:N with N 0-255");
+    sel.interfaceClass = static_cast<std::uint8_t>(v);
+  } else {
+    sel = parseUsbSelector(rest);
+  }
+  sel.detachKernelDriver = detach;
+  return UsbSpec{sel, descriptor};
+}
+
+}  // namespace
 
 bool isReplaySpec(const std::string& spec) noexcept { return spec.rfind("replay:", 0) == 0; }
 
@@ -20,37 +65,10 @@ StickInput::SourceFactory makeSourceFactory(const std::string& spec, Clock& cloc
     return [path] { return std::make_unique<HidrawSource>(path); };
   }
   if (spec.rfind("usb:", 0) == 0) {
-    std::string rest = after(4);
-    std::vector<std::uint8_t> descriptor;
-    if (const auto d = rest.find(":descriptor="); d != std::string::npos) {
-      descriptor = readHidDescriptorFile(rest.substr(d + 12));
-      (void)parseHidReportDescriptor(descriptor);  // refuse a bad file now, with its reason
-      rest.resize(d);
-    }
-    bool detach = false;
-    if (rest.size() > 7 && rest.substr(rest.size() - 7) == ":detach") {
-      detach = true;
-      rest.resize(rest.size() - 7);
-    }
-    UsbDeviceSelector sel;
-    if (rest.rfind("class:", 0) == 0) {
-      // A panel that is not bound to usbhid: the first device with an interface of that class.
-      const std::string cls = rest.substr(6);
-      std::size_t used = 0;
-      unsigned long v = 256;
-      try {
-        v = std::stoul(cls, &used, 0);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != cls.size() || v > 255)
-        throw std::runtime_error("input source \"" + spec + "\": expected usb:class:N with N 0-255");
-      sel.interfaceClass = static_cast<std::uint8_t>(v);
-    } else {
-      sel = parseUsbSelector(rest);
-    }
-    sel.detachKernelDriver = detach;
-    return [sel, descriptor] { return std::make_unique<UsbHidSource>(openLibusbTransport(sel), descriptor); };
+    const UsbSpec usb = parseUsbSpec(spec);
+    return [sel = usb.selector, descriptor = usb.descriptor] {
+      return std::make_unique<UsbHidSource>(openLibusbTransport(sel), descriptor);
+    };
   }
   if (isReplaySpec(spec)) {
     std::string path = after(7);
@@ -64,6 +82,11 @@ StickInput::SourceFactory makeSourceFactory(const std::string& spec, Clock& cloc
   }
   const std::string evdev = spec.rfind("evdev:", 0) == 0 ? after(6) : spec;
   return [evdev] { return std::make_unique<EvdevSource>(evdev); };
+}
+
+std::shared_ptr<DeviceArrivalWatch> makeArrivalWatch(const std::string& spec) {
+  if (spec.rfind("usb:", 0) != 0) return nullptr;
+  return watchUsbArrivals(openLibusbHotplugBus(), parseUsbSpec(spec).selector);
 }
 
 }  // namespace fieldcast::io

@@ -54,8 +54,8 @@ void StickInput::stop() {
 }
 
 StickInputStats StickInput::stats() const noexcept {
-  return StickInputStats{mFrames.load(),      mConnects.load(), mLosses.load(),
-                         mFailedOpens.load(), mRejected.load(), mDropped.load()};
+  return StickInputStats{mFrames.load(),   mConnects.load(), mLosses.load(),  mFailedOpens.load(),
+                         mRejected.load(), mDropped.load(),  mArrivals.load()};
 }
 
 void StickInput::lose(TimePoint now, const char* why) {
@@ -92,6 +92,13 @@ bool StickInput::step() {
   const TimePoint now = mClock.now();
   if (!mSource) {
     if (now < mNextAttempt) {
+      const Nanoseconds wait = std::min(mNextAttempt - now, mOptions.readTimeout);
+      if (mOptions.arrivals && mOptions.arrivals->waitForArrival(wait)) {
+        ++mArrivals;
+        mNextAttempt = mClock.now();  // the device may be back: try now, not at the next poll
+        return true;
+      }
+      // No arrival (or no hotplug): the backoff poll. After a watch that waited, this returns at once.
       mClock.sleepUntil(std::min(mNextAttempt, now + mOptions.readTimeout));
       return true;
     }

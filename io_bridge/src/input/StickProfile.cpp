@@ -128,6 +128,12 @@ StickProfile readStickProfile(ConfigReader top) {
     ConfigReader r = top.table("buttons");
     for (const std::int64_t b : r.integers("order", 1, 0xFFFF, 64))
       p.buttonOrder.push_back(static_cast<std::uint16_t>(b));
+    const auto cockpitButton = [&r](const char* key) {
+      return static_cast<int>(r.optionalInteger(key, 1, 64).value_or(0));
+    };
+    p.cockpit.freeze = cockpitButton("freeze");
+    p.cockpit.reset = cockpitButton("reset");
+    p.cockpit.trigger = cockpitButton("trigger");
     r.finish();
   }
   {

@@ -15,6 +15,7 @@ target_sources(fieldcast_io PRIVATE
   ${_input}/HidrawSource.cpp
   ${_input}/UsbHidSource.cpp
   ${_input}/LibusbTransport.cpp
+  ${_input}/UsbHotplug.cpp
   ${_input}/InputSources.cpp
   ${_input}/InputConfig.cpp)
 target_link_libraries(fieldcast_io PRIVATE PkgConfig::libevdev PkgConfig::libusb spdlog::spdlog)

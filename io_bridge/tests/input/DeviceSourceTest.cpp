@@ -7,6 +7,7 @@
 #include <io_bridge/InputSources.h>
 #include <io_bridge/StickInput.h>
 #include <io_bridge/UsbHidSource.h>
+#include <io_bridge/UsbHotplug.h>
 
 #include "RealDescriptors.h"
 
@@ -110,6 +111,111 @@ TEST(UsbHidSource, SurvivesUnplugAndReplug) {
   EXPECT_EQ(input.stats().connects, 2u);
   EXPECT_EQ(input.latest().health, InputHealth::Live);
   EXPECT_DOUBLE_EQ(input.latest().roll, -1.0);
+}
+
+// The fake hotplug bus: says whether it has hotplug, records the registration, and delivers an
+// arrival (plugging the fake device in) from handleEvents() as libusb does.
+class FakeHotplugBus final : public UsbHotplugBus {
+ public:
+  struct State {
+    bool capable = true;
+    int registrations = 0;
+    std::optional<std::uint16_t> vendorId, productId;
+    bool arrivalPending = false;
+    FakeUsbTransport::Bus* usb = nullptr;
+  };
+  explicit FakeHotplugBus(State& state) : mState(state) {}
+  bool hasHotplug() const override { return mState.capable; }
+  void watchArrivals(std::optional<std::uint16_t> vendorId, std::optional<std::uint16_t> productId,
+                     std::function<void()> onArrival) override {
+    ++mState.registrations;
+    mState.vendorId = vendorId;
+    mState.productId = productId;
+    mOnArrival = std::move(onArrival);
+  }
+  void handleEvents(Nanoseconds) override {
+    if (!mState.arrivalPending) return;
+    mState.arrivalPending = false;
+    mState.usb->plugged = true;
+    mOnArrival();
+  }
+
+ private:
+  State& mState;
+  std::function<void()> mOnArrival;
+};
+
+TEST(UsbHotplug, RegistersForTheDeviceOnlyWhereLibusbHasHotplug) {
+  FakeHotplugBus::State state;
+  const UsbDeviceSelector stick = parseUsbSelector("06a3:ff0d");
+  EXPECT_NE(watchUsbArrivals(std::make_unique<FakeHotplugBus>(state), stick), nullptr);
+  EXPECT_EQ(state.registrations, 1);
+  EXPECT_EQ(state.vendorId, std::optional<std::uint16_t>(0x06a3));
+  EXPECT_EQ(state.productId, std::optional<std::uint16_t>(0xff0d));
+  state.capable = false;  // e.g. no udev/netlink: no watch, the poll alone
+  EXPECT_EQ(watchUsbArrivals(std::make_unique<FakeHotplugBus>(state), stick), nullptr);
+  EXPECT_EQ(state.registrations, 1);
+  // Sources other than usb: have no watch; the real libusb answers for usb: without a device.
+  EXPECT_EQ(makeArrivalWatch("/dev/input/event5"), nullptr);
+  EXPECT_EQ(makeArrivalWatch("hidraw:/dev/hidraw0"), nullptr);
+}
+
+// The stick is lost with a 10 s backoff; it comes back after 1 s. With hotplug the arrival reopens
+// it at once; without, or when the arrival is never announced, the poll finds it at the backoff.
+enum class Replug { Announced, Unannounced, NoHotplug };
+struct ReplugRun {
+  TimePoint lostAt{}, reconnectedAt{};
+  std::uint64_t arrivals = 0;
+};
+
+ReplugRun replugAfterOneSecond(Replug how) {
+  FakeUsbTransport::Bus bus;
+  bus.reports = {{0x01, 0xff, 0x80, 0x80, 0x00, 0x00, 0xf0}};
+  FakeHotplugBus::State state;
+  state.capable = how != Replug::NoHotplug;
+  state.usb = &bus;
+  VirtualClock clock;
+  StickInputOptions options;
+  options.backoffMin = 10s;
+  options.backoffMax = 10s;
+  options.arrivals = watchUsbArrivals(std::make_unique<FakeHotplugBus>(state), parseUsbSelector("06a3:ff0d"));
+  StickInput input([&] { return std::make_unique<UsbHidSource>(std::make_unique<FakeUsbTransport>(bus)); },
+                   StickProfile::generic(), options, clock);
+  while (input.stats().frames < 1) input.step();
+  bus.plugged = false;
+  while (input.stats().losses < 1) input.step();
+  ReplugRun run;
+  run.lostAt = clock.now();
+  const TimePoint replug = clock.now() + 1s;
+  for (int steps = 0; input.stats().connects < 2 && clock.now() < run.lostAt + 60s && steps < 100000; ++steps) {
+    if (clock.now() >= replug && !bus.plugged && !state.arrivalPending) {
+      if (how == Replug::Announced) {
+        state.arrivalPending = true;  // the kernel announces it; the bus plugs it in when handled
+      } else {
+        bus.plugged = true;
+      }
+    }
+    input.step();
+  }
+  run.reconnectedAt = clock.now();
+  run.arrivals = input.stats().arrivals;
+  return run;
+}
+
+TEST(UsbHotplug, AnArrivalReopensAtOnceInsteadOfAtTheNextPoll) {
+  const ReplugRun run = replugAfterOneSecond(Replug::Announced);
+  EXPECT_EQ(run.arrivals, 1u);
+  EXPECT_GE(run.reconnectedAt - run.lostAt, 1s);
+  EXPECT_LT(run.reconnectedAt - run.lostAt, 1s + 100ms);  // within a read timeout of the arrival
+}
+
+TEST(UsbHotplug, WithoutHotplugThePollStillReconnects) {
+  for (const Replug how : {Replug::NoHotplug, Replug::Unannounced}) {
+    const ReplugRun run = replugAfterOneSecond(how);
+    EXPECT_EQ(run.arrivals, 0u);
+    EXPECT_GE(run.reconnectedAt - run.lostAt, 10s);  // at the backoff poll
+    EXPECT_LT(run.reconnectedAt - run.lostAt, 11s) << (how == Replug::NoHotplug ? "no hotplug" : "not announced");
+  }
 }
 
 TEST(HidrawSource, OneReportPerReadThroughASeqpacketSocket) {

@@ -2,6 +2,7 @@
 #include <io_bridge/EvdevSource.h>
 #include <io_bridge/HidrawSource.h>
 #include <io_bridge/UsbHidSource.h>
+#include <io_bridge/UsbHotplug.h>
 
 #include <gtest/gtest.h>
 
@@ -49,6 +50,19 @@ TEST(Hardware, UsbHidDevice) {
   std::vector<InputEvent> out;
   (void)source.read(out, 100ms);
   EXPECT_FALSE(source.description().controls.empty());
+}
+
+// Needs a person: plug the device in (or unplug and replug it) within 30 s of the start.
+TEST(Hardware, UsbHotplugArrival) {
+  const char* wanted = std::getenv("FIELDCAST_TEST_USB_REPLUG");
+  if (wanted == nullptr) GTEST_SKIP() << "set FIELDCAST_TEST_USB_REPLUG=vid:pid and replug that device within 30 s";
+  auto bus = openLibusbHotplugBus();
+  if (!bus->hasHotplug()) GTEST_SKIP() << "libusb has no hotplug here: the backoff poll alone reconnects";
+  const auto watch = watchUsbArrivals(std::move(bus), parseUsbSelector(wanted));
+  ASSERT_NE(watch, nullptr);
+  bool arrived = false;
+  for (int k = 0; k < 300 && !arrived; ++k) arrived = watch->waitForArrival(100ms);
+  EXPECT_TRUE(arrived) << "no arrival of " << wanted << " announced within 30 s";
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Profiles and mapping: shaping functions, the generic profile on a real descriptor, profile files
 // and their error messages, and the hand-over to the flight model.
 #include <io_bridge/HidReportDecoder.h>
+#include <io_bridge/InputConfig.h>
 #include <io_bridge/StickMapper.h>
 #include <io_bridge/StickProfile.h>
 
@@ -151,6 +152,49 @@ throttle = "neutral"
   EXPECT_EQ(errorOf("[loss]\nthrottle = \"cut\"\n"),
             "bad.toml:2: loss.throttle: expected one of \"hold\", \"neutral\", got \"cut\"");
   EXPECT_NE(errorOf("name = \n").find("bad.toml:1:"), std::string::npos);
+}
+
+TEST(StickProfile, ButtonsMapTheCockpitActions) {
+  const StickProfile p = parseStickProfile("[buttons]\nfreeze = 2\nreset = 3\ntrigger = 64\n", "b.toml");
+  EXPECT_EQ(p.cockpit.freeze, 2);
+  EXPECT_EQ(p.cockpit.reset, 3);
+  EXPECT_EQ(p.cockpit.trigger, 64);
+  const StickProfile none = parseStickProfile("[buttons]\norder = [2, 1]\n", "b.toml");
+  EXPECT_EQ(none.cockpit.freeze + none.cockpit.reset + none.cockpit.trigger, 0);  // unmapped
+  auto errorOf = [](const char* bad) {
+    try {
+      (void)parseStickProfile(bad, "bad.toml");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(errorOf("[buttons]\nfreeze = 0\n"), "bad.toml:2: buttons.freeze: expected an integer from 1 to 64, got 0");
+  EXPECT_EQ(errorOf("[buttons]\nreset = 65\n"), "bad.toml:2: buttons.reset: expected an integer from 1 to 64, got 65");
+  EXPECT_NE(errorOf("[buttons]\ntrigger = \"a\"\n").find("bad.toml:2: buttons.trigger:"), std::string::npos);
+  EXPECT_NE(errorOf("[buttons]\nfire = 1\n").find("bad.toml:2: buttons.fire: unknown key"), std::string::npos);
+  // The shipped Raptor profile maps all three.
+  const StickProfile raptor =
+      loadStickProfile(std::filesystem::path(FIELDCAST_SOURCE_DIR) / "config" / "sticks" / "raptor_mach2.toml");
+  EXPECT_EQ(raptor.cockpit.trigger, 1);
+  EXPECT_EQ(raptor.cockpit.freeze, 5);
+  EXPECT_EQ(raptor.cockpit.reset, 6);
+}
+
+TEST(InputConfig, ReadsTheCockpitDiscreteLines) {
+  const auto read = [](const char* text) {
+    ConfigReader top = ConfigDocument::parseText(text, "in.toml").root();
+    ConfigReader input = top.table("input");
+    return readInputConfig(input);
+  };
+  const InputConfig c = read(
+      "[input]\nsync = \"gpiochip0:4\"\nfreeze = \"gpiochip0:5\"\nreset = \"gpiochip0:6:active_low\"\n"
+      "trigger = \"gpiochip1:7\"\n");
+  EXPECT_EQ(c.sync, "gpiochip0:4");
+  EXPECT_EQ(c.freeze, "gpiochip0:5");
+  EXPECT_EQ(c.reset, "gpiochip0:6:active_low");
+  EXPECT_EQ(c.trigger, "gpiochip1:7");
+  EXPECT_TRUE(read("[input]\n").freeze.empty());
 }
 
 TEST(StickProfile, ShippedProfilesParse) {

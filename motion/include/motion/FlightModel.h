@@ -60,6 +60,10 @@ class FlightModel final : public MotionSource {
   /// at most 5 ms at a time). Ignores a `now` earlier than the last step. Owner thread only.
   void step(TimePoint now, const FlightControls& controls);
 
+  /// Starts over at `pose` and `speedMps` at `time` (rates zero), as if just constructed: the
+  /// cockpit's reset. Owner thread only; RT-safe (no allocation).
+  void reset(const Pose& pose, double speedMps, TimePoint time) noexcept;
+
   /// The newest state. Any thread, RT-safe.
   FlightState state() const noexcept { return mState.load(); }
 

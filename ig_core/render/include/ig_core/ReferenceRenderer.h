@@ -11,6 +11,8 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstdint>
+
 namespace fieldcast::core {
 
 /// Per-pixel ray–height-field intersection. Thread-compatible (const methods only).
@@ -24,6 +26,7 @@ class ReferenceRenderer {
     glm::dvec3 pointM{0.0};  ///< world hit point
     double depthM = 0.0;     ///< forward-axis depth of the hit
     int level = 0;           ///< level of detail of the surface hit
+    bool basePlane = false;  ///< the hit is on the base plane beyond the terrain's edge
   };
 
   /// Casts the ray through continuous frame pixel (u, v). Not RT-safe (slow).
@@ -35,6 +38,7 @@ class ReferenceRenderer {
  private:
   const TerrainView& mView;
   double mCeilingM;
+  std::uint32_t mBaseColourRgba;
 };
 
 }  // namespace fieldcast::core

@@ -65,6 +65,7 @@ class Renderer {
   const TerrainView& mView;
   RenderSettings mSettings;
   std::uint16_t mCeilingQ;
+  std::uint32_t mBaseColourRgba;          // the base plane beyond the terrain's edge
   std::vector<CasterThread> mThreads;     // one per worker
   std::unique_ptr<CasterThread> mCaller;  // for control rays on the submitting thread
   RenderPool mPool;

@@ -1,0 +1,402 @@
+// HostSession driven directly with decoded packets (no sockets) over a small built-in terrain:
+// what each packet the IG acts on does, and what the Start of Frame and the answers carry.
+
+#include "HostSession.h"
+#include "RenderLoop.h"
+
+#include <fieldcast/Conventions.h>
+#include <ig_core/LineOfSight.h>
+#include <ig_core/OpenTerrain.h>
+#include <io_bridge/cigi/DatagramDecoder.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <thread>
+#include <unistd.h>
+#include <vector>
+
+namespace fieldcast::app {
+namespace {
+
+namespace cigi = io::cigi;
+using namespace std::chrono_literals;
+
+constexpr double kSpacingM = 2.0;
+constexpr int kSideVox = 256;
+
+// A 256² built-in terrain at 2 m, generated once into a scratch folder, every level-0 tile resident.
+class HostSessionTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sDir = new std::filesystem::path(std::filesystem::temp_directory_path() /
+                                     ("fieldcast-host-session-" + std::to_string(::getpid())));
+    core::BuiltinTerrainSpec spec;
+    spec.sizeVox = kSideVox;
+    spec.spacingM = kSpacingM;
+    sTerrain = core::openTerrain("builtin", *sDir, std::size_t{64} << 20, spec).release();
+    const core::TerrainGeometry& g = sTerrain->geometry();
+    for (int ty = 0; ty < g.tilesY(0); ++ty) {
+      for (int tx = 0; tx < g.tilesX(0); ++tx) sTerrain->request(0, tx, ty, -1.0);
+    }
+    ASSERT_TRUE(sTerrain->waitIdle(10s));
+  }
+  static void TearDownTestSuite() {
+    delete sTerrain;
+    std::filesystem::remove_all(*sDir);
+    delete sDir;
+  }
+
+  HostSessionTest() : mSession(mOwnship, *sTerrain, core::Georeference::tangentPlane(), 1, mClock) {}
+
+  // One host message: IG Control (operate unless told, timestamp = host seconds) and `packets`.
+  void send(std::vector<cigi::HostPacket> packets, double hostTimeS = 0.0,
+            cigi::IgMode mode = cigi::IgMode::Operate, std::uint32_t hostFrame = 7) {
+    cigi::IgControl control;
+    control.igMode = mode;
+    control.hostFrameNumber = hostFrame;
+    control.timestampValid = true;
+    control.timestampTicks = static_cast<std::uint32_t>(std::llround(hostTimeS / 10e-6));
+    packets.insert(packets.begin(), control);
+    mSession.onMessage(io::HostMessage{packets, mClock.now(), false});
+  }
+
+  // The Start of Frame and answers of field `number` shown at `display`, decoded as a host would.
+  std::vector<cigi::IgPacket> field(std::uint64_t number, TimePoint display) {
+    cigi::IgMessageBuilder out;
+    EXPECT_TRUE(mSession.onField(io::FieldAnnouncement{number, display}, out));
+    cigi::IgDatagramDecoder decoder;
+    std::vector<cigi::IgPacket> packets;
+    EXPECT_TRUE(decoder.decode(out.bytes(), packets).accepted());
+    return packets;
+  }
+
+  template <class P>
+  static std::vector<P> only(const std::vector<cigi::IgPacket>& packets) {
+    std::vector<P> found;
+    for (const auto& p : packets) {
+      if (const auto* q = std::get_if<P>(&p)) found.push_back(*q);
+    }
+    return found;
+  }
+
+  // Entity Control placing `entity` at world point `worldM` (through the session's georeference).
+  static cigi::EntityControl entityAt(std::uint16_t entity, const glm::dvec3& worldM, float yawDeg = 0.0f) {
+    const auto geo = core::Georeference::tangentPlane().toGeodetic(worldM);
+    EXPECT_TRUE(geo.has_value());
+    cigi::EntityControl e;
+    e.entityId = entity;
+    e.latitudeDegOrXM = geo->latitudeDeg;
+    e.longitudeDegOrYM = geo->longitudeDeg;
+    e.altitudeMOrZM = geo->altitudeM;
+    e.yawDeg = yawDeg;
+    return e;
+  }
+
+  static cigi::HatHotRequest heightRequest(std::uint16_t id, cigi::HatHotRequestType type, const glm::dvec3& worldM) {
+    const auto geo = core::Georeference::tangentPlane().toGeodetic(worldM);
+    cigi::HatHotRequest r;
+    r.hatHotId = id;
+    r.requestType = type;
+    r.latitudeDegOrXM = geo->latitudeDeg;
+    r.longitudeDegOrYM = geo->longitudeDeg;
+    r.altitudeMOrZM = geo->altitudeM;
+    return r;
+  }
+
+  static double level0(double x, double y) { return sTerrain->heightAtM(x, y, 0); }
+
+  static std::filesystem::path* sDir;
+  static core::TileCache* sTerrain;
+
+  VirtualClock mClock{TimePoint{10s}};
+  motion::HostMotion mOwnship;
+  HostSession mSession;
+};
+std::filesystem::path* HostSessionTest::sDir = nullptr;
+core::TileCache* HostSessionTest::sTerrain = nullptr;
+
+TEST_F(HostSessionTest, OwnshipEntityControlReachesTheMotionAtItsWorldPosition) {
+  const glm::dvec3 worldM{123.25, 301.5, 812.0};
+  send({entityAt(0, worldM, 30.0f)}, 5.0);
+  const Pose pose = mOwnship.poseAt(mOwnship.toLocal(5.0));
+  EXPECT_NEAR(pose.positionM.x, worldM.x, 1e-3);
+  EXPECT_NEAR(pose.positionM.y, worldM.y, 1e-3);
+  EXPECT_NEAR(pose.positionM.z, worldM.z, 1e-3);
+  EXPECT_NEAR(pose.headingRad, radians(30.0), 1e-6);
+  EXPECT_EQ(mSession.figures().ownshipUpdates, 1u);
+}
+
+TEST_F(HostSessionTest, WorldRatesNorthEastDownBecomeEastNorthUp) {
+  const glm::dvec3 worldM{100.0, 100.0, 500.0};
+  cigi::RateControl rates;
+  rates.entityId = 0;
+  rates.frame = cigi::RateFrame::World;
+  rates.xRateMps = 10.0f;  // north
+  rates.yRateMps = 20.0f;  // east
+  rates.zRateMps = 3.0f;   // down
+  send({rates, entityAt(0, worldM)}, 5.0);
+  // Extrapolated 0.1 s past the sample with the host's rates.
+  const Pose pose = mOwnship.poseAt(mOwnship.toLocal(5.0) + 100ms);
+  EXPECT_NEAR(pose.positionM.x, worldM.x + 2.0, 1e-3);
+  EXPECT_NEAR(pose.positionM.y, worldM.y + 1.0, 1e-3);
+  EXPECT_NEAR(pose.positionM.z, worldM.z - 0.3, 1e-3);
+}
+
+TEST_F(HostSessionTest, StandbyIgnoresEntityUpdatesAndForgetsOtherEntities) {
+  const glm::dvec3 first{100.0, 100.0, 500.0};
+  send({entityAt(0, first), entityAt(5, {50.0, 50.0, 300.0})}, 1.0);
+  EXPECT_EQ(mSession.figures().otherEntities, 1u);
+
+  send({entityAt(0, {300.0, 300.0, 900.0})}, 2.0, cigi::IgMode::ResetStandby);
+  EXPECT_EQ(mSession.mode(), cigi::IgMode::ResetStandby);
+  EXPECT_EQ(mSession.figures().otherEntities, 0u);
+  EXPECT_EQ(mSession.figures().ownshipUpdates, 1u);
+  const Pose held = mOwnship.poseAt(mOwnship.toLocal(1.0));
+  EXPECT_NEAR(held.positionM.x, first.x, 1e-3);
+
+  // Back in operate, updates apply again.
+  const glm::dvec3 second{200.0, 220.0, 700.0};
+  send({entityAt(0, second)}, 3.0, cigi::IgMode::Operate);
+  EXPECT_EQ(mSession.figures().ownshipUpdates, 2u);
+  const Pose now = mOwnship.poseAt(mOwnship.toLocal(3.0));
+  EXPECT_NEAR(now.positionM.x, second.x, 1e-3);
+  EXPECT_NEAR(now.positionM.y, second.y, 1e-3);
+}
+
+TEST_F(HostSessionTest, HeightAnswersAreTheLevelZeroSurface) {
+  const glm::dvec3 point{211.3, 187.9, 900.0};
+  send({heightRequest(1, cigi::HatHotRequestType::HeightOfTerrain, point),
+        heightRequest(2, cigi::HatHotRequestType::HeightAboveTerrain, point)});
+  const auto answers = only<cigi::HatHotResponse>(field(1, mClock.now()));
+  ASSERT_EQ(answers.size(), 2u);
+  const double ground = level0(point.x, point.y);
+  EXPECT_TRUE(answers[0].valid);
+  EXPECT_EQ(answers[0].hatHotId, 1);
+  EXPECT_EQ(answers[0].responseType, cigi::HatHotResponseType::HeightOfTerrain);
+  EXPECT_NEAR(answers[0].heightM, ground, 1e-6);
+  EXPECT_TRUE(answers[1].valid);
+  EXPECT_EQ(answers[1].responseType, cigi::HatHotResponseType::HeightAboveTerrain);
+  EXPECT_NEAR(answers[1].heightM, point.z - ground, 1e-6);
+  EXPECT_EQ(answers[0].hostFrameNumberLsn, 7);
+  // Answered once: nothing left for the next field.
+  EXPECT_TRUE(only<cigi::HatHotResponse>(field(2, mClock.now())).empty());
+}
+
+TEST_F(HostSessionTest, ExtendedHeightAnswerCarriesTheNormalOfASlope) {
+  // The steepest of a few candidate spots, so the normal has a meaningful azimuth.
+  glm::dvec3 point{0.0, 0.0, 800.0};
+  double steepest = -1.0;
+  for (double x = 40.5; x < 480.0; x += 37.0) {
+    for (double y = 40.5; y < 480.0; y += 41.0) {
+      const double slope = std::hypot(level0(x + 1, y) - level0(x - 1, y), level0(x, y + 1) - level0(x, y - 1));
+      if (slope > steepest) {
+        steepest = slope;
+        point = {x, y, 800.0};
+      }
+    }
+  }
+  ASSERT_GT(steepest, 0.2);  // at least ~6° over 2 m
+  send({heightRequest(9, cigi::HatHotRequestType::Extended, point)});
+  const auto answers = only<cigi::HatHotExtendedResponse>(field(1, mClock.now()));
+  ASSERT_EQ(answers.size(), 1u);
+  const cigi::HatHotExtendedResponse& a = answers[0];
+  EXPECT_TRUE(a.valid);
+  const double ground = level0(point.x, point.y);
+  EXPECT_NEAR(a.heightOfTerrainM, ground, 1e-6);
+  EXPECT_NEAR(a.heightAboveTerrainM, point.z - ground, 1e-6);
+  // The drawn surface's slope across one voxel (central differences over ±half a voxel).
+  const double d = 0.5 * kSpacingM;
+  const double dzdx = (level0(point.x + d, point.y) - level0(point.x - d, point.y)) / (2 * d);
+  const double dzdy = (level0(point.x, point.y + d) - level0(point.x, point.y - d)) / (2 * d);
+  const glm::dvec3 n = glm::normalize(glm::dvec3(-dzdx, -dzdy, 1.0));
+  EXPECT_NEAR(a.normalAzimuthDeg, degrees(std::atan2(n.x, n.y)), 1e-3);  // clockwise from north
+  EXPECT_NEAR(a.normalElevationDeg, degrees(std::asin(n.z)), 1e-3);
+  EXPECT_LT(a.normalElevationDeg, 85.0f);
+}
+
+TEST_F(HostSessionTest, OutsideTheDatabaseIsNotValid) {
+  send({heightRequest(3, cigi::HatHotRequestType::HeightOfTerrain, {-50.0, 100.0, 500.0}),
+        heightRequest(4, cigi::HatHotRequestType::Extended, {100.0, kSideVox * kSpacingM + 10.0, 500.0})});
+  const auto packets = field(1, mClock.now());
+  const auto basic = only<cigi::HatHotResponse>(packets);
+  const auto extended = only<cigi::HatHotExtendedResponse>(packets);
+  ASSERT_EQ(basic.size(), 1u);
+  ASSERT_EQ(extended.size(), 1u);
+  EXPECT_FALSE(basic[0].valid);
+  EXPECT_FALSE(extended[0].valid);
+  EXPECT_EQ(mSession.figures().hatHotAnswered, 0u);
+}
+
+TEST_F(HostSessionTest, StartOfFrameCarriesFieldHostFrameAndHeldStatus) {
+  send({entityAt(0, {100.0, 100.0, 500.0})}, 5.0, cigi::IgMode::Operate, 4242);
+  const TimePoint sampleLocal = mOwnship.toLocal(5.0);
+
+  auto packets = field(77, sampleLocal + 10ms);
+  ASSERT_FALSE(packets.empty());
+  auto sof = std::get<cigi::StartOfFrame>(packets.front());
+  EXPECT_EQ(sof.igFrameNumber, 77u);
+  EXPECT_EQ(sof.lastHostFrameNumber, 4242u);
+  EXPECT_EQ(sof.databaseNumber, 1);
+  EXPECT_EQ(sof.igStatus, static_cast<std::uint8_t>(HostIgStatus::Normal));
+
+  // The host silent beyond the extrapolation bound: the ownship is held.
+  packets = field(78, sampleLocal + motion::HostMotionOptions{}.maxExtrapolation + 500ms);
+  sof = std::get<cigi::StartOfFrame>(packets.front());
+  EXPECT_EQ(sof.igFrameNumber, 78u);
+  EXPECT_EQ(sof.igStatus, static_cast<std::uint8_t>(HostIgStatus::OwnshipHeld));
+}
+
+// ---- Line of sight ----------------------------------------------------------------------------
+
+cigi::LosSegmentRequest segmentRequest(std::uint16_t id, const glm::dvec3& fromM, const glm::dvec3& toM,
+                                       cigi::LosRequestType type = cigi::LosRequestType::Basic) {
+  const core::Georeference geo = core::Georeference::tangentPlane();
+  const auto a = geo.toGeodetic(fromM), b = geo.toGeodetic(toM);
+  cigi::LosSegmentRequest r;
+  r.losId = id;
+  r.requestType = type;
+  r.sourceLatitudeDegOrXM = a->latitudeDeg;
+  r.sourceLongitudeDegOrYM = a->longitudeDeg;
+  r.sourceAltitudeMOrZM = a->altitudeM;
+  r.destinationLatitudeDegOrXM = b->latitudeDeg;
+  r.destinationLongitudeDegOrYM = b->longitudeDeg;
+  r.destinationAltitudeMOrZM = b->altitudeM;
+  return r;
+}
+
+cigi::LosVectorRequest vectorRequest(std::uint16_t id, const glm::dvec3& fromM, float azimuthDeg, float elevationDeg,
+                                     float minRangeM, float maxRangeM) {
+  const auto a = core::Georeference::tangentPlane().toGeodetic(fromM);
+  cigi::LosVectorRequest r;
+  r.losId = id;
+  r.azimuthDeg = azimuthDeg;
+  r.elevationDeg = elevationDeg;
+  r.minRangeM = minRangeM;
+  r.maxRangeM = maxRangeM;
+  r.sourceLatitudeDegOrXM = a->latitudeDeg;
+  r.sourceLongitudeDegOrYM = a->longitudeDeg;
+  r.sourceAltitudeMOrZM = a->altitudeM;
+  return r;
+}
+
+TEST_F(HostSessionTest, LosSegmentIntoTheGroundIsAnsweredByTheLevelZeroMarch) {
+  const glm::dvec3 from{150.0, 150.0, level0(150.0, 150.0) + 60.0};
+  const glm::dvec3 to{380.0, 260.0, level0(380.0, 260.0) - 20.0};
+  send({segmentRequest(11, from, to), segmentRequest(12, from, to, cigi::LosRequestType::Extended)});
+  const auto packets = field(1, mClock.now());
+  const auto basic = only<cigi::LosResponse>(packets);
+  const auto extended = only<cigi::LosExtendedResponse>(packets);
+  ASSERT_EQ(basic.size(), 1u);
+  ASSERT_EQ(extended.size(), 1u);
+
+  const core::LineOfSightHit expected =
+      core::lineOfSight(sTerrain->view(), from, to - from, 0.0, glm::length(to - from));
+  ASSERT_TRUE(expected.hit);
+  EXPECT_EQ(basic[0].losId, 11);
+  EXPECT_TRUE(basic[0].valid);
+  EXPECT_FALSE(basic[0].visible);
+  EXPECT_NEAR(basic[0].rangeM, expected.rangeM, 1e-6);
+
+  const cigi::LosExtendedResponse& e = extended[0];
+  EXPECT_EQ(e.losId, 12);
+  EXPECT_TRUE(e.valid);
+  EXPECT_TRUE(e.rangeValid);
+  EXPECT_NEAR(e.rangeM, expected.rangeM, 1e-6);
+  // The point, in geodetic coordinates, is the crossing on the drawn surface.
+  const auto pointM = core::Georeference::tangentPlane().toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM});
+  ASSERT_TRUE(pointM.has_value());
+  EXPECT_NEAR(glm::length(*pointM - expected.pointM), 0.0, 1e-4);
+  EXPECT_NEAR(pointM->z, level0(pointM->x, pointM->y), 1e-3);
+  EXPECT_EQ(e.red, expected.colourRgba & 0xFFu);
+  EXPECT_EQ(e.green, (expected.colourRgba >> 8) & 0xFFu);
+  EXPECT_EQ(e.blue, (expected.colourRgba >> 16) & 0xFFu);
+  EXPECT_NEAR(e.normalAzimuthDeg, degrees(std::atan2(expected.normal.x, expected.normal.y)), 1e-3);
+  EXPECT_NEAR(e.normalElevationDeg, degrees(std::asin(expected.normal.z)), 1e-3);
+  EXPECT_EQ(mSession.figures().losHits, 2u);
+}
+
+TEST_F(HostSessionTest, LosSegmentAboveTheTerrainIsVisibleAndNotValid) {
+  send({segmentRequest(13, {100.0, 100.0, 3000.0}, {400.0, 300.0, 3000.0}),
+        segmentRequest(14, {-100.0, -100.0, 0.0}, {-300.0, -100.0, 0.0})});  // outside the database
+  const auto answers = only<cigi::LosResponse>(field(1, mClock.now()));
+  ASSERT_EQ(answers.size(), 2u);
+  EXPECT_FALSE(answers[0].valid);
+  EXPECT_TRUE(answers[0].visible);
+  EXPECT_FALSE(answers[1].valid);
+}
+
+TEST_F(HostSessionTest, LosVectorFollowsAzimuthElevationAndRangeLimits) {
+  const glm::dvec3 from{120.0, 200.0, level0(120.0, 200.0) + 40.0};
+  // Azimuth 90°: east; 20° down.
+  const glm::dvec3 east{std::cos(radians(20.0)), 0.0, -std::sin(radians(20.0))};
+  const core::LineOfSightHit expected = core::lineOfSight(sTerrain->view(), from, east, 0.0, 2000.0);
+  ASSERT_TRUE(expected.hit);
+  send({vectorRequest(21, from, 90.0f, -20.0f, 0.0f, 2000.0f),
+        vectorRequest(22, from, 90.0f, -20.0f, 0.0f, static_cast<float>(expected.rangeM - 1.0))});
+  const auto answers = only<cigi::LosResponse>(field(1, mClock.now()));
+  ASSERT_EQ(answers.size(), 2u);
+  EXPECT_TRUE(answers[0].valid);
+  EXPECT_NEAR(answers[0].rangeM, expected.rangeM, 1e-3);  // float azimuth/elevation
+  EXPECT_FALSE(answers[1].valid);                          // the ground is beyond the maximum range
+}
+
+TEST_F(HostSessionTest, LosVectorFromTheOwnshipTurnsWithItsHeading) {
+  const glm::dvec3 ownship{150.0, 250.0, level0(150.0, 250.0) + 50.0};
+  send({entityAt(0, ownship, 90.0f)}, 5.0);  // heading east
+  cigi::LosVectorRequest r;
+  r.losId = 31;
+  r.sourceCoordinateSystem = cigi::CoordinateSystem::Entity;
+  r.entityId = 0;
+  r.azimuthDeg = 0.0f;  // along the entity's nose
+  r.elevationDeg = -30.0f;
+  r.maxRangeM = 2000.0f;
+  mSession.onMessage(io::HostMessage{std::vector<cigi::HostPacket>{cigi::IgControl{}, r}, mClock.now(), false});
+  const Pose pose = mOwnship.poseAt(mClock.now());
+  const glm::dvec3 eastDown{std::cos(radians(30.0)), 0.0, -std::sin(radians(30.0))};
+  const core::LineOfSightHit expected = core::lineOfSight(sTerrain->view(), pose.positionM, eastDown, 0.0, 2000.0);
+  ASSERT_TRUE(expected.hit);
+  const auto answers = only<cigi::LosResponse>(field(1, mClock.now()));
+  ASSERT_EQ(answers.size(), 1u);
+  EXPECT_TRUE(answers[0].valid);
+  EXPECT_NEAR(answers[0].rangeM, expected.rangeM, 1e-3);
+}
+
+// ---- Atmosphere ---------------------------------------------------------------------------------
+
+TEST_F(HostSessionTest, AtmosphereVisibilityBecomesTheHazeRange) {
+  EXPECT_EQ(mSession.hazeRangeM().load(), 0.0);  // nothing from the host yet: the configured haze
+  cigi::AtmosphereControl atmosphere;
+  atmosphere.visibilityRangeM = 2500.0f;
+  send({atmosphere}, 1.0, cigi::IgMode::ResetStandby);  // not an entity update: any mode
+  EXPECT_EQ(mSession.hazeRangeM().load(), 2500.0);
+  atmosphere.visibilityRangeM = 0.0f;  // CIGI: nothing visible; the renderer's 0 would be no haze
+  send({atmosphere}, 2.0);
+  EXPECT_EQ(mSession.hazeRangeM().load(), 1.0);
+}
+
+TEST_F(HostSessionTest, TheRenderLoopRendersWithTheHostsHaze) {
+  cigi::AtmosphereControl atmosphere;
+  atmosphere.visibilityRangeM = 2500.0f;
+  send({atmosphere});
+  core::RenderSettings settings;
+  settings.hazeRangeM = 12000.0;
+  core::Renderer renderer(sTerrain->view(), settings, 1);
+  warp::FrameHandover frames;
+  ServiceMetrics metrics;
+  RenderPacing pacing;
+  pacing.hazeRangeM = &mSession.hazeRangeM();
+  RenderLoop loop(renderer, mOwnship, Intrinsics::fromHorizontalFov(64, 48, radians(60.0)), frames, metrics, pacing);
+  std::atomic<bool> stop{false};
+  std::thread thread([&] { loop.run(stop); });
+  while (loop.framesPublished() < 1) std::this_thread::sleep_for(1ms);
+  stop = true;
+  thread.join();
+  EXPECT_EQ(renderer.settings().hazeRangeM, 2500.0);
+}
+
+}  // namespace
+}  // namespace fieldcast::app

@@ -1,0 +1,127 @@
+#include <ig_core/LineOfSight.h>
+
+#include "ColumnCaster.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <utility>
+
+namespace fieldcast::core {
+namespace {
+
+// Bilinear RGBA8 of level 0 at continuous voxel coordinates (x, y), channel by channel.
+std::uint32_t bilinearColour(const TerrainView& view, double x, double y) {
+  const int i = static_cast<int>(std::floor(x));
+  const int j = static_cast<int>(std::floor(y));
+  const double tx = x - i;
+  const double ty = y - j;
+  const std::uint32_t c00 = view.colourRgba(0, i, j), c10 = view.colourRgba(0, i + 1, j);
+  const std::uint32_t c01 = view.colourRgba(0, i, j + 1), c11 = view.colourRgba(0, i + 1, j + 1);
+  std::uint32_t out = 0;
+  for (int shift = 0; shift < 32; shift += 8) {
+    const auto ch = [&](std::uint32_t c) { return static_cast<double>((c >> shift) & 0xFFu); };
+    const double a = ch(c00) + tx * (ch(c10) - ch(c00));
+    const double b = ch(c01) + tx * (ch(c11) - ch(c01));
+    const auto v = static_cast<std::uint32_t>(std::lround(std::clamp(a + ty * (b - a), 0.0, 255.0)));
+    out |= v << shift;
+  }
+  return out;
+}
+
+LineOfSightHit hitAt(const TerrainView& view, const glm::dvec3& originM, const glm::dvec3& d, double t) {
+  const TerrainGeometry& g = view.geometry();
+  LineOfSightHit h;
+  h.hit = true;
+  h.rangeM = t;
+  h.pointM = originM + t * d;
+  h.normal = surfaceNormalAt(view, h.pointM.x, h.pointM.y);
+  h.colourRgba = bilinearColour(view, (h.pointM.x - g.originM.x) / g.spacingM, (h.pointM.y - g.originM.y) / g.spacingM);
+  return h;
+}
+
+}  // namespace
+
+glm::dvec3 surfaceNormalAt(const TerrainView& view, double xM, double yM) noexcept {
+  const double d = 0.5 * view.geometry().spacingM;
+  const double dzdx = (view.heightAtM(xM + d, yM, 0) - view.heightAtM(xM - d, yM, 0)) / (2 * d);
+  const double dzdy = (view.heightAtM(xM, yM + d, 0) - view.heightAtM(xM, yM - d, 0)) / (2 * d);
+  const glm::dvec3 n(-dzdx, -dzdy, 1.0);
+  return n / std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+}
+
+LineOfSightHit lineOfSight(const TerrainView& view, const glm::dvec3& originM, const glm::dvec3& direction,
+                           double minRangeM, double maxRangeM) noexcept {
+  const double length = std::sqrt(direction.x * direction.x + direction.y * direction.y + direction.z * direction.z);
+  if (!(length > 0.0) || !(maxRangeM >= minRangeM)) return {};
+  const glm::dvec3 d = direction / length;  // t is then the range in metres
+  const TerrainGeometry& g = view.geometry();
+  const double ceilingM = g.heightM(terrainCeilingQ(view));
+
+  // Clip to the box over the hull of the level-0 voxel centres, below the terrain's ceiling.
+  double lo = std::max(minRangeM, 0.0);
+  double hi = maxRangeM;
+  const auto slab = [&](double origin, double dir, double minV, double maxV) {
+    if (std::abs(dir) < 1e-15) return origin >= minV && origin <= maxV;
+    const double a = (minV - origin) / dir;
+    const double b = (maxV - origin) / dir;
+    lo = std::max(lo, std::min(a, b));
+    hi = std::min(hi, std::max(a, b));
+    return true;
+  };
+  const double x1 = g.originM.x + (g.widthVox - 1) * g.spacingM;
+  const double y1 = g.originM.y + (g.heightVox - 1) * g.spacingM;
+  if (!slab(originM.x, d.x, g.originM.x, x1) || !slab(originM.y, d.y, g.originM.y, y1) ||
+      !slab(originM.z, d.z, -1e12, ceilingM) || lo > hi) {
+    return {};
+  }
+  const auto above = [&](double t) {
+    const glm::dvec3 p = originM + t * d;
+    return p.z - view.heightAtM(p.x, p.y, 0);
+  };
+  double t = lo;
+  if (above(t) <= 0.0) return hitAt(view, originM, d, t);
+  // 1/8 voxel horizontally; steep rays also advance at most 1/8 voxel-height of drop per step.
+  const double horizontal = std::sqrt(d.x * d.x + d.y * d.y);
+  const double dt = 0.125 * g.spacingM / std::max(horizontal, 0.05 * std::abs(d.z) + 1e-12);
+  while (t < hi) {
+    const double tNext = std::min(t + dt, hi);
+    if (above(tNext) <= 0.0) {
+      double a = t;  // above the surface
+      double b = tNext;  // on or below it
+      for (int k = 0; k < 60 && (b - a) > 1e-7; ++k) {
+        const double mid = 0.5 * (a + b);
+        (above(mid) > 0.0 ? a : b) = mid;
+      }
+      return hitAt(view, originM, d, b);
+    }
+    t = tNext;
+  }
+  return {};
+}
+
+std::vector<glm::ivec2> lineOfSightTiles(const TerrainGeometry& g, const glm::dvec3& fromM, const glm::dvec3& toM) {
+  // Sampled every half tile along the segment, with the four voxels around each sample: every
+  // tile the bilinear surface under the segment reads.
+  std::set<std::pair<int, int>> tiles;
+  const double tileM = g.spacingM * g.tileSizeVox();
+  const double lengthM = std::hypot(toM.x - fromM.x, toM.y - fromM.y);
+  const int samples = 1 + static_cast<int>(std::ceil(lengthM / (0.5 * tileM)));
+  for (int s = 0; s <= samples; ++s) {
+    const double u = static_cast<double>(s) / samples;
+    const double fi = (fromM.x + u * (toM.x - fromM.x) - g.originM.x) / g.spacingM;
+    const double fj = (fromM.y + u * (toM.y - fromM.y) - g.originM.y) / g.spacingM;
+    if (fi < -1.0 || fj < -1.0 || fi > g.widthVox || fj > g.heightVox) continue;  // off the grid
+    for (int k = 0; k < 4; ++k) {
+      const int i = std::clamp(static_cast<int>(std::floor(fi)) + (k & 1), 0, g.widthVox - 1);
+      const int j = std::clamp(static_cast<int>(std::floor(fj)) + (k >> 1), 0, g.heightVox - 1);
+      tiles.emplace(i >> g.tileShift, j >> g.tileShift);
+    }
+  }
+  std::vector<glm::ivec2> out;
+  out.reserve(tiles.size());
+  for (const auto& [tx, ty] : tiles) out.emplace_back(tx, ty);
+  return out;
+}
+
+}  // namespace fieldcast::core
