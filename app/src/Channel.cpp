@@ -88,9 +88,8 @@ WarmUp Channel::warmUp() noexcept {
     if (frame != nullptr) {
       const TimePoint start = mClock.now();
       const TimePoint display = start + mSettings.prp.lead;
-      const warp::FieldSpec spec{0, display, mSettings.output.scan == ScanMode::Interlaced
-                                                 ? FieldParity::Top
-                                                 : FieldParity::Progressive};
+      const warp::FieldSpec spec{
+          0, display, mSettings.output.scan == ScanMode::Interlaced ? FieldParity::Top : FieldParity::Progressive};
       (void)mWarper->produce(*frame, mMotion.poseAt(display), spec, scratch);
       w.warpMs = toSeconds(mClock.now() - start) * 1e3;
       w.frameNumber = frame->frameNumber;
@@ -110,8 +109,8 @@ void Channel::startFields(PlanFields plan, FieldLoop::BeforeField beforeField, P
   clockConfig.lead = mSettings.prp.lead;
   warp::validateFieldClockConfig(clockConfig, "warp.lead_ms");
   const ThreadsConfig& threads = mSettings.threads;
-  mFieldThread = std::thread([this, clockConfig, threads, plan = std::move(plan),
-                              beforeField = std::move(beforeField), pendingInput]() mutable {
+  mFieldThread = std::thread([this, clockConfig, threads, plan = std::move(plan), beforeField = std::move(beforeField),
+                              pendingInput]() mutable {
     spdlog::info("{}", applyScheduling("fc-field",
                                        ThreadScheduling{threads.realtimeFieldThread, 50, -5, threads.fieldThreadCpu}));
     try {

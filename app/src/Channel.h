@@ -46,14 +46,14 @@ struct ChannelSettings {
 
 /// When the field clock starts and how many fields it makes.
 struct FieldStart {
-  TimePoint t0;                ///< display time of field 0
+  TimePoint t0;                 ///< display time of field 0
   std::uint64_t lastField = 0;  ///< stop before this field; 0: until stopped
 };
 
 /// What the field thread's warm-up did (DESIGN.md §4: the first field's deadline comes after it).
 struct WarmUp {
-  TimePoint done;               ///< when it finished
-  double warpMs = 0.0;          ///< the one warp it made
+  TimePoint done;                 ///< when it finished
+  double warpMs = 0.0;            ///< the one warp it made
   std::uint64_t frameNumber = 0;  ///< the frame it warped (0: none yet)
 };
 

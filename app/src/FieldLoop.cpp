@@ -21,7 +21,8 @@ FieldLoop::FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::Fie
   const auto& totals = warper.counters();
   mFirstSecondFields = static_cast<std::uint64_t>(std::chrono::seconds(1) / clock.period());
   mLastFallbacks = totals.fitFallbacks.load(std::memory_order_relaxed);
-  for (int r = 0; r < 4; ++r) mLastFallbacksByReason[r] = totals.fallbacksByReason[r + 1].load(std::memory_order_relaxed);
+  for (int r = 0; r < 4; ++r)
+    mLastFallbacksByReason[r] = totals.fallbacksByReason[r + 1].load(std::memory_order_relaxed);
   mLastViolations = totals.marginViolations.load(std::memory_order_relaxed);
 }
 
@@ -41,7 +42,8 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
     counters.fieldsMissed.fetch_add(tick.missedBefore, std::memory_order_relaxed);
     // The fields missed just before this one, as far as they lie in the first second.
     if (tick.fieldNumber - tick.missedBefore < mFirstSecondFields) {
-      const std::uint64_t early = std::min(tick.fieldNumber, mFirstSecondFields) - (tick.fieldNumber - tick.missedBefore);
+      const std::uint64_t early =
+          std::min(tick.fieldNumber, mFirstSecondFields) - (tick.fieldNumber - tick.missedBefore);
       counters.fieldsMissedFirstSecond.fetch_add(early, std::memory_order_relaxed);
     }
   }

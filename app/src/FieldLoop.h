@@ -54,8 +54,8 @@ class FieldLoop {
   ServiceMetrics& mMetrics;
   PendingInput* mPendingInput;
   BeforeField mBeforeField;
-  Field mField;    // reused for every field: allocated once at construction
-  Frame mNoFrame;  // the empty frame warped (to black) before the first frame arrives
+  Field mField;                          // reused for every field: allocated once at construction
+  Frame mNoFrame;                        // the empty frame warped (to black) before the first frame arrives
   std::uint64_t mFirstSecondFields = 0;  // fields in the run's first second
   // The warper's totals already reported (from construction: a warm-up before is not counted).
   std::uint64_t mLastFallbacks = 0;

@@ -215,9 +215,10 @@ void HostSession::answer(const cigi::LosVectorRequest& request, TimePoint arriva
   const auto from = placePoint(request.sourceCoordinateSystem, request.entityId, request.sourceLatitudeDegOrXM,
                                request.sourceLongitudeDegOrYM, request.sourceAltitudeMOrZM, arrival);
   const bool entityRelative = request.sourceCoordinateSystem == cigi::CoordinateSystem::Entity;
-  const std::optional<Pose> entity = entityRelative || request.responseCoordinateSystem == cigi::CoordinateSystem::Entity
-                                         ? entityPose(request.entityId, arrival)
-                                         : std::nullopt;
+  const std::optional<Pose> entity =
+      entityRelative || request.responseCoordinateSystem == cigi::CoordinateSystem::Entity
+          ? entityPose(request.entityId, arrival)
+          : std::nullopt;
   if (request.responseCoordinateSystem == cigi::CoordinateSystem::Entity) pending.responseEntity = entity;
   // Azimuth clockwise from true north (entity-relative: from the entity's x axis, in its body
   // axes), elevation up from the horizontal (from its x-y plane).
@@ -268,10 +269,9 @@ void HostSession::answerWaitingLos(TimePoint now) {
 }
 
 void HostSession::respond(const PendingLos& pending) {
-  const core::LineOfSightHit hit =
-      pending.valid ? core::lineOfSight(mTerrain.view(), pending.fromM, pending.direction, pending.minRangeM,
-                                        pending.maxRangeM)
-                    : core::LineOfSightHit{};
+  const core::LineOfSightHit hit = pending.valid ? core::lineOfSight(mTerrain.view(), pending.fromM, pending.direction,
+                                                                     pending.minRangeM, pending.maxRangeM)
+                                                 : core::LineOfSightHit{};
   if (hit.hit) mLosHits.fetch_add(1, std::memory_order_relaxed);
   const auto frameLsn = static_cast<std::uint8_t>(mLastHostFrame.load(std::memory_order_relaxed) & 0x0F);
   // One answer per request (the first crossing). Valid: the ray met the terrain; Visible (Segment):
@@ -319,9 +319,8 @@ void HostSession::respond(const PendingLos& pending) {
 }
 
 bool HostSession::fullResolutionResident(const glm::dvec3& pointM) const {
-  return std::ranges::all_of(levelZeroTilesUnder(mTerrain.geometry(), pointM), [&](const TileXY& t) {
-    return mTerrain.view().tile(0, t.tx, t.ty) != nullptr;
-  });
+  return std::ranges::all_of(levelZeroTilesUnder(mTerrain.geometry(), pointM),
+                             [&](const TileXY& t) { return mTerrain.view().tile(0, t.tx, t.ty) != nullptr; });
 }
 
 void HostSession::requestFullResolution(const glm::dvec3& pointM) {
@@ -360,10 +359,12 @@ void HostSession::respond(const PendingHeight& pending) {
     if (valid) {
       // The surface normal of the drawn surface, from its slope across one voxel.
       const double d = 0.5 * mTerrain.geometry().spacingM;
-      const double dzdx = (heightOfTerrain(mTerrain, point->x + d, point->y) -
-                           heightOfTerrain(mTerrain, point->x - d, point->y)) / (2 * d);
-      const double dzdy = (heightOfTerrain(mTerrain, point->x, point->y + d) -
-                           heightOfTerrain(mTerrain, point->x, point->y - d)) / (2 * d);
+      const double dzdx =
+          (heightOfTerrain(mTerrain, point->x + d, point->y) - heightOfTerrain(mTerrain, point->x - d, point->y)) /
+          (2 * d);
+      const double dzdy =
+          (heightOfTerrain(mTerrain, point->x, point->y + d) - heightOfTerrain(mTerrain, point->x, point->y - d)) /
+          (2 * d);
       const glm::dvec3 normal = glm::normalize(glm::dvec3(-dzdx, -dzdy, 1.0));
       response.normalAzimuthDeg = static_cast<float>(degrees(std::atan2(normal.x, normal.y)));
       response.normalElevationDeg = static_cast<float>(degrees(std::asin(normal.z)));

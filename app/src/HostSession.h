@@ -39,8 +39,8 @@ struct HostSessionFigures {
   std::uint64_t hatHotRequests = 0;
   std::uint64_t hatHotAnswered = 0;  ///< valid answers (inside the database)
   std::uint64_t losRequests = 0;
-  std::uint64_t losHits = 0;         ///< LOS answers that met the terrain
-  std::uint64_t otherEntities = 0;   ///< entities other than the ownship, active now
+  std::uint64_t losHits = 0;        ///< LOS answers that met the terrain
+  std::uint64_t otherEntities = 0;  ///< entities other than the ownship, active now
   std::uint64_t modeChanges = 0;
   std::uint32_t lastHostFrame = 0;
 };
@@ -121,8 +121,8 @@ class HostSession final : public io::HostHandler {
   std::vector<io::cigi::LosResponse> mLosDue;
   std::vector<io::cigi::LosExtendedResponse> mLosExtendedDue;
 
-  std::atomic<std::uint64_t> mMessages{0}, mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0},
-      mLosRequests{0}, mLosHits{0}, mOtherEntities{0}, mModeChanges{0};
+  std::atomic<std::uint64_t> mMessages{0}, mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0}, mLosRequests{0},
+      mLosHits{0}, mOtherEntities{0}, mModeChanges{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
   std::atomic<double> mHazeRangeM{0.0};
 };

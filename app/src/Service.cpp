@@ -116,7 +116,9 @@ std::unique_ptr<io::StickInput> openStick(const io::InputConfig& config, Clock& 
 class FlownFlight final : public motion::MotionSource {
  public:
   explicit FlownFlight(const motion::ScriptedTrajectory& flight) : mFlight(flight) {}
-  void setStart(TimePoint start) noexcept { mStartNs.store(start.time_since_epoch().count(), std::memory_order_release); }
+  void setStart(TimePoint start) noexcept {
+    mStartNs.store(start.time_since_epoch().count(), std::memory_order_release);
+  }
   TimePoint start() const noexcept { return TimePoint{Nanoseconds{mStartNs.load(std::memory_order_acquire)}}; }
   Pose poseAt(TimePoint t) const noexcept override { return mFlight.poseAtSeconds(toSeconds(t - start())); }
 
@@ -216,7 +218,8 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
                g.spacingM, g.levels);
   // The haze range: configured, or from the database's extent so a large one is not a wall of haze.
   double& visibility = p.config.render.settings.hazeRangeM;
-  if (!config.render.visibilityGiven) visibility = core::defaultVisibilityM(std::max(g.widthVox, g.heightVox) * g.spacingM);
+  if (!config.render.visibilityGiven)
+    visibility = core::defaultVisibilityM(std::max(g.widthVox, g.heightVox) * g.spacingM);
   spdlog::info("haze: visibility {:.0f} m ({})", visibility,
                config.render.visibilityGiven ? "render.visibility_m" : "from the database's extent");
   p.metrics.setVisibility(visibility);
@@ -431,7 +434,8 @@ ServiceFigures Service::stop() {
       const CockpitFigures c = p.cockpit->figures();
       summary["cockpit"] = {{"freezes", c.freezes}, {"resets", c.resets}, {"triggers", c.triggers}};
     }
-    if (p.hostLink) summary["host"] = hostSummary(p.hostLink->counters(), p.hostSession->figures(), p.hostMotion->counters());
+    if (p.hostLink)
+      summary["host"] = hostSummary(p.hostLink->counters(), p.hostSession->figures(), p.hostMotion->counters());
     const auto& path = p.config.metrics.summaryJson;
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
     std::ofstream out(path);

@@ -145,29 +145,30 @@ nlohmann::json toJson(const ServiceFigures& f) {
 
 std::string describe(const ServiceFigures& f) {
   char text[1024];
-  std::snprintf(text, sizeof text,
-                "ran %.1f s: %llu frames (%.1f Hz), %llu fields emitted (%llu black before the first frame), "
-                "%llu missed (%llu in the first second), %llu margin-violation px, %llu warp fallbacks "
-                "(few points %llu, all sky %llu, degenerate %llu, no range image %llu)\n"
-                "  render ms p50 %s p99 %s | warp ms p50 %s p99 %s max %s | frame age ms p50 %s p99 %s | "
-                "field jitter ms p50 %s p99 %s max %s",
-                f.durationS, static_cast<unsigned long long>(f.framesRendered),
-                f.durationS > 0 ? static_cast<double>(f.framesRendered) / f.durationS : 0.0,
-                static_cast<unsigned long long>(f.fieldsEmitted), static_cast<unsigned long long>(f.fieldsBlack),
-                static_cast<unsigned long long>(f.fieldsMissed),
-                static_cast<unsigned long long>(f.fieldsMissedFirstSecond),
-                static_cast<unsigned long long>(f.marginViolations), static_cast<unsigned long long>(f.warpFallbacks),
-                static_cast<unsigned long long>(f.fallbacksFewPoints), static_cast<unsigned long long>(f.fallbacksAllSky),
-                static_cast<unsigned long long>(f.fallbacksDegenerate), static_cast<unsigned long long>(f.fallbacksNoRange), ms(f.render.p50S).c_str(), ms(f.render.p99S).c_str(),
-                ms(f.warp.p50S).c_str(), ms(f.warp.p99S).c_str(), ms(f.warp.maxS).c_str(), ms(f.frameAge.p50S).c_str(),
-                ms(f.frameAge.p99S).c_str(), ms(f.jitter.p50S).c_str(), ms(f.jitter.p99S).c_str(),
-                ms(f.jitter.maxS).c_str());
+  std::snprintf(
+      text, sizeof text,
+      "ran %.1f s: %llu frames (%.1f Hz), %llu fields emitted (%llu black before the first frame), "
+      "%llu missed (%llu in the first second), %llu margin-violation px, %llu warp fallbacks "
+      "(few points %llu, all sky %llu, degenerate %llu, no range image %llu)\n"
+      "  render ms p50 %s p99 %s | warp ms p50 %s p99 %s max %s | frame age ms p50 %s p99 %s | "
+      "field jitter ms p50 %s p99 %s max %s",
+      f.durationS, static_cast<unsigned long long>(f.framesRendered),
+      f.durationS > 0 ? static_cast<double>(f.framesRendered) / f.durationS : 0.0,
+      static_cast<unsigned long long>(f.fieldsEmitted), static_cast<unsigned long long>(f.fieldsBlack),
+      static_cast<unsigned long long>(f.fieldsMissed), static_cast<unsigned long long>(f.fieldsMissedFirstSecond),
+      static_cast<unsigned long long>(f.marginViolations), static_cast<unsigned long long>(f.warpFallbacks),
+      static_cast<unsigned long long>(f.fallbacksFewPoints), static_cast<unsigned long long>(f.fallbacksAllSky),
+      static_cast<unsigned long long>(f.fallbacksDegenerate), static_cast<unsigned long long>(f.fallbacksNoRange),
+      ms(f.render.p50S).c_str(), ms(f.render.p99S).c_str(), ms(f.warp.p50S).c_str(), ms(f.warp.p99S).c_str(),
+      ms(f.warp.maxS).c_str(), ms(f.frameAge.p50S).c_str(), ms(f.frameAge.p99S).c_str(), ms(f.jitter.p50S).c_str(),
+      ms(f.jitter.p99S).c_str(), ms(f.jitter.maxS).c_str());
   std::string result = text;
   std::snprintf(text, sizeof text,
                 "\n  start-up %.2f s to the first field (warm-up warp %.2f ms, memory %s), %llu tile misses before it, "
                 "%llu after",
                 f.startup.toFirstFieldS, f.startup.warmUpWarpMs, f.startup.memoryLocked ? "locked" : "not locked",
-                static_cast<unsigned long long>(f.startup.tileMisses), static_cast<unsigned long long>(f.tileMissesRun));
+                static_cast<unsigned long long>(f.startup.tileMisses),
+                static_cast<unsigned long long>(f.tileMissesRun));
   result += text;
   if (f.framesRendered > 0) {
     std::snprintf(text, sizeof text, "\n  quality knob mean %.2f, grazing-angle rule on for %llu of %llu frames",

@@ -31,7 +31,8 @@ double terrainCeilingM(const core::TerrainView& view, int level, double xM, doub
     }
     return static_cast<double>(best);
   };
-  const double q = (corner(0, 0) * (1 - tx) + corner(1, 0) * tx) * (1 - ty) + (corner(0, 1) * (1 - tx) + corner(1, 1) * tx) * ty;
+  const double q =
+      (corner(0, 0) * (1 - tx) + corner(1, 0) * tx) * (1 - ty) + (corner(0, 1) * (1 - tx) + corner(1, 1) * tx) * ty;
   return g.heightBaseM + g.heightStepM * q;
 }
 

@@ -11,12 +11,12 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <thread>
-#include <unistd.h>
 #include <vector>
 
 namespace fieldcast::app {
@@ -53,8 +53,8 @@ class HostSessionTest : public ::testing::Test {
   HostSessionTest() : mSession(mOwnship, *sTerrain, core::Georeference::tangentPlane(), 1, mClock) {}
 
   // One host message: IG Control (operate unless told, timestamp = host seconds) and `packets`.
-  void send(std::vector<cigi::HostPacket> packets, double hostTimeS = 0.0,
-            cigi::IgMode mode = cigi::IgMode::Operate, std::uint32_t hostFrame = 7) {
+  void send(std::vector<cigi::HostPacket> packets, double hostTimeS = 0.0, cigi::IgMode mode = cigi::IgMode::Operate,
+            std::uint32_t hostFrame = 7) {
     cigi::IgControl control;
     control.igMode = mode;
     control.hostFrameNumber = hostFrame;
@@ -307,7 +307,8 @@ TEST_F(HostSessionTest, LosSegmentIntoTheGroundIsAnsweredByTheLevelZeroMarch) {
   EXPECT_TRUE(e.rangeValid);
   EXPECT_NEAR(e.rangeM, expected.rangeM, 1e-6);
   // The point, in geodetic coordinates, is the crossing on the drawn surface.
-  const auto pointM = core::Georeference::tangentPlane().toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM});
+  const auto pointM =
+      core::Georeference::tangentPlane().toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM});
   ASSERT_TRUE(pointM.has_value());
   EXPECT_NEAR(glm::length(*pointM - expected.pointM), 0.0, 1e-4);
   EXPECT_NEAR(pointM->z, level0(pointM->x, pointM->y), 1e-3);
@@ -341,7 +342,7 @@ TEST_F(HostSessionTest, LosVectorFollowsAzimuthElevationAndRangeLimits) {
   ASSERT_EQ(answers.size(), 2u);
   EXPECT_TRUE(answers[0].valid);
   EXPECT_NEAR(answers[0].rangeM, expected.rangeM, 1e-3);  // float azimuth/elevation
-  EXPECT_FALSE(answers[1].valid);                          // the ground is beyond the maximum range
+  EXPECT_FALSE(answers[1].valid);                         // the ground is beyond the maximum range
 }
 
 TEST_F(HostSessionTest, LosVectorFromTheOwnshipTurnsWithItsHeading) {

@@ -1,5 +1,5 @@
-#include <service/ServiceMetrics.h>
 #include <ig_core/RenderConfig.h>
+#include <service/ServiceMetrics.h>
 #include "ThreadScheduling.h"
 
 #include <gtest/gtest.h>

@@ -6,7 +6,8 @@ namespace fieldcast::motion {
 
 MotionConfig readMotionConfig(ConfigReader& t) {
   MotionConfig c;
-  c.source = t.choice("source", c.source, {{"flight", MotionKind::Flight}, {"stick", MotionKind::Stick}, {"host", MotionKind::Host}});
+  c.source = t.choice("source", c.source,
+                      {{"flight", MotionKind::Flight}, {"stick", MotionKind::Stick}, {"host", MotionKind::Host}});
   c.flightPath = t.path("flight", "flights/ridge_run.toml");
   // x, y, z (m) and heading (degrees): the stick flies level from there.
   const std::vector<double> s = t.numbers(

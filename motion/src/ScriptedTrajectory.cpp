@@ -74,15 +74,13 @@ SplineSample ScriptedTrajectory::Quintic::at(double t) const noexcept {
   const double u = std::clamp(t / h, 0.0, 1.0);
   const double u2 = u * u, u3 = u2 * u, u4 = u3 * u, u5 = u4 * u;
   // Basis functions for p0, h·v0, h²·a0, h²·a1, h·v1, p1; then d/du and d²/du².
-  const double b[6] = {1 - 10 * u3 + 15 * u4 - 6 * u5, u - 6 * u3 + 8 * u4 - 3 * u5,
-                       0.5 * u2 - 1.5 * u3 + 1.5 * u4 - 0.5 * u5, 0.5 * u3 - u4 + 0.5 * u5,
-                       -4 * u3 + 7 * u4 - 3 * u5, 10 * u3 - 15 * u4 + 6 * u5};
-  const double d[6] = {-30 * u2 + 60 * u3 - 30 * u4, 1 - 18 * u2 + 32 * u3 - 15 * u4,
-                       u - 4.5 * u2 + 6 * u3 - 2.5 * u4, 1.5 * u2 - 4 * u3 + 2.5 * u4,
-                       -12 * u2 + 28 * u3 - 15 * u4, 30 * u2 - 60 * u3 + 30 * u4};
-  const double dd[6] = {-60 * u + 180 * u2 - 120 * u3, -36 * u + 96 * u2 - 60 * u3,
-                        1 - 9 * u + 18 * u2 - 10 * u3, 3 * u - 12 * u2 + 10 * u3,
-                        -24 * u + 84 * u2 - 60 * u3, 60 * u - 180 * u2 + 120 * u3};
+  const double b[6] = {
+      1 - 10 * u3 + 15 * u4 - 6 * u5, u - 6 * u3 + 8 * u4 - 3 * u5, 0.5 * u2 - 1.5 * u3 + 1.5 * u4 - 0.5 * u5,
+      0.5 * u3 - u4 + 0.5 * u5,       -4 * u3 + 7 * u4 - 3 * u5,    10 * u3 - 15 * u4 + 6 * u5};
+  const double d[6] = {-30 * u2 + 60 * u3 - 30 * u4, 1 - 18 * u2 + 32 * u3 - 15 * u4, u - 4.5 * u2 + 6 * u3 - 2.5 * u4,
+                       1.5 * u2 - 4 * u3 + 2.5 * u4, -12 * u2 + 28 * u3 - 15 * u4,    30 * u2 - 60 * u3 + 30 * u4};
+  const double dd[6] = {-60 * u + 180 * u2 - 120 * u3, -36 * u + 96 * u2 - 60 * u3, 1 - 9 * u + 18 * u2 - 10 * u3,
+                        3 * u - 12 * u2 + 10 * u3,     -24 * u + 84 * u2 - 60 * u3, 60 * u - 180 * u2 + 120 * u3};
   const double c[6] = {p0, h * v0, h * h * a0, h * h * a1, h * v1, p1};
   SplineSample out;
   for (int i = 0; i < 6; ++i) {
@@ -114,7 +112,8 @@ void ScriptedTrajectory::buildLoopLeg(const std::vector<Waypoint>& wps) {
     mJoinS = wps[wps.size() - 2].timeS;
     legS = last.timeS - mJoinS;
     LegPiece piece{legS, {}};
-    for (int a = 0; a < 3; ++a) piece.axis[static_cast<std::size_t>(a)] = quintic(stateAt(mJoinS, a), stateAt(mFirstS, a), legS);
+    for (int a = 0; a < 3; ++a)
+      piece.axis[static_cast<std::size_t>(a)] = quintic(stateAt(mJoinS, a), stateAt(mFirstS, a), legS);
     mLeg.push_back(piece);
   } else {
     double pathM = 0.0;
@@ -122,7 +121,8 @@ void ScriptedTrajectory::buildLoopLeg(const std::vector<Waypoint>& wps) {
     const double speedMps = std::max(1.0, pathM / (last.timeS - mFirstS));
     mJoinS = last.timeS;
     const glm::dvec3 home = first.positionM - last.positionM;
-    const glm::dvec2 homeDir = glm::length(glm::dvec2(home)) > 1e-9 ? glm::normalize(glm::dvec2(home)) : glm::dvec2(0, -1);
+    const glm::dvec2 homeDir =
+        glm::length(glm::dvec2(home)) > 1e-9 ? glm::normalize(glm::dvec2(home)) : glm::dvec2(0, -1);
     const glm::dvec2 track{stateAt(mJoinS, 0).slope, stateAt(mJoinS, 1).slope};
     const glm::dvec2 trackDir = glm::length(track) > 1e-9 ? glm::normalize(track) : -homeDir;
     const glm::dvec2 right{trackDir.y, -trackDir.x};

@@ -1,7 +1,7 @@
 #include <motion/ScriptedTrajectory.h>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -185,7 +185,8 @@ position = [0, 1000, 300]
 }
 
 TEST(ScriptedTrajectory, AFlightFileSaysWhatHappensAtItsEnd) {
-  const std::string waypoints = "[[waypoint]]\nt = 0\nposition = [0, 0, 300]\n[[waypoint]]\nt = 10\nposition = [0, 1000, 300]\n";
+  const std::string waypoints =
+      "[[waypoint]]\nt = 0\nposition = [0, 0, 300]\n[[waypoint]]\nt = 10\nposition = [0, 1000, 300]\n";
   EXPECT_EQ(ScriptedTrajectory::load(writeFlight("default_end", waypoints)).end(), FlightEnd::Loop);
   EXPECT_EQ(ScriptedTrajectory::load(writeFlight("default_end", waypoints)).clearanceM(), 15.0);
   const auto stop = ScriptedTrajectory::load(writeFlight("stop", "end = \"stop\"\nclearance_m = 40\n" + waypoints));

@@ -17,8 +17,7 @@ struct RunResult {
 /// Runs `<executable> <args>` through the shell. Every run is bounded by coreutils' timeout, so a
 /// hang fails the test that caused it instead of stalling the suite.
 inline RunResult runProgram(const std::string& executable, const std::string& args, int timeoutS = 120) {
-  const std::string command =
-      "timeout -s KILL " + std::to_string(timeoutS) + " " + executable + " " + args + " 2>&1";
+  const std::string command = "timeout -s KILL " + std::to_string(timeoutS) + " " + executable + " " + args + " 2>&1";
   RunResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;

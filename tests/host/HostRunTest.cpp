@@ -92,18 +92,22 @@ position = [900.0, 500.0, 280.0]
 
 double meanAbsoluteDifference(const std::string& a, const std::string& b) {
   double sum = 0.0;
-  for (std::size_t k = 0; k < a.size(); ++k) sum += std::abs(int(static_cast<unsigned char>(a[k])) - int(static_cast<unsigned char>(b[k])));
+  for (std::size_t k = 0; k < a.size(); ++k)
+    sum += std::abs(int(static_cast<unsigned char>(a[k])) - int(static_cast<unsigned char>(b[k])));
   return sum / static_cast<double>(a.size());
 }
 
 TEST_F(HostRun, AByteSwappedJitteryHostDrivesTheService) {
   const std::string config = (mDir / "fieldcast.toml").string();
   // The service runs 12 s of video; the host waits for it, then flies 6 s of the 8 s flight.
-  auto service = std::async(std::launch::async, [&] { return fieldcast::testing::runFieldcast("--config " + config + " --duration 12", 120); });
-  const RunResult host = runHost("--config " + config + " --flight " + (mDir / "flight.toml").string() +
-                                     " --duration 6 --swap --jitter-ms 3 --clock-offset 3600 --wait-for-ig 60 --summary " +
-                                     (mDir / "host.json").string(),
-                                 120);
+  auto service = std::async(std::launch::async, [&] {
+    return fieldcast::testing::runFieldcast("--config " + config + " --duration 12", 120);
+  });
+  const RunResult host =
+      runHost("--config " + config + " --flight " + (mDir / "flight.toml").string() +
+                  " --duration 6 --swap --jitter-ms 3 --clock-offset 3600 --wait-for-ig 60 --summary " +
+                  (mDir / "host.json").string(),
+              120);
   const RunResult run = service.get();
   ASSERT_EQ(host.exitCode, 0) << host.output;
   ASSERT_EQ(run.exitCode, 0) << run.output;
@@ -134,7 +138,8 @@ TEST_F(HostRun, AByteSwappedJitteryHostDrivesTheService) {
   const std::size_t last = video.size() - 1;
   EXPECT_LT(meanAbsoluteDifference(video[last], video[last - 60]), 0.5);  // held: the same picture
   double largest = 0.0;
-  for (std::size_t k = 60; k + 60 < last - 120; k += 30) largest = std::max(largest, meanAbsoluteDifference(video[k], video[k + 60]));
+  for (std::size_t k = 60; k + 60 < last - 120; k += 30)
+    largest = std::max(largest, meanAbsoluteDifference(video[k], video[k + 60]));
   EXPECT_GT(largest, 10.0);  // flying: a second apart, the picture moved
 }
 

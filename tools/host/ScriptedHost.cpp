@@ -131,8 +131,8 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   // A host waits for its IG: IG Control alone, ten times a second, until a Start of Frame comes back.
   if (options.waitForIgS > 0) {
-    const Steady::time_point giveUp = Steady::now() + std::chrono::duration_cast<Steady::duration>(
-                                                          std::chrono::duration<double>(options.waitForIgS));
+    const Steady::time_point giveUp =
+        Steady::now() + std::chrono::duration_cast<Steady::duration>(std::chrono::duration<double>(options.waitForIgS));
     while (!heard.load()) {
       if (Steady::now() > giveUp) {
         stop = true;
@@ -153,9 +153,10 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
   const auto frames = static_cast<std::uint64_t>(std::llround(options.durationS * options.rateHz));
   for (std::uint64_t frame = 0; frame < frames; ++frame) {
     const double t = static_cast<double>(frame) / options.rateHz;
-    std::this_thread::sleep_until(start + std::chrono::duration_cast<Steady::duration>(
-                                              std::chrono::duration<double>(t + unit(random) * options.jitterMs * 1e-3)));
-    const bool silent = options.silentFromS >= 0 && t >= options.silentFromS && t < options.silentFromS + options.silentForS;
+    std::this_thread::sleep_until(start + std::chrono::duration_cast<Steady::duration>(std::chrono::duration<double>(
+                                              t + unit(random) * options.jitterMs * 1e-3)));
+    const bool silent =
+        options.silentFromS >= 0 && t >= options.silentFromS && t < options.silentFromS + options.silentForS;
     if (silent || unit(random) < options.lossFraction) {
       ++report.framesDropped;
       continue;
@@ -163,7 +164,8 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     const Pose pose = flight.poseAtSeconds(t);
     const glm::dvec3 velocity = flight.velocityAtSeconds(t);
     const std::optional<core::GeodeticPosition> where = georeference.toGeodetic(pose.positionM);
-    if (!where) throw std::runtime_error("the flight leaves the georeference's domain at t = " + std::to_string(t) + " s");
+    if (!where)
+      throw std::runtime_error("the flight leaves the georeference's domain at t = " + std::to_string(t) + " s");
 
     cigi::IgControl control;
     control.hostFrameNumber = static_cast<std::uint32_t>(frame);

@@ -36,7 +36,7 @@ struct ScriptedHostReport {
   std::uint64_t framesSent = 0;
   std::uint64_t framesDropped = 0;  ///< by lossFraction or the silent spell
   std::uint64_t startOfFrames = 0;
-  double startOfFrameRateHz = 0.0;  ///< median over the run
+  double startOfFrameRateHz = 0.0;      ///< median over the run
   std::uint64_t ownshipHeldFrames = 0;  ///< Start of Frames whose IG status said the ownship was held
   std::uint64_t heightAnswers = 0;
   std::uint64_t heightAnswersValid = 0;

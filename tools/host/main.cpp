@@ -27,7 +27,9 @@ int main(int argc, char** argv) {
   tools::ScriptedHostOptions options;
   int igPort = -1;
   app.add_option("--config", configPath, "the IG's configuration ([terrain], [host])")->check(CLI::ExistingFile);
-  app.add_option("--flight", flightPath, "flight file to fly (config/flights/*.toml)")->required()->check(CLI::ExistingFile);
+  app.add_option("--flight", flightPath, "flight file to fly (config/flights/*.toml)")
+      ->required()
+      ->check(CLI::ExistingFile);
   app.add_option("--ig", ig, "the IG's IPv4 address");
   app.add_option("--ig-port", igPort, "the IG's port (default: host.port of the configuration)")
       ->check(tools::intRange(1, 65535, ""));
@@ -43,7 +45,8 @@ int main(int argc, char** argv) {
       ->check(tools::finiteRange(-40000, 40000, "s"));
   app.add_option("--silent-from", options.silentFromS, "fall silent at this flight time, seconds")
       ->check(tools::finiteRange(0, 1e6, "s"));
-  app.add_option("--silent-for", options.silentForS, "... for this long, seconds")->check(tools::finiteRange(0, 1e6, "s"));
+  app.add_option("--silent-for", options.silentForS, "... for this long, seconds")
+      ->check(tools::finiteRange(0, 1e6, "s"));
   app.add_option("--wait-for-ig", options.waitForIgS, "first wait this long for the IG to answer, seconds")
       ->check(tools::finiteRange(0, 3600, "s"));
   app.add_flag("!--no-heights", options.requestHeights, "do not request HAT/HOT each frame");

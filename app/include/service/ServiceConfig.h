@@ -37,7 +37,7 @@ struct MetricsConfig {
 struct HostConfig {
   io::HostLinkConfig link;
   motion::HostMotionOptions motion;
-  std::int8_t databaseNumber = 1;  ///< what Start of Frame reports as the loaded database
+  std::int8_t databaseNumber = 1;                             ///< what Start of Frame reports as the loaded database
   core::GeodeticOrigin origin = core::kBuiltinTerrainOrigin;  ///< world (0, 0) of a database without a CRS
 };
 

@@ -39,18 +39,18 @@ struct ServiceCounters {
   /// warpFallbacks by reason: few points, all sky, degenerate, no range image (FallbackReason − 1).
   std::atomic<std::uint64_t> warpFallbacksByReason[4]{};
   std::atomic<std::uint64_t> fieldsMissedFirstSecond{0};  ///< of fieldsMissed, those of the run's first second
-  std::atomic<std::uint64_t> qualityMilliSum{0};   ///< frames' quality knobs × 1000, summed (see recordFrame)
-  std::atomic<std::uint64_t> framesGrazing{0};     ///< frames rendered with the grazing-angle rule on
+  std::atomic<std::uint64_t> qualityMilliSum{0};          ///< frames' quality knobs × 1000, summed (see recordFrame)
+  std::atomic<std::uint64_t> framesGrazing{0};            ///< frames rendered with the grazing-angle rule on
 };
 
 /// How the run started (the field clock's start-up, DESIGN.md §4): set once, before the first field.
 struct StartupFigures {
-  double toFirstFieldS = 0.0;        ///< Service::start() → the first field's wake-up
-  double warmUpWarpMs = 0.0;         ///< the field thread's warm-up warp (before the field clock started)
-  std::uint64_t warmUpFrame = 0;     ///< number of the frame it warped (0: none)
+  double toFirstFieldS = 0.0;           ///< Service::start() → the first field's wake-up
+  double warmUpWarpMs = 0.0;            ///< the field thread's warm-up warp (before the field clock started)
+  std::uint64_t warmUpFrame = 0;        ///< number of the frame it warped (0: none)
   double firstWakeAfterWarmUpMs = 0.0;  ///< the first field's wake-up − the end of the warm-up
-  bool memoryLocked = false;         ///< mlockall(MCL_CURRENT | MCL_FUTURE) granted
-  std::uint64_t tileMisses = 0;      ///< terrain samples answered by a coarser level before the first field
+  bool memoryLocked = false;            ///< mlockall(MCL_CURRENT | MCL_FUTURE) granted
+  std::uint64_t tileMisses = 0;         ///< terrain samples answered by a coarser level before the first field
 };
 
 /// Figures of the whole run, for --summary and the end-of-run log.
@@ -67,7 +67,7 @@ struct ServiceFigures {
   StartupFigures startup;
   std::uint64_t tileMissesRun = 0;  ///< tile misses after the start-up (startup.tileMisses before it)
   double visibilityM = 0.0;         ///< the haze range rendered with
-  double meanQuality = 0.0;  ///< mean quality knob over the frames rendered (0 when none)
+  double meanQuality = 0.0;         ///< mean quality knob over the frames rendered (0 when none)
   std::uint64_t framesGrazing = 0;
   DurationSummary render, warp, frameAge, jitter, stickLatency;
 };

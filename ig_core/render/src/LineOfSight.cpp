@@ -87,7 +87,7 @@ LineOfSightHit lineOfSight(const TerrainView& view, const glm::dvec3& originM, c
   while (t < hi) {
     const double tNext = std::min(t + dt, hi);
     if (above(tNext) <= 0.0) {
-      double a = t;  // above the surface
+      double a = t;      // above the surface
       double b = tNext;  // on or below it
       for (int k = 0; k < 60 && (b - a) > 1e-7; ++k) {
         const double mid = 0.5 * (a + b);

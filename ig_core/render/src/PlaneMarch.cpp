@@ -438,12 +438,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     const double toInvDepth = 1.0 / to.depth;
     const double fromV = k.cyPx - k.fyPx * from.yc * fromInvDepth;
     const double toV = k.cyPx - k.fyPx * to.yc * toInvDepth;
-    const CrossingSpan span{static_cast<float>(fromV),
-                            static_cast<float>(1.0 / (toV - fromV)),
-                            static_cast<float>(fromInvDepth),
-                            static_cast<float>(toInvDepth),
-                            crossingColour(f, t, window, c, from),
-                            crossingColour(f, t, window, c, to)};
+    const CrossingSpan span{
+        static_cast<float>(fromV),      static_cast<float>(1.0 / (toV - fromV)), static_cast<float>(fromInvDepth),
+        static_cast<float>(toInvDepth), crossingColour(f, t, window, c, from),   crossingColour(f, t, window, c, to)};
     const int qFirst = q;
     if (sink.s != 1) {
       fillSpanSubRows(span, fill, sink, toV, q, vq);
@@ -478,7 +475,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       const double g1 = g0 + baseStep + nZ * (h1 - h0);
       steps += 2;
       if ((g0 > 0.0) == (g1 > 0.0)) continue;  // the column's terrain passes this line beyond the two
-      const double psi = g0 / (g0 - g1);        // fraction from line i − sx toward line i
+      const double psi = g0 / (g0 - g1);       // fraction from line i − sx toward line i
       const double h = h0 + psi * (h1 - h0);
       const double zc = zFrom + psi * zStep + m * zMinor + h * fwdZ;
       if (!(zc > 1e-6)) continue;

@@ -31,7 +31,8 @@ std::vector<double> columnSecondDifference(const Frame& f) {
   std::vector<double> d(static_cast<std::size_t>(f.image.widthPx()), 0.0);
   for (int u = 1; u + 1 < f.image.widthPx(); ++u) {
     double sum = 0.0;
-    for (int v = 0; v < f.image.heightPx(); ++v) sum += std::abs(2 * grey(f, u, v) - grey(f, u - 1, v) - grey(f, u + 1, v));
+    for (int v = 0; v < f.image.heightPx(); ++v)
+      sum += std::abs(2 * grey(f, u, v) - grey(f, u - 1, v) - grey(f, u + 1, v));
     d[static_cast<std::size_t>(u)] = sum / f.image.heightPx();
   }
   return d;

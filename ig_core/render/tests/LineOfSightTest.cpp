@@ -70,7 +70,7 @@ TEST(LineOfSight, RangeLimitsAndUpwardRays) {
   const LineOfSightHit h = lineOfSight(view, o, down, 0.0, 1000.0);
   ASSERT_TRUE(h.hit);
   EXPECT_NEAR(h.rangeM, 50.0, 1e-4);
-  EXPECT_FALSE(lineOfSight(view, o, down, 0.0, 49.0).hit);         // stops short of the ground
+  EXPECT_FALSE(lineOfSight(view, o, down, 0.0, 49.0).hit);            // stops short of the ground
   EXPECT_FALSE(lineOfSight(view, o, {0.3, 0.2, 1.0}, 0.0, 1e5).hit);  // into the sky
   // A minimum range past the ground: the march starts below the surface and hits there.
   const LineOfSightHit under = lineOfSight(view, o, down, 60.0, 1000.0);

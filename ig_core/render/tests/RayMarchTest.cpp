@@ -18,8 +18,8 @@ namespace {
 
 using ray_march::firstHitStart;
 using ray_march::march;
-using ray_march::MarchHit;
 using ray_march::marchCoherent;
+using ray_march::MarchHit;
 using ray_march::RayLine;
 using ray_march::setupLine;
 using ray_march::worldPoint;
@@ -40,8 +40,8 @@ struct RayView {
 // steps the ray's height in fixed point from where it starts: measured differences up to 0.003).
 bool sameHit(const MarchHit& a, const MarchHit& b) {
   if (a.hit != b.hit) return false;
-  return !a.hit || (a.at.level == b.at.level && a.at.i == b.at.i &&
-                    std::abs(a.m - b.m) <= 1e-2 * ray_march::pow2(a.at.level));
+  return !a.hit ||
+         (a.at.level == b.at.level && a.at.i == b.at.i && std::abs(a.m - b.m) <= 1e-2 * ray_march::pow2(a.at.level));
 }
 
 // Random rays over the hills, from 3 m to 2 km up, looking 1° to 80° down.
@@ -92,7 +92,7 @@ TEST(RayMarch, FirstHitDescentPassesACoarseCellWhoseFineCellsTheRayClears) {
   g.widthVox = g.heightVox = 256;
   g.spacingM = 1.0;
   g.heightStepM = 0.05;
-  g.levels = 0;  // as many as fit
+  g.levels = 0;     // as many as fit
   g.tileShift = 4;  // 16-voxel tiles: five levels
   std::vector<std::uint16_t> heights(256 * 256, 0);
   std::vector<std::uint32_t> colours(256 * 256, 0xff808080u);

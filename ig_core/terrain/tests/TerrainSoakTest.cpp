@@ -56,7 +56,8 @@ TEST(TerrainSoak, FullSizeBuiltinBuildVerifyAndFly) {
   // 128 MiB and 0.883 with 48 MiB. This flight has 96 MiB, between the two: it must do at least as
   // well as the smaller budget did, with a little room for a busier machine.
   EXPECT_GT(s.requestedTiles, 0u);
-  EXPECT_GE(s.prefetchHitRate, 0.85) << s.requestedResident << " of " << s.requestedTiles << " requested tiles resident";
+  EXPECT_GE(s.prefetchHitRate, 0.85) << s.requestedResident << " of " << s.requestedTiles
+                                     << " requested tiles resident";
 }
 
 }  // namespace

@@ -222,7 +222,6 @@ TEST_F(TileCacheTest, AnEvictedTileOutlivesTheLeasesThatCouldSeeIt) {
   EXPECT_EQ(cache.stats().retiredPending, 0u);
 }
 
-
 // Readers on their own threads, each under a lease, sample level-0 tiles while the loader pages
 // them in and out under a small budget with no grace period: the lease alone keeps every tile a
 // reader can see alive. A reclaim that ignored a lease would hand a reader freed memory: wrong
@@ -246,7 +245,8 @@ TEST_F(TileCacheTest, ReadersOnOtherThreadsNeverSeeAFreedTile) {
         if (tile == nullptr) continue;
         ++levelZero;
         std::this_thread::yield();  // hold the pointer a while, as a renderer's column does
-        if (tile->heightQ[static_cast<std::size_t>((j & 31) * 32 + (i & 31))] != sMemory->view().heightQ(0, i, j)) ++wrong;
+        if (tile->heightQ[static_cast<std::size_t>((j & 31) * 32 + (i & 31))] != sMemory->view().heightQ(0, i, j))
+          ++wrong;
       }
       ++frames;
     }
@@ -264,8 +264,8 @@ TEST_F(TileCacheTest, ReadersOnOtherThreadsNeverSeeAFreedTile) {
   first.join();
   second.join();
   const TileCacheStats stats = cache.stats();
-  EXPECT_GT(stats.evictions, 100u);   // the budget forced paging while the readers ran
-  EXPECT_GT(levelZero.load(), 0u);    // the readers did see level-0 tiles
+  EXPECT_GT(stats.evictions, 100u);  // the budget forced paging while the readers ran
+  EXPECT_GT(levelZero.load(), 0u);   // the readers did see level-0 tiles
   EXPECT_GE(frames.load(), 40u);
   EXPECT_EQ(wrong.load(), 0u);
 }

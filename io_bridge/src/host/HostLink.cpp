@@ -108,8 +108,8 @@ void HostLink::receiveAll() {
     if (bytes < 0) return;  // EAGAIN: drained (other errors: ICMP noise, retried on the next wake)
     const TimePoint arrival = mClock.now();
     ++mCounting.datagramsReceived;
-    const cigi::DecodeResult result =
-        mDecoder.decode(std::span<const std::uint8_t>(mReceiveBuffer.data(), static_cast<std::size_t>(bytes)), mPackets);
+    const cigi::DecodeResult result = mDecoder.decode(
+        std::span<const std::uint8_t>(mReceiveBuffer.data(), static_cast<std::size_t>(bytes)), mPackets);
     if (!result) continue;  // counted by the decoder
     mHaveHost = true;
     mHostAddress = from;

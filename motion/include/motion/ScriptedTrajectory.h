@@ -106,7 +106,7 @@ class ScriptedTrajectory final : public MotionSource {
   double mFirstS = 0.0;  // time of the first waypoint
   double mJoinS = 0.0;   // a loop leaves the splines here for the leg back
   double mLapS = 0.0;
-  std::vector<LegPiece> mLeg;                  // a loop's leg back to the first waypoint
+  std::vector<LegPiece> mLeg;                        // a loop's leg back to the first waypoint
   std::array<std::optional<Quintic>, 3> mLegAngles;  // heading, pitch, roll over the whole leg
   double mCameraPitchOffsetRad = 0.0;
   FlightEnd mEnd = FlightEnd::Loop;

@@ -20,9 +20,9 @@ namespace fieldcast::core {
 
 /// Where a ray meets the terrain.
 struct LineOfSightHit {
-  bool hit = false;           ///< false: the ray leaves the database (or reaches maxRangeM) above the surface
-  double rangeM = 0.0;        ///< distance from the ray's origin to the crossing
-  glm::dvec3 pointM{0.0};     ///< world point of the crossing
+  bool hit = false;                  ///< false: the ray leaves the database (or reaches maxRangeM) above the surface
+  double rangeM = 0.0;               ///< distance from the ray's origin to the crossing
+  glm::dvec3 pointM{0.0};            ///< world point of the crossing
   glm::dvec3 normal{0.0, 0.0, 1.0};  ///< unit normal of the drawn surface there (slope across one voxel)
   std::uint32_t colourRgba = 0;      ///< bilinear level-0 colour there, unshaded (RGBA8 as TerrainView packs it)
 };
