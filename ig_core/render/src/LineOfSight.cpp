@@ -4,7 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
+#include <limits>
 #include <utility>
 
 namespace fieldcast::core {
@@ -101,27 +101,58 @@ LineOfSightHit lineOfSight(const TerrainView& view, const glm::dvec3& originM, c
 }
 
 std::vector<glm::ivec2> lineOfSightTiles(const TerrainGeometry& g, const glm::dvec3& fromM, const glm::dvec3& toM) {
-  // Sampled every half tile along the segment, with the four voxels around each sample: every
-  // tile the bilinear surface under the segment reads.
-  std::set<std::pair<int, int>> tiles;
-  const double tileM = g.spacingM * g.tileSizeVox();
-  const double lengthM = std::hypot(toM.x - fromM.x, toM.y - fromM.y);
-  const int samples = 1 + static_cast<int>(std::ceil(lengthM / (0.5 * tileM)));
-  for (int s = 0; s <= samples; ++s) {
-    const double u = static_cast<double>(s) / samples;
-    const double fi = (fromM.x + u * (toM.x - fromM.x) - g.originM.x) / g.spacingM;
-    const double fj = (fromM.y + u * (toM.y - fromM.y) - g.originM.y) / g.spacingM;
-    if (fi < -1.0 || fj < -1.0 || fi > g.widthVox || fj > g.heightVox) continue;  // off the grid
-    for (int k = 0; k < 4; ++k) {
-      const int i = std::clamp(static_cast<int>(std::floor(fi)) + (k & 1), 0, g.widthVox - 1);
-      const int j = std::clamp(static_cast<int>(std::floor(fj)) + (k >> 1), 0, g.heightVox - 1);
-      tiles.emplace(i >> g.tileShift, j >> g.tileShift);
+  // The bilinear surface at a point of cell (i, j) — the square between voxel centres i, i + 1 and
+  // j, j + 1 — reads those four voxels. Walk every cell the segment's ground track crosses
+  // (Amanatides and Woo's traversal, in voxel-centre units), clipped to the cells that read the
+  // grid: a corner the track only clips is a cell too, and its voxels' tiles are listed.
+  const glm::dvec2 a{(fromM.x - g.originM.x) / g.spacingM, (fromM.y - g.originM.y) / g.spacingM};
+  const glm::dvec2 d = glm::dvec2{(toM.x - g.originM.x) / g.spacingM, (toM.y - g.originM.y) / g.spacingM} - a;
+  const glm::dvec2 low{-1.0, -1.0}, high{static_cast<double>(g.widthVox), static_cast<double>(g.heightVox)};
+  double u0 = 0.0, u1 = 1.0;
+  for (int axis = 0; axis < 2; ++axis) {
+    if (d[axis] == 0.0) {
+      if (a[axis] < low[axis] || a[axis] > high[axis]) return {};
+      continue;
     }
+    const double e0 = (low[axis] - a[axis]) / d[axis], e1 = (high[axis] - a[axis]) / d[axis];
+    u0 = std::max(u0, std::min(e0, e1));
+    u1 = std::min(u1, std::max(e0, e1));
   }
-  std::vector<glm::ivec2> out;
-  out.reserve(tiles.size());
-  for (const auto& [tx, ty] : tiles) out.emplace_back(tx, ty);
-  return out;
+  if (u0 > u1) return {};  // off the grid
+
+  std::vector<glm::ivec2> tiles;
+  const auto addCell = [&](int i, int j) {
+    for (int k = 0; k < 4; ++k) {
+      const int vi = std::clamp(i + (k & 1), 0, g.widthVox - 1);
+      const int vj = std::clamp(j + (k >> 1), 0, g.heightVox - 1);
+      tiles.emplace_back(vi >> g.tileShift, vj >> g.tileShift);
+    }
+  };
+  const glm::dvec2 start = a + u0 * d;
+  glm::ivec2 cell{static_cast<int>(std::floor(start.x)), static_cast<int>(std::floor(start.y))};
+  const glm::ivec2 last{static_cast<int>(std::floor(a.x + u1 * d.x)), static_cast<int>(std::floor(a.y + u1 * d.y))};
+  glm::ivec2 step{0, 0};
+  glm::dvec2 next{std::numeric_limits<double>::infinity()}, delta{std::numeric_limits<double>::infinity()};
+  for (int axis = 0; axis < 2; ++axis) {
+    if (d[axis] == 0.0) continue;
+    step[axis] = d[axis] > 0.0 ? 1 : -1;
+    const double boundary = cell[axis] + (d[axis] > 0.0 ? 1.0 : 0.0);
+    next[axis] = (boundary - a[axis]) / d[axis];
+    delta[axis] = 1.0 / std::abs(d[axis]);
+  }
+  addCell(cell.x, cell.y);
+  while (cell != last) {
+    const int axis = next.x < next.y ? 0 : 1;
+    if (next[axis] > u1) break;
+    cell[axis] += step[axis];
+    next[axis] += delta[axis];
+    addCell(cell.x, cell.y);
+  }
+  std::sort(tiles.begin(), tiles.end(), [](const glm::ivec2& p, const glm::ivec2& q) {
+    return p.x != q.x ? p.x < q.x : p.y < q.y;
+  });
+  tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+  return tiles;
 }
 
 }  // namespace fieldcast::core

@@ -99,5 +99,34 @@ TEST(LineOfSight, TilesAlongTheSegmentCoverItsEnds) {
   EXPECT_FALSE(has(0, 1));
 }
 
+// A track that clips a tile's corner: the tile's voxels are read there, so it is listed. Checked
+// against the tiles of the four voxels around points every 1/64 voxel along 300 random tracks.
+TEST(LineOfSight, TilesIncludeEveryCornerTheTrackClips) {
+  const TerrainGeometry& g = hills().view().geometry();  // 64-voxel tiles at 2 m: 128 m
+  const auto corner = lineOfSightTiles(g, {100.0, 170.0, 50.0}, {170.0, 100.0, 50.0});
+  EXPECT_NE(std::find(corner.begin(), corner.end(), glm::ivec2(1, 1)), corner.end());
+
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> where(-50.0, g.spacingM * g.widthVox + 50.0);
+  for (int n = 0; n < 300; ++n) {
+    const glm::dvec3 from{where(random), where(random), 0.0}, to{where(random), where(random), 0.0};
+    const auto tiles = lineOfSightTiles(g, from, to);
+    const double length = std::hypot(to.x - from.x, to.y - from.y);
+    const int samples = static_cast<int>(length / (g.spacingM / 64.0)) + 1;
+    for (int s = 0; s <= samples; ++s) {
+      const glm::dvec3 p = from + (to - from) * (static_cast<double>(s) / samples);
+      const double fi = (p.x - g.originM.x) / g.spacingM, fj = (p.y - g.originM.y) / g.spacingM;
+      if (fi < -1.0 || fj < -1.0 || fi > g.widthVox || fj > g.heightVox) continue;
+      for (int k = 0; k < 4; ++k) {
+        const int i = std::clamp(static_cast<int>(std::floor(fi)) + (k & 1), 0, g.widthVox - 1);
+        const int j = std::clamp(static_cast<int>(std::floor(fj)) + (k >> 1), 0, g.heightVox - 1);
+        const glm::ivec2 tile{i >> g.tileShift, j >> g.tileShift};
+        ASSERT_NE(std::find(tiles.begin(), tiles.end(), tile), tiles.end())
+            << "track " << n << " reads tile " << tile.x << "," << tile.y << " at sample " << s;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fieldcast::core
