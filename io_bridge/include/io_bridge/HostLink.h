@@ -11,6 +11,7 @@
 #include <io_bridge/cigi/DatagramDecoder.h>
 #include <io_bridge/cigi/MessageBuilder.h>
 
+#include <fieldcast/SeqLock.h>
 #include <fieldcast/Time.h>
 
 #include <netinet/in.h>
@@ -107,9 +108,9 @@ class HostLink {
   std::thread mThread;
   std::atomic<bool> mStop{false};
 
-  // The newest announced field (written by the field thread, read by the link thread).
-  std::atomic<std::uint64_t> mAnnouncedField{0};
-  std::atomic<std::int64_t> mAnnouncedDisplayNs{0};
+  // The newest announced field (written by the field thread, read by the link thread), whole:
+  // a Start of Frame never pairs one field's number with the next one's time.
+  SeqLock<FieldAnnouncement> mAnnounced;
   std::atomic<bool> mAnnouncementPending{false};
 
   std::atomic<std::uint64_t> mCoalesced{0};

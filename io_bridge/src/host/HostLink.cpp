@@ -71,8 +71,7 @@ void HostLink::stop() {
 }
 
 void HostLink::fieldStarted(std::uint64_t fieldNumber, TimePoint displayTime) noexcept {
-  mAnnouncedField.store(fieldNumber, std::memory_order_relaxed);
-  mAnnouncedDisplayNs.store(displayTime.time_since_epoch().count(), std::memory_order_relaxed);
+  mAnnounced.store(FieldAnnouncement{fieldNumber, displayTime});
   if (mAnnouncementPending.exchange(true, std::memory_order_release)) {
     mCoalesced.fetch_add(1, std::memory_order_relaxed);  // the link had not served the last one yet
   }
@@ -120,8 +119,7 @@ void HostLink::receiveAll() {
 
 void HostLink::sendField() {
   mAnnouncementPending.store(false, std::memory_order_relaxed);
-  const FieldAnnouncement field{mAnnouncedField.load(std::memory_order_relaxed),
-                                TimePoint(Nanoseconds(mAnnouncedDisplayNs.load(std::memory_order_relaxed)))};
+  const FieldAnnouncement field = mAnnounced.load();
   if (!mHandler.onField(field, mOut)) return;
   if (!mHaveHost) {
     ++mCounting.fieldsWithoutHost;

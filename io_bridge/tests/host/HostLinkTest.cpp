@@ -244,6 +244,13 @@ TEST(HostLink, AGarbageFloodIsCountedAndFieldsAreStillServed) {
     host.sendTo(link.port(), garbage);
     if (k % 400 == 0) link.fieldStarted(static_cast<std::uint64_t>(++fieldsAnnounced), clock.now());
   }
+  // Let the link drain the flood first: a datagram sent into a full socket buffer is dropped by
+  // the kernel, and the good one must not be (on a busy machine the link drains slowly).
+  for (std::uint64_t before = ~0ull, now = link.counters().datagramsReceived; now != before;
+       now = link.counters().datagramsReceived) {
+    before = now;
+    std::this_thread::sleep_for(100ms);
+  }
   host.sendTo(link.port(), hostMessage(cigi::nativeByteOrder(), 2));
   ASSERT_TRUE(handler.waitMessages(2));
   link.fieldStarted(static_cast<std::uint64_t>(++fieldsAnnounced), clock.now());
