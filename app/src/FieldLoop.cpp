@@ -74,15 +74,17 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   const auto& warpCounters = mWarper.counters();
   const std::uint64_t fallbacks = warpCounters.fitFallbacks.load(std::memory_order_relaxed);
   const std::uint64_t violations = warpCounters.marginViolations.load(std::memory_order_relaxed);
-  counters.warpFallbacks.fetch_add(fallbacks - mLastFallbacks, std::memory_order_relaxed);
   counters.marginViolations.fetch_add(violations - mLastViolations, std::memory_order_relaxed);
-  mLastFallbacks = fallbacks;
-  for (int r = 0; r < 4; ++r) {
-    const std::uint64_t byReason = warpCounters.fallbacksByReason[r + 1].load(std::memory_order_relaxed);
-    counters.warpFallbacksByReason[r].fetch_add(byReason - mLastFallbacksByReason[r], std::memory_order_relaxed);
-    mLastFallbacksByReason[r] = byReason;
-  }
   mLastViolations = violations;
+  if (fallbacks != mLastFallbacks) {  // the warper counts a reason with every fallback, on this thread
+    counters.warpFallbacks.fetch_add(fallbacks - mLastFallbacks, std::memory_order_relaxed);
+    mLastFallbacks = fallbacks;
+    for (int r = 0; r < 4; ++r) {
+      const std::uint64_t byReason = warpCounters.fallbacksByReason[r + 1].load(std::memory_order_relaxed);
+      counters.warpFallbacksByReason[r].fetch_add(byReason - mLastFallbacksByReason[r], std::memory_order_relaxed);
+      mLastFallbacksByReason[r] = byReason;
+    }
+  }
   mMetrics.record(Measure::WarpTime, mTime.now() - start);
 }
 

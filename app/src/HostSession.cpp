@@ -6,7 +6,6 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 namespace fieldcast::app {
@@ -33,20 +32,18 @@ glm::dvec3 bodyOffset(const Pose& pose, double x, double y, double z) {
   return pose.positionM + axes.forward * x + axes.right * y - axes.up * z;
 }
 
-struct TileXY {
-  int tx, ty;
-};
+// CIGI's angles of a unit surface normal: azimuth clockwise from north, elevation above the horizontal.
+void normalAngles(const glm::dvec3& normal, float& azimuthDeg, float& elevationDeg) {
+  azimuthDeg = static_cast<float>(degrees(std::atan2(normal.x, normal.y)));
+  elevationDeg = static_cast<float>(degrees(std::asin(normal.z)));
+}
 
-// The level-0 tiles holding the four voxel centres the bilinear surface at `pointM` reads.
-std::array<TileXY, 4> levelZeroTilesUnder(const core::TerrainGeometry& g, const glm::dvec3& pointM) {
-  const double fi = (pointM.x - g.originM.x) / g.spacingM, fj = (pointM.y - g.originM.y) / g.spacingM;
-  std::array<TileXY, 4> tiles{};
-  for (int k = 0; k < 4; ++k) {
-    const int i = std::clamp(static_cast<int>(std::floor(fi)) + (k & 1), 0, g.widthVox - 1);
-    const int j = std::clamp(static_cast<int>(std::floor(fj)) + (k >> 1), 0, g.heightVox - 1);
-    tiles[static_cast<std::size_t>(k)] = {i >> g.tileShift, j >> g.tileShift};
-  }
-  return tiles;
+// Appends the answers of `due` to `out` while they fit, and drops those appended from `due`.
+template <class Response>
+void addWhatFits(cigi::IgMessageBuilder& out, std::vector<Response>& due) {
+  std::size_t added = 0;
+  while (added < due.size() && out.add(due[added])) ++added;
+  due.erase(due.begin(), due.begin() + static_cast<std::ptrdiff_t>(added));
 }
 
 }  // namespace
@@ -73,7 +70,6 @@ double HostSession::unwrapHostTime(std::uint32_t ticks) {
 }
 
 void HostSession::onMessage(const io::HostMessage& message) {
-  mMessages.fetch_add(1, std::memory_order_relaxed);
   const auto& control = std::get<cigi::IgControl>(message.packets.front());
   if (control.igMode != mMode.load(std::memory_order_relaxed)) {
     spdlog::info("host: IG mode {} commanded", control.igMode == cigi::IgMode::Operate ? "operate" : "reset/standby");
@@ -151,13 +147,15 @@ void HostSession::applyOwnship(const cigi::EntityControl& entity, const cigi::Ra
 
 void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) {
   mHatHotRequests.fetch_add(1, std::memory_order_relaxed);
-  PendingHeight pending{request, std::nullopt, arrival + kHeightWait};
+  PendingHeight pending{request, std::nullopt, arrival + kHeightWait, {}};
   std::optional<glm::dvec3>& point = pending.pointM;
   point = placePoint(request.coordinateSystem, request.entityId, request.latitudeDegOrXM, request.longitudeDegOrYM,
                      request.altitudeMOrZM, arrival);
-  if (point && insideDatabase(mTerrain.geometry(), point->x, point->y) && !fullResolutionResident(*point)) {
-    requestFullResolution(*point);
-    mHeightsWaiting.push_back(pending);  // answered once the tiles are in, or at the deadline
+  if (point && insideDatabase(mTerrain.geometry(), point->x, point->y)) {
+    pending.tiles = core::lineOfSightTiles(mTerrain.geometry(), *point, *point);  // the four voxels around it
+  }
+  if (!levelZeroResident(pending.tiles)) {
+    mHeightsWaiting.push_back(std::move(pending));  // answered once the tiles are in, or at the deadline
     return;
   }
   respond(pending);
@@ -166,7 +164,8 @@ void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) 
 std::optional<Pose> HostSession::entityPose(std::uint16_t entityId, TimePoint at) const {
   if (entityId == 0) return mOwnship.poseAt(at);
   const auto it = mEntities.find(entityId);
-  if (it == mEntities.end()) return std::nullopt;
+  // An attached entity's position is offsets from its parent, which are not resolved yet.
+  if (it == mEntities.end() || it->second.attachState == cigi::AttachState::Attached) return std::nullopt;
   const cigi::EntityControl& e = it->second;
   const auto base = mGeoreference.toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM});
   if (!base) return std::nullopt;
@@ -240,29 +239,30 @@ void HostSession::answer(const cigi::LosVectorRequest& request, TimePoint arriva
 }
 
 void HostSession::queueLos(PendingLos pending) {
-  if (pending.valid && !losTilesResident(pending, true)) {
-    mLosWaiting.push_back(pending);  // answered once the tiles are in, or at the deadline
+  if (pending.valid) {
+    pending.tiles = core::lineOfSightTiles(mTerrain.geometry(), pending.fromM + pending.minRangeM * pending.direction,
+                                           pending.fromM + pending.maxRangeM * pending.direction);
+  }
+  if (!levelZeroResident(pending.tiles)) {
+    mLosWaiting.push_back(std::move(pending));  // answered once the tiles are in, or at the deadline
     return;
   }
   respond(pending);
 }
 
-bool HostSession::losTilesResident(const PendingLos& pending, bool requestMissing) {
+bool HostSession::levelZeroResident(const std::vector<glm::ivec2>& tiles) {
   bool all = true;
-  const glm::dvec3 from = pending.fromM + pending.minRangeM * pending.direction;
-  const glm::dvec3 to = pending.fromM + pending.maxRangeM * pending.direction;
-  for (const glm::ivec2& t : core::lineOfSightTiles(mTerrain.geometry(), from, to)) {
+  for (const glm::ivec2& t : tiles) {
     if (mTerrain.view().tile(0, t.x, t.y) != nullptr) continue;
     all = false;
-    if (!requestMissing) break;
-    mTerrain.request(0, t.x, t.y, -1.0);  // ahead of the prefetch
+    mTerrain.request(0, t.x, t.y, -1.0);  // ahead of the prefetch (again: a prefetch may have replaced it)
   }
   return all;
 }
 
 void HostSession::answerWaitingLos(TimePoint now) {
   std::erase_if(mLosWaiting, [&](const PendingLos& pending) {
-    if (now < pending.deadline && !losTilesResident(pending, true)) return false;
+    if (now < pending.deadline && !levelZeroResident(pending.tiles)) return false;
     respond(pending);
     return true;
   });
@@ -312,29 +312,14 @@ void HostSession::respond(const PendingLos& pending) {
     response.green = static_cast<std::uint8_t>((hit.colourRgba >> 8) & 0xFFu);
     response.blue = static_cast<std::uint8_t>((hit.colourRgba >> 16) & 0xFFu);
     response.alpha = static_cast<std::uint8_t>((hit.colourRgba >> 24) & 0xFFu);
-    response.normalAzimuthDeg = static_cast<float>(degrees(std::atan2(hit.normal.x, hit.normal.y)));
-    response.normalElevationDeg = static_cast<float>(degrees(std::asin(hit.normal.z)));
+    normalAngles(hit.normal, response.normalAzimuthDeg, response.normalElevationDeg);
   }
   mLosExtendedDue.push_back(response);
 }
 
-bool HostSession::fullResolutionResident(const glm::dvec3& pointM) const {
-  return std::ranges::all_of(levelZeroTilesUnder(mTerrain.geometry(), pointM),
-                             [&](const TileXY& t) { return mTerrain.view().tile(0, t.tx, t.ty) != nullptr; });
-}
-
-void HostSession::requestFullResolution(const glm::dvec3& pointM) {
-  for (const TileXY& t : levelZeroTilesUnder(mTerrain.geometry(), pointM)) {
-    mTerrain.request(0, t.tx, t.ty, -1.0);  // ahead of the prefetch
-  }
-}
-
 void HostSession::answerWaitingHeights(TimePoint now) {
   std::erase_if(mHeightsWaiting, [&](const PendingHeight& pending) {
-    if (now < pending.deadline && !fullResolutionResident(*pending.pointM)) {
-      requestFullResolution(*pending.pointM);  // again: a prefetch may have replaced the request
-      return false;
-    }
+    if (now < pending.deadline && !levelZeroResident(pending.tiles)) return false;
     respond(pending);
     return true;
   });
@@ -357,17 +342,8 @@ void HostSession::respond(const PendingHeight& pending) {
     response.heightAboveTerrainM = aboveM;
     response.heightOfTerrainM = terrainM;
     if (valid) {
-      // The surface normal of the drawn surface, from its slope across one voxel.
-      const double d = 0.5 * mTerrain.geometry().spacingM;
-      const double dzdx =
-          (heightOfTerrain(mTerrain, point->x + d, point->y) - heightOfTerrain(mTerrain, point->x - d, point->y)) /
-          (2 * d);
-      const double dzdy =
-          (heightOfTerrain(mTerrain, point->x, point->y + d) - heightOfTerrain(mTerrain, point->x, point->y - d)) /
-          (2 * d);
-      const glm::dvec3 normal = glm::normalize(glm::dvec3(-dzdx, -dzdy, 1.0));
-      response.normalAzimuthDeg = static_cast<float>(degrees(std::atan2(normal.x, normal.y)));
-      response.normalElevationDeg = static_cast<float>(degrees(std::asin(normal.z)));
+      normalAngles(core::surfaceNormalAt(mTerrain.view(), point->x, point->y), response.normalAzimuthDeg,
+                   response.normalElevationDeg);
     }
     mHatHotExtendedDue.push_back(response);
   } else {
@@ -384,8 +360,9 @@ void HostSession::respond(const PendingHeight& pending) {
 }
 
 bool HostSession::onField(const io::FieldAnnouncement& field, cigi::IgMessageBuilder& out) {
-  answerWaitingHeights(mClock.now());
-  answerWaitingLos(mClock.now());
+  const TimePoint now = mClock.now();
+  answerWaitingHeights(now);
+  answerWaitingLos(now);
   cigi::StartOfFrame sof;
   sof.databaseNumber = mDatabaseNumber;
   sof.igMode = mMode.load(std::memory_order_relaxed);
@@ -399,24 +376,15 @@ bool HostSession::onField(const io::FieldAnnouncement& field, cigi::IgMessageBui
   sof.lastHostFrameNumber = mLastHostFrame.load(std::memory_order_relaxed);
   out.start(sof);
   // Answers that do not fit wait for the next field's message.
-  std::size_t sent = 0;
-  while (sent < mHatHotDue.size() && out.add(mHatHotDue[sent])) ++sent;
-  mHatHotDue.erase(mHatHotDue.begin(), mHatHotDue.begin() + static_cast<std::ptrdiff_t>(sent));
-  sent = 0;
-  while (sent < mHatHotExtendedDue.size() && out.add(mHatHotExtendedDue[sent])) ++sent;
-  mHatHotExtendedDue.erase(mHatHotExtendedDue.begin(), mHatHotExtendedDue.begin() + static_cast<std::ptrdiff_t>(sent));
-  sent = 0;
-  while (sent < mLosDue.size() && out.add(mLosDue[sent])) ++sent;
-  mLosDue.erase(mLosDue.begin(), mLosDue.begin() + static_cast<std::ptrdiff_t>(sent));
-  sent = 0;
-  while (sent < mLosExtendedDue.size() && out.add(mLosExtendedDue[sent])) ++sent;
-  mLosExtendedDue.erase(mLosExtendedDue.begin(), mLosExtendedDue.begin() + static_cast<std::ptrdiff_t>(sent));
+  addWhatFits(out, mHatHotDue);
+  addWhatFits(out, mHatHotExtendedDue);
+  addWhatFits(out, mLosDue);
+  addWhatFits(out, mLosExtendedDue);
   return true;
 }
 
 HostSessionFigures HostSession::figures() const noexcept {
   HostSessionFigures f;
-  f.messages = mMessages.load(std::memory_order_relaxed);
   f.ownshipUpdates = mOwnshipUpdates.load(std::memory_order_relaxed);
   f.hatHotRequests = mHatHotRequests.load(std::memory_order_relaxed);
   f.hatHotAnswered = mHatHotAnswered.load(std::memory_order_relaxed);

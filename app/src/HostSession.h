@@ -18,6 +18,8 @@
 #include <io_bridge/HostLink.h>
 #include <motion/HostMotion.h>
 
+#include <glm/vec2.hpp>
+
 #include <atomic>
 #include <cstdint>
 #include <map>
@@ -34,7 +36,6 @@ enum class HostIgStatus : std::uint8_t {
 
 /// Figures of the session. Read from any thread.
 struct HostSessionFigures {
-  std::uint64_t messages = 0;
   std::uint64_t ownshipUpdates = 0;
   std::uint64_t hatHotRequests = 0;
   std::uint64_t hatHotAnswered = 0;  ///< valid answers (inside the database)
@@ -72,6 +73,7 @@ class HostSession final : public io::HostHandler {
     io::cigi::HatHotRequest request;
     std::optional<glm::dvec3> pointM;  ///< nothing: not a place this database can answer
     TimePoint deadline;
+    std::vector<glm::ivec2> tiles;  ///< the level-0 tiles the answer reads
   };
   void answer(const io::cigi::HatHotRequest& request, TimePoint arrival);
   // A line-of-sight request, reduced to a world ray; it waits like a height request.
@@ -86,19 +88,19 @@ class HostSession final : public io::HostHandler {
     glm::dvec3 direction{0.0};  ///< unit
     double minRangeM = 0.0, maxRangeM = 0.0;
     TimePoint deadline;
+    std::vector<glm::ivec2> tiles;  ///< the level-0 tiles under the ray
   };
   void answer(const io::cigi::LosSegmentRequest& request, TimePoint arrival);
   void answer(const io::cigi::LosVectorRequest& request, TimePoint arrival);
   void queueLos(PendingLos pending);
-  bool losTilesResident(const PendingLos& pending, bool requestMissing);
   void answerWaitingLos(TimePoint now);
   void respond(const PendingLos& pending);
   // The world pose of entity `entityId` (0: the ownship at `at`), when known.
   std::optional<Pose> entityPose(std::uint16_t entityId, TimePoint at) const;
   std::optional<glm::dvec3> placePoint(io::cigi::CoordinateSystem system, std::uint16_t entityId, double a, double b,
                                        double c, TimePoint at) const;
-  bool fullResolutionResident(const glm::dvec3& pointM) const;
-  void requestFullResolution(const glm::dvec3& pointM);
+  // True when every tile of `tiles` is resident at level 0; asks for the others ahead of the prefetch.
+  bool levelZeroResident(const std::vector<glm::ivec2>& tiles);
   void answerWaitingHeights(TimePoint now);
   void respond(const PendingHeight& pending);
 
@@ -121,8 +123,8 @@ class HostSession final : public io::HostHandler {
   std::vector<io::cigi::LosResponse> mLosDue;
   std::vector<io::cigi::LosExtendedResponse> mLosExtendedDue;
 
-  std::atomic<std::uint64_t> mMessages{0}, mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0}, mLosRequests{0},
-      mLosHits{0}, mOtherEntities{0}, mModeChanges{0};
+  std::atomic<std::uint64_t> mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0}, mLosRequests{0}, mLosHits{0},
+      mOtherEntities{0}, mModeChanges{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
   std::atomic<double> mHazeRangeM{0.0};
 };

@@ -81,6 +81,8 @@ nlohmann::json hostSummary(const io::HostLinkCounters& link, const HostSessionFi
           {"samples_invalid", samples.invalid},
           {"hat_hot_requests", session.hatHotRequests},
           {"hat_hot_answered", session.hatHotAnswered},
+          {"los_requests", session.losRequests},
+          {"los_hits", session.losHits},
           {"other_entities", session.otherEntities},
           {"mode_changes", session.modeChanges},
           {"last_host_frame", session.lastHostFrame}};
@@ -178,21 +180,19 @@ struct Service::Parts {
 
   // Per field, before the pose is asked for: freeze, reset and trigger from the discretes and the
   // stick's mapped buttons, at the field's display time.
-  void actOnCockpit(const warp::FieldTick& tick) noexcept {
+  void actOnCockpit(const warp::FieldTick& tick, const io::ControlState* stickState) noexcept {
     io::DiscreteSnapshot discretes;
     if (gpio) discretes = gpio->discretes();
-    const std::uint64_t buttons = stick ? stick->controlsAt(clock.now()).buttons : 0;
-    cockpit->beforeField(tick.displayTime, gpio ? &discretes : nullptr, buttons);
+    cockpit->beforeField(tick.displayTime, gpio ? &discretes : nullptr, stickState ? stickState->buttons : 0);
   }
 
   // Per field, before the pose is asked for: the stick flight model integrates up to the field
   // (in the flight's time, which stands still while the cockpit is frozen).
-  void stepFlight(const warp::FieldTick& tick) noexcept {
-    const TimePoint now = clock.now();
+  void stepFlight(const warp::FieldTick& tick, TimePoint now, const io::ControlState* stickState) noexcept {
     motion::FlightControls controls;
     TimePoint inputTime{};
-    if (stick) {
-      const io::ControlState state = stick->controlsAt(now);
+    if (stickState) {
+      const io::ControlState& state = *stickState;
       controls = motion::FlightControls{state.roll, state.pitch, state.yaw, state.throttle};
       if (state.health == io::InputHealth::Live) inputTime = state.time;
     } else {
@@ -344,10 +344,15 @@ void Service::start() {
   FieldLoop::BeforeField beforeField;
   if (p.flightModel || p.gpio || p.hostLink || p.cockpit) {
     beforeField = [&p](const warp::FieldTick& tick) {
+      // The stick is read once per field: the cockpit's buttons and the flight model see one state.
+      const TimePoint now = p.clock.now();
+      io::ControlState stickState;
+      if (p.stick) stickState = p.stick->controlsAt(now);
+      const io::ControlState* stick = p.stick ? &stickState : nullptr;
       if (p.gpio) p.applyExternalSync();
-      if (p.cockpit) p.actOnCockpit(tick);
+      if (p.cockpit) p.actOnCockpit(tick, stick);
       if (p.hostLink) p.hostLink->fieldStarted(tick.fieldNumber, tick.displayTime);  // its Start of Frame
-      if (p.flightModel) p.stepFlight(tick);
+      if (p.flightModel) p.stepFlight(tick, now, stick);
     };
   }
   // Runs on the field thread once it is warm: the first deadline comes after the warm-up.
@@ -371,7 +376,6 @@ void Service::start() {
     s.toFirstFieldS = toSeconds(start.t0 - p.config.warp.lead - begin);
     s.warmUpWarpMs = warm.warpMs;
     s.warmUpFrame = warm.frameNumber;
-    s.firstWakeAfterWarmUpMs = toSeconds(start.t0 - p.config.warp.lead - warm.done) * 1e3;
     s.memoryLocked = memory;
     s.tileMisses = p.terrain->stats().viewMisses;
     p.metrics.setStartup(s);

@@ -129,7 +129,6 @@ nlohmann::json toJson(const ServiceFigures& f) {
            {{"to_first_field_s", f.startup.toFirstFieldS},
             {"warm_up_warp_ms", f.startup.warmUpWarpMs},
             {"warm_up_frame", f.startup.warmUpFrame},
-            {"first_wake_after_warm_up_ms", f.startup.firstWakeAfterWarmUpMs},
             {"memory_locked", f.startup.memoryLocked},
             {"tile_misses", f.startup.tileMisses}}},
           {"tile_misses_run", f.tileMissesRun},

@@ -231,6 +231,27 @@ TEST_F(HostSessionTest, OutsideTheDatabaseIsNotValid) {
   EXPECT_EQ(mSession.figures().hatHotAnswered, 0u);
 }
 
+// An attached entity's position fields are offsets from its parent, not latitude and longitude:
+// offsets that happen to read as the database's origin must not place a request there.
+TEST_F(HostSessionTest, ARequestRelativeToAnAttachedEntityIsNotValid) {
+  cigi::EntityControl attached;
+  attached.entityId = 6;
+  attached.attachState = cigi::AttachState::Attached;
+  attached.parentId = 5;
+  attached.latitudeDegOrXM = core::kBuiltinTerrainOrigin.latitudeDeg;  // x offset, metres
+  attached.longitudeDegOrYM = core::kBuiltinTerrainOrigin.longitudeDeg;
+  attached.altitudeMOrZM = -100.0;
+  cigi::HatHotRequest request;
+  request.hatHotId = 12;
+  request.requestType = cigi::HatHotRequestType::HeightOfTerrain;
+  request.coordinateSystem = cigi::CoordinateSystem::Entity;
+  request.entityId = 6;
+  send({entityAt(5, {300.0, 300.0, 400.0}), attached, request});
+  const auto answers = only<cigi::HatHotResponse>(field(1, mClock.now()));
+  ASSERT_EQ(answers.size(), 1u);
+  EXPECT_FALSE(answers[0].valid);
+}
+
 TEST_F(HostSessionTest, StartOfFrameCarriesFieldHostFrameAndHeldStatus) {
   send({entityAt(0, {100.0, 100.0, 500.0})}, 5.0, cigi::IgMode::Operate, 4242);
   const TimePoint sampleLocal = mOwnship.toLocal(5.0);

@@ -23,10 +23,7 @@ glm::dvec3 velocityOf(const FlightState& s) noexcept {
 FlightModel::FlightModel(const FlightModelParams& params, const Pose& start, double startSpeedMps, TimePoint startTime,
                          TerrainHeightFn terrainHeight)
     : mParams(params), mTerrainHeight(std::move(terrainHeight)) {
-  mWorking.time = startTime;
-  mWorking.pose = start;
-  mWorking.speedMps = startSpeedMps;
-  mState.store(mWorking);
+  reset(start, startSpeedMps, startTime);
 }
 
 void FlightModel::reset(const Pose& pose, double speedMps, TimePoint time) noexcept {

@@ -196,20 +196,16 @@ TEST_F(ServiceRun, WarmsUpBeforeTheFirstFieldAndReportsTheStartUp) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json s = summary();
   const nlohmann::json& startup = s.at("startup");
-  // The field thread warped a real frame before the field clock existed, and the first field's
-  // deadline lies after that warm-up.
+  // The field thread warped a real frame before the field clock existed.
   EXPECT_GE(startup.at("warm_up_frame").get<int>(), 1) << s.dump(2);
   EXPECT_GT(startup.at("warm_up_warp_ms").get<double>(), 0.0) << s.dump(2);
-  EXPECT_GT(startup.at("first_wake_after_warm_up_ms").get<double>(), 0.0) << s.dump(2);
-  EXPECT_TRUE(startup.at("memory_locked").is_boolean());
-  EXPECT_TRUE(startup.at("tile_misses").is_number_unsigned());
   EXPECT_LE(s.at("fields_missed_first_second").get<double>(), missedAllowance(1.0)) << s.dump(2);
   // Fallbacks by reason add up to the total.
   const nlohmann::json& reasons = s.at("warp_fallbacks_by_reason");
   EXPECT_EQ(reasons.at("few_points").get<int>() + reasons.at("all_sky").get<int>() +
                 reasons.at("degenerate").get<int>() + reasons.at("no_range_image").get<int>(),
             s.at("warp_fallbacks").get<int>());
-  // The log's tile misses are per interval (the start-up's are in the summary).
+  // The log reports the start-up (the per-interval tile misses are ServiceMetricsTest's).
   EXPECT_NE(r.output.find("start-up: "), std::string::npos) << r.output;
 }
 

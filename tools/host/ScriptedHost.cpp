@@ -4,7 +4,7 @@
 #include <io_bridge/cigi/MessageBuilder.h>
 
 #include <fieldcast/Pose.h>
-#include <fieldcast/Time.h>
+#include <ig_core/LineOfSight.h>
 
 #include <arpa/inet.h>
 #include <poll.h>
@@ -210,14 +210,9 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
 
   // The reference: the same bilinear surface at full resolution, its tiles loaded first.
   std::vector<double> heightErrors;
-  const core::TerrainGeometry& g = terrain.geometry();
   for (const auto& [pointM, heightM] : answers) {
-    const int i = static_cast<int>(std::floor((pointM.x - g.originM.x) / g.spacingM));
-    const int j = static_cast<int>(std::floor((pointM.y - g.originM.y) / g.spacingM));
-    for (int k = 0; k < 4; ++k) {
-      const int ti = std::clamp(i + (k & 1), 0, g.widthVox - 1) >> g.tileShift;
-      const int tj = std::clamp(j + (k >> 1), 0, g.heightVox - 1) >> g.tileShift;
-      if (terrain.view().tile(0, ti, tj) == nullptr) terrain.request(0, ti, tj);
+    for (const glm::ivec2& t : core::lineOfSightTiles(terrain.geometry(), pointM, pointM)) {
+      if (terrain.view().tile(0, t.x, t.y) == nullptr) terrain.request(0, t.x, t.y);
     }
     terrain.waitIdle(std::chrono::seconds(5));
     heightErrors.push_back(std::abs(heightM - terrain.heightAtM(pointM.x, pointM.y, 0)));

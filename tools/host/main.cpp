@@ -9,7 +9,6 @@
 #include <service/ServiceConfig.h>
 #include <tools/OptionChecks.h>
 
-#include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 

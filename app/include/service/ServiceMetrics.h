@@ -45,12 +45,11 @@ struct ServiceCounters {
 
 /// How the run started (the field clock's start-up, DESIGN.md §4): set once, before the first field.
 struct StartupFigures {
-  double toFirstFieldS = 0.0;           ///< Service::start() → the first field's wake-up
-  double warmUpWarpMs = 0.0;            ///< the field thread's warm-up warp (before the field clock started)
-  std::uint64_t warmUpFrame = 0;        ///< number of the frame it warped (0: none)
-  double firstWakeAfterWarmUpMs = 0.0;  ///< the first field's wake-up − the end of the warm-up
-  bool memoryLocked = false;            ///< mlockall(MCL_CURRENT | MCL_FUTURE) granted
-  std::uint64_t tileMisses = 0;         ///< terrain samples answered by a coarser level before the first field
+  double toFirstFieldS = 0.0;     ///< Service::start() → the first field's wake-up
+  double warmUpWarpMs = 0.0;      ///< the field thread's warm-up warp (before the field clock started)
+  std::uint64_t warmUpFrame = 0;  ///< number of the frame it warped (0: none)
+  bool memoryLocked = false;      ///< mlockall(MCL_CURRENT | MCL_FUTURE) granted
+  std::uint64_t tileMisses = 0;   ///< terrain samples answered by a coarser level before the first field
 };
 
 /// Figures of the whole run, for --summary and the end-of-run log.

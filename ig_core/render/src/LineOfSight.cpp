@@ -148,9 +148,8 @@ std::vector<glm::ivec2> lineOfSightTiles(const TerrainGeometry& g, const glm::dv
     next[axis] += delta[axis];
     addCell(cell.x, cell.y);
   }
-  std::sort(tiles.begin(), tiles.end(), [](const glm::ivec2& p, const glm::ivec2& q) {
-    return p.x != q.x ? p.x < q.x : p.y < q.y;
-  });
+  std::sort(tiles.begin(), tiles.end(),
+            [](const glm::ivec2& p, const glm::ivec2& q) { return p.x != q.x ? p.x < q.x : p.y < q.y; });
   tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
   return tiles;
 }

@@ -84,25 +84,24 @@ DecodeResult DatagramDecoder<Packet>::decode(std::span<const std::uint8_t> datag
   constexpr const std::array<std::uint8_t, 256>& sizeByOpcode = kSizeByOpcode<Packet>;
   packets.clear();
   DecodeResult result;
-  const auto reject = [&](RejectReason reason, std::size_t offset) {
+  const auto reject = [&](RejectReason reason) {
     ++mCounters.datagramsRejected[static_cast<std::size_t>(reason)];
     result.rejected = reason;
-    result.rejectOffset = offset;
     return result;
   };
   const std::size_t size = datagram.size();
   const std::uint8_t* d = datagram.data();
 
   // The leading packet: id, size, version, magic.
-  if (size < 2) return reject(RejectReason::TooShort, 0);
-  if (d[0] != Lead::kOpcode) return reject(RejectReason::NoLeadingControl, 0);
+  if (size < 2) return reject(RejectReason::TooShort);
+  if (d[0] != Lead::kOpcode) return reject(RejectReason::NoLeadingControl);
   const std::uint8_t leadSize = d[1];
-  if (leadSize == 0) return reject(RejectReason::ZeroPacketSize, 0);
-  if (leadSize > size) return reject(RejectReason::PacketPastEnd, 0);
-  if (leadSize >= 3 && d[2] != kMajorVersion) return reject(RejectReason::WrongMajorVersion, 0);
+  if (leadSize == 0) return reject(RejectReason::ZeroPacketSize);
+  if (leadSize > size) return reject(RejectReason::PacketPastEnd);
+  if (leadSize >= 3 && d[2] != kMajorVersion) return reject(RejectReason::WrongMajorVersion);
   if (leadSize != Lead::kSize) {
-    return reject(
-        leadSize == kVersion30LeadSize ? RejectReason::UnsupportedMinorVersion : RejectReason::WrongPacketSize, 0);
+    return reject(leadSize == kVersion30LeadSize ? RejectReason::UnsupportedMinorVersion
+                                                 : RejectReason::WrongPacketSize);
   }
   // The magic read big-endian: 0x8000 from a big-endian sender, 0x0080 from a little-endian one.
   const unsigned magic = (unsigned{d[6]} << 8) | d[7];
@@ -111,20 +110,20 @@ DecodeResult DatagramDecoder<Packet>::decode(std::span<const std::uint8_t> datag
   } else if (magic == 0x0080u) {
     result.senderOrder = ByteOrder::Little;
   } else {
-    return reject(RejectReason::BadByteSwapMagic, 0);
+    return reject(RejectReason::BadByteSwapMagic);
   }
   result.minorVersion = static_cast<std::uint8_t>(d[Direction<Packet>::kMinorVersionByte] >> 4);
-  if (result.minorVersion < kLowestMinorVersion) return reject(RejectReason::UnsupportedMinorVersion, 0);
+  if (result.minorVersion < kLowestMinorVersion) return reject(RejectReason::UnsupportedMinorVersion);
 
   // Walk the rest by size bytes; nothing is handed out unless the whole walk succeeds.
   std::size_t known = 1;
   for (std::size_t offset = leadSize; offset < size;) {
-    if (size - offset < 2) return reject(RejectReason::PacketPastEnd, offset);
+    if (size - offset < 2) return reject(RejectReason::PacketPastEnd);
     const std::uint8_t packetSize = d[offset + 1];
-    if (packetSize == 0) return reject(RejectReason::ZeroPacketSize, offset);
-    if (packetSize > size - offset) return reject(RejectReason::PacketPastEnd, offset);
+    if (packetSize == 0) return reject(RejectReason::ZeroPacketSize);
+    if (packetSize > size - offset) return reject(RejectReason::PacketPastEnd);
     const std::uint8_t expected = sizeByOpcode[d[offset]];
-    if (expected != 0 && packetSize != expected) return reject(RejectReason::WrongPacketSize, offset);
+    if (expected != 0 && packetSize != expected) return reject(RejectReason::WrongPacketSize);
     if (expected != 0) ++known;
     offset += packetSize;
   }
@@ -141,10 +140,9 @@ DecodeResult DatagramDecoder<Packet>::decode(std::span<const std::uint8_t> datag
     appendDecoded(opcode, d + offset, result.senderOrder, packets,
                   std::make_index_sequence<std::variant_size_v<Packet>>{});
   }
-  result.packetCount = packets.size();
   ++mCounters.datagramsAccepted;
   if (result.byteSwapped()) ++mCounters.datagramsByteSwapped;
-  mCounters.packetsDecoded += result.packetCount;
+  mCounters.packetsDecoded += packets.size();
   mCounters.packetsSkipped += result.skippedCount;
   return result;
 }

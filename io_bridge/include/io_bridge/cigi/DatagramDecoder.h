@@ -58,9 +58,7 @@ struct DecodeResult {
   std::optional<RejectReason> rejected;  ///< empty when the datagram was accepted
   ByteOrder senderOrder = nativeByteOrder();
   std::uint8_t minorVersion = 0;  ///< of the leading packet (accepted datagrams)
-  std::size_t packetCount = 0;    ///< packets handed out
   std::size_t skippedCount = 0;   ///< unknown packets skipped
-  std::size_t rejectOffset = 0;   ///< byte offset of the offending packet (rejected datagrams)
 
   bool accepted() const noexcept { return !rejected.has_value(); }
   explicit operator bool() const noexcept { return accepted(); }
@@ -78,7 +76,6 @@ class DatagramDecoder {
   DecodeResult decode(std::span<const std::uint8_t> datagram, std::vector<Packet>& packets);
 
   const DecodeCounters& counters() const noexcept { return mCounters; }
-  void resetCounters() noexcept { mCounters = {}; }
 
  private:
   DecodeCounters mCounters;
