@@ -232,15 +232,11 @@ TEST_F(HostSessionTest, OutsideTheDatabaseIsNotValid) {
 }
 
 // An attached entity's position fields are offsets from its parent, not latitude and longitude:
-// offsets that happen to read as the database's origin must not place a request there.
+// offsets that happen to read as a place in the database must not place a request there.
 TEST_F(HostSessionTest, ARequestRelativeToAnAttachedEntityIsNotValid) {
-  cigi::EntityControl attached;
-  attached.entityId = 6;
+  cigi::EntityControl attached = entityAt(6, {100.0, 120.0, 300.0});  // offsets that read as a place inside
   attached.attachState = cigi::AttachState::Attached;
   attached.parentId = 5;
-  attached.latitudeDegOrXM = core::kBuiltinTerrainOrigin.latitudeDeg;  // x offset, metres
-  attached.longitudeDegOrYM = core::kBuiltinTerrainOrigin.longitudeDeg;
-  attached.altitudeMOrZM = -100.0;
   cigi::HatHotRequest request;
   request.hatHotId = 12;
   request.requestType = cigi::HatHotRequestType::HeightOfTerrain;
