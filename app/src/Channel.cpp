@@ -32,6 +32,7 @@ Channel::Channel(const ChannelSettings& settings, core::TileCache& terrain, cons
       mClock(clock),
       mMetrics(metrics),
       mOnFatal(std::move(onFatal)) {
+  mTerrainSwitch.settled.store(&terrain, std::memory_order_relaxed);
   warp::FieldWarperConfig warper = settings.prp.warper;
   warper.rasterWidthPx = settings.output.widthPx;
   warper.rasterHeightPx = settings.output.heightPx;
@@ -70,7 +71,7 @@ void Channel::renderMain() noexcept {
     pacing.controller = render.controller;
     pacing.initialQuality = render.settings.quality;
     pacing.hazeRangeM = mHazeRangeM;
-    RenderLoop loop(renderer, mMotion, mSettings.view.display, mFrames, mMetrics, pacing, &mTerrain);
+    RenderLoop loop(renderer, mMotion, mSettings.view.display, mFrames, mMetrics, pacing, &mTerrain, &mTerrainSwitch);
     spdlog::info("render: {} worker threads, {}x{} display, margin {:.0f}%", renderer.threads(),
                  mSettings.view.display.widthPx, mSettings.view.display.heightPx, render.settings.marginFraction * 100);
     if (!loop.run(mStopRender)) mOnFatal("render thread stopped (see the log above)");

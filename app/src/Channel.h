@@ -91,6 +91,15 @@ class Channel {
   void setHazeRange(const std::atomic<double>* rangeM) noexcept { mHazeRangeM = rangeM; }
   /// Starts the render thread.
   void startRendering();
+  /// Renders from `terrain` from the next frame on (a database switch; any thread). The terrain
+  /// in use so far must stay open until terrainSettled() is `terrain`.
+  void switchTerrain(core::TileCache& terrain) noexcept {
+    mTerrainSwitch.wanted.store(&terrain, std::memory_order_release);
+  }
+  /// The terrain of the newest finished frame (any thread).
+  const core::TileCache* terrainSettled() const noexcept {
+    return mTerrainSwitch.settled.load(std::memory_order_acquire);
+  }
   /// Decides the field clock's start once the field thread is warm (called on that thread).
   using PlanFields = std::function<FieldStart(const WarmUp& warmUp)>;
   /// Starts the field thread. Before any deadline exists it takes its scheduling, prefaults its
@@ -136,6 +145,7 @@ class Channel {
   std::thread mFieldThread;
   std::atomic<bool> mStopRender{false};
   const std::atomic<double>* mHazeRangeM = nullptr;
+  TerrainSwitch mTerrainSwitch;
   std::atomic<bool> mStopFields{false};
   std::atomic<bool> mFieldsDone{false};
   std::atomic<bool> mFieldClockReady{false};

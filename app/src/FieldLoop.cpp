@@ -1,5 +1,9 @@
 #include "FieldLoop.h"
 
+#include "FieldLog.h"
+
+#include <motion/HostMotion.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
@@ -55,7 +59,8 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   const Frame& frame = mFrames.hasTaken() ? mFrames.front() : mNoFrame;
   // The pose below is computed now, so every input that arrived before this instant is reflected.
   const std::int64_t inputNs = mPendingInput != nullptr ? mPendingInput->exchange(0, std::memory_order_acq_rel) : 0;
-  const Pose pose = mMotion.poseAt(tick.displayTime);
+  motion::HostSampleUsed hostSample;
+  const Pose pose = poseAt(tick.displayTime, hostSample);
   const warp::FieldStatus status = mWarper.produce(frame, pose, warp::FieldSpec::of(tick), mField);
 
   if (status == warp::FieldStatus::Ok) {
@@ -65,7 +70,28 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   }
   if (status != warp::FieldStatus::BadOutput) {
     mSinks.publish(mField);
+    const TimePoint emitted = mTime.now();
     counters.fieldsEmitted.fetch_add(1, std::memory_order_relaxed);
+    if (hostSample.valid && !(hostSample == mLastHostSample)) {
+      // The first emitted field made from this sample: arrival → this field.
+      mMetrics.record(Measure::HostToEmission, emitted - hostSample.arrival);
+      mMetrics.record(Measure::HostToDisplay, tick.displayTime - hostSample.arrival);
+      mLastHostSample = hostSample;
+    }
+    if (FieldLog* log = mMetrics.fieldLog()) {
+      FieldRecord r;
+      r.fieldNumber = tick.fieldNumber;
+      r.displayNs = tick.displayTime.time_since_epoch().count();
+      r.emittedNs = emitted.time_since_epoch().count();
+      r.pose = pose;
+      r.frameNumber = frame.frameNumber;
+      r.framePoseNs = frame.poseTime.time_since_epoch().count();
+      r.black = status == warp::FieldStatus::NoFrame || status == warp::FieldStatus::BadFrame;
+      r.hasHostSample = hostSample.valid;
+      r.hostFrame = hostSample.hostFrame;
+      r.hostArrivalNs = hostSample.arrival.time_since_epoch().count();
+      (void)log->push(r);  // a full ring counts the drop
+    }
   }
   if (inputNs != 0) {
     mMetrics.record(Measure::StickLatency, tick.displayTime - TimePoint{Nanoseconds{inputNs}});
@@ -86,6 +112,22 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
     }
   }
   mMetrics.record(Measure::WarpTime, mTime.now() - start);
+}
+
+Pose FieldLoop::poseAt(TimePoint displayTime, motion::HostSampleUsed& used) const noexcept {
+  const motion::HostMotion* host = mMetrics.hostSamples();
+  if (host == nullptr) return mMotion.poseAt(displayTime);
+  // The sample before and after the pose: equal, the pose was made from it. When the receiver
+  // added one in between (microseconds apart, so at most once in practice), ask again.
+  used = host->sampleUsedAt(displayTime);
+  Pose pose;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    pose = mMotion.poseAt(displayTime);
+    const motion::HostSampleUsed after = host->sampleUsedAt(displayTime);
+    if (after == used) break;
+    used = after;
+  }
+  return pose;
 }
 
 }  // namespace fieldcast::app

@@ -2,13 +2,16 @@
 // The field thread (DESIGN.md §4–§5): sleeps to each field's absolute wake-up, takes the newest
 // complete frame without waiting, asks the motion model for the pose at the field's display
 // time, warps, and hands the field to the sinks. Never allocates, never blocks on the renderer,
-// the sinks or the input; a field that cannot be made in time is counted and skipped.
+// the sinks or the input; a field that cannot be made in time is counted and skipped. Each emitted
+// field goes to the per-field record (FieldLog) when there is one, and with a host the arrival of
+// the sample its pose was made from → the field is measured (Measure::HostToEmission/ToDisplay).
 
 #include <service/ServiceMetrics.h>
 
 #include <fieldcast/Field.h>
 #include <fieldcast/Time.h>
 #include <io_bridge/SinkHub.h>
+#include <motion/HostMotion.h>
 #include <motion/MotionSource.h>
 #include <prp_warp/FieldClock.h>
 #include <prp_warp/FieldWarper.h>
@@ -45,6 +48,10 @@ class FieldLoop {
   void setBeforeField(BeforeField hook) { mBeforeField = std::move(hook); }
 
  private:
+  /// The pose at the field's display time and, with a host (ServiceMetrics::hostSamples), the
+  /// sample it was made from (`used` stays invalid otherwise). RT-safe.
+  Pose poseAt(TimePoint displayTime, motion::HostSampleUsed& used) const noexcept;
+
   warp::FieldClock& mClock;
   const Clock& mTime;
   warp::FieldWarper& mWarper;
@@ -61,6 +68,7 @@ class FieldLoop {
   std::uint64_t mLastFallbacks = 0;
   std::uint64_t mLastFallbacksByReason[4] = {};
   std::uint64_t mLastViolations = 0;
+  motion::HostSampleUsed mLastHostSample;  // of the previous emitted field: a new one starts a latency
 };
 
 }  // namespace fieldcast::app

@@ -48,10 +48,11 @@ void addWhatFits(cigi::IgMessageBuilder& out, std::vector<Response>& due) {
 
 }  // namespace
 
-HostSession::HostSession(motion::HostMotion& ownship, core::TileCache& terrain, core::Georeference georeference,
-                         std::int8_t databaseNumber, const Clock& clock)
+HostSession::HostSession(motion::HostMotion& ownship, core::TileCache& terrain,
+                         std::shared_ptr<const core::Georeference> georeference, std::int8_t databaseNumber,
+                         const Clock& clock)
     : mOwnship(ownship),
-      mTerrain(terrain),
+      mTerrain(&terrain),
       mGeoreference(std::move(georeference)),
       mDatabaseNumber(databaseNumber),
       mClock(clock) {}
@@ -81,6 +82,7 @@ void HostSession::onMessage(const io::HostMessage& message) {
     }
   }
   mLastHostFrame.store(control.hostFrameNumber, std::memory_order_relaxed);
+  if (mDatabases != nullptr) mDatabases->request(control.databaseNumber);
   // Without a valid host timestamp the arrival time stands in for it (jitter then reaches the pose).
   const double hostTimeS = control.timestampValid
                                ? unwrapHostTime(control.timestampTicks)
@@ -123,7 +125,7 @@ void HostSession::onMessage(const io::HostMessage& message) {
 void HostSession::applyOwnship(const cigi::EntityControl& entity, const cigi::RateControl* rates, double hostTimeS,
                                TimePoint arrival, std::uint32_t hostFrame) {
   const std::optional<glm::dvec3> position =
-      mGeoreference.toWorld({entity.latitudeDegOrXM, entity.longitudeDegOrYM, entity.altitudeMOrZM});
+      mGeoreference->toWorld({entity.latitudeDegOrXM, entity.longitudeDegOrYM, entity.altitudeMOrZM});
   if (!position) return;  // not a place on the Earth: HostMotion keeps its track
   motion::HostSample sample;
   sample.hostTimeS = hostTimeS;
@@ -151,8 +153,8 @@ void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) 
   std::optional<glm::dvec3>& point = pending.pointM;
   point = placePoint(request.coordinateSystem, request.entityId, request.latitudeDegOrXM, request.longitudeDegOrYM,
                      request.altitudeMOrZM, arrival);
-  if (point && insideDatabase(mTerrain.geometry(), point->x, point->y)) {
-    pending.tiles = core::lineOfSightTiles(mTerrain.geometry(), *point, *point);  // the four voxels around it
+  if (point && insideDatabase(mTerrain->geometry(), point->x, point->y)) {
+    pending.tiles = core::lineOfSightTiles(mTerrain->geometry(), *point, *point);  // the four voxels around it
   }
   if (!levelZeroResident(pending.tiles)) {
     mHeightsWaiting.push_back(std::move(pending));  // answered once the tiles are in, or at the deadline
@@ -167,14 +169,14 @@ std::optional<Pose> HostSession::entityPose(std::uint16_t entityId, TimePoint at
   // An attached entity's position is offsets from its parent, which are not resolved yet.
   if (it == mEntities.end() || it->second.attachState == cigi::AttachState::Attached) return std::nullopt;
   const cigi::EntityControl& e = it->second;
-  const auto base = mGeoreference.toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM});
+  const auto base = mGeoreference->toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM});
   if (!base) return std::nullopt;
   return Pose{*base, radians(e.yawDeg), radians(e.pitchDeg), radians(e.rollDeg)};
 }
 
 std::optional<glm::dvec3> HostSession::placePoint(cigi::CoordinateSystem system, std::uint16_t entityId, double a,
                                                   double b, double c, TimePoint at) const {
-  if (system == cigi::CoordinateSystem::Geodetic) return mGeoreference.toWorld({a, b, c});
+  if (system == cigi::CoordinateSystem::Geodetic) return mGeoreference->toWorld({a, b, c});
   const std::optional<Pose> pose = entityPose(entityId, at);
   if (!pose) return std::nullopt;
   return bodyOffset(*pose, a, b, c);
@@ -240,7 +242,7 @@ void HostSession::answer(const cigi::LosVectorRequest& request, TimePoint arriva
 
 void HostSession::queueLos(PendingLos pending) {
   if (pending.valid) {
-    pending.tiles = core::lineOfSightTiles(mTerrain.geometry(), pending.fromM + pending.minRangeM * pending.direction,
+    pending.tiles = core::lineOfSightTiles(mTerrain->geometry(), pending.fromM + pending.minRangeM * pending.direction,
                                            pending.fromM + pending.maxRangeM * pending.direction);
   }
   if (!levelZeroResident(pending.tiles)) {
@@ -253,9 +255,9 @@ void HostSession::queueLos(PendingLos pending) {
 bool HostSession::levelZeroResident(const std::vector<glm::ivec2>& tiles) {
   bool all = true;
   for (const glm::ivec2& t : tiles) {
-    if (mTerrain.view().tile(0, t.x, t.y) != nullptr) continue;
+    if (mTerrain->view().tile(0, t.x, t.y) != nullptr) continue;
     all = false;
-    mTerrain.request(0, t.x, t.y, -1.0);  // ahead of the prefetch (again: a prefetch may have replaced it)
+    mTerrain->request(0, t.x, t.y, -1.0);  // ahead of the prefetch (again: a prefetch may have replaced it)
   }
   return all;
 }
@@ -269,7 +271,7 @@ void HostSession::answerWaitingLos(TimePoint now) {
 }
 
 void HostSession::respond(const PendingLos& pending) {
-  const core::LineOfSightHit hit = pending.valid ? core::lineOfSight(mTerrain.view(), pending.fromM, pending.direction,
+  const core::LineOfSightHit hit = pending.valid ? core::lineOfSight(mTerrain->view(), pending.fromM, pending.direction,
                                                                      pending.minRangeM, pending.maxRangeM)
                                                  : core::LineOfSightHit{};
   if (hit.hit) mLosHits.fetch_add(1, std::memory_order_relaxed);
@@ -303,7 +305,7 @@ void HostSession::respond(const PendingLos& pending) {
       response.latitudeDegOrXM = glm::dot(d, axes.forward);
       response.longitudeDegOrYM = glm::dot(d, axes.right);
       response.altitudeMOrZM = -glm::dot(d, axes.up);
-    } else if (const auto geo = mGeoreference.toGeodetic(hit.pointM)) {
+    } else if (const auto geo = mGeoreference->toGeodetic(hit.pointM)) {
       response.latitudeDegOrXM = geo->latitudeDeg;
       response.longitudeDegOrYM = geo->longitudeDeg;
       response.altitudeMOrZM = geo->altitudeM;
@@ -328,8 +330,8 @@ void HostSession::answerWaitingHeights(TimePoint now) {
 void HostSession::respond(const PendingHeight& pending) {
   const cigi::HatHotRequest& request = pending.request;
   const std::optional<glm::dvec3>& point = pending.pointM;
-  const bool valid = point.has_value() && insideDatabase(mTerrain.geometry(), point->x, point->y);
-  const double terrainM = valid ? heightOfTerrain(mTerrain, point->x, point->y) : 0.0;
+  const bool valid = point.has_value() && insideDatabase(mTerrain->geometry(), point->x, point->y);
+  const double terrainM = valid ? heightOfTerrain(*mTerrain, point->x, point->y) : 0.0;
   const double aboveM = valid ? point->z - terrainM : 0.0;
   const auto frameLsn = static_cast<std::uint8_t>(mLastHostFrame.load(std::memory_order_relaxed) & 0x0F);
   if (valid) mHatHotAnswered.fetch_add(1, std::memory_order_relaxed);
@@ -342,7 +344,7 @@ void HostSession::respond(const PendingHeight& pending) {
     response.heightAboveTerrainM = aboveM;
     response.heightOfTerrainM = terrainM;
     if (valid) {
-      normalAngles(core::surfaceNormalAt(mTerrain.view(), point->x, point->y), response.normalAzimuthDeg,
+      normalAngles(core::surfaceNormalAt(mTerrain->view(), point->x, point->y), response.normalAzimuthDeg,
                    response.normalElevationDeg);
     }
     mHatHotExtendedDue.push_back(response);
@@ -361,10 +363,13 @@ void HostSession::respond(const PendingHeight& pending) {
 
 bool HostSession::onField(const io::FieldAnnouncement& field, cigi::IgMessageBuilder& out) {
   const TimePoint now = mClock.now();
+  if (mDatabases != nullptr) {
+    if (std::optional<OpenDatabase> loaded = mDatabases->switchIfLoaded()) switchTo(std::move(*loaded));
+  }
   answerWaitingHeights(now);
   answerWaitingLos(now);
   cigi::StartOfFrame sof;
-  sof.databaseNumber = mDatabaseNumber;
+  sof.databaseNumber = mDatabases != nullptr ? mDatabases->startOfFrameNumber() : mDatabaseNumber;
   sof.igMode = mMode.load(std::memory_order_relaxed);
   sof.igStatus = static_cast<std::uint8_t>(mOwnship.state(field.displayTime) == motion::HostPoseState::Holding
                                                ? HostIgStatus::OwnshipHeld
@@ -381,6 +386,24 @@ bool HostSession::onField(const io::FieldAnnouncement& field, cigi::IgMessageBui
   addWhatFits(out, mLosDue);
   addWhatFits(out, mLosExtendedDue);
   return true;
+}
+
+void HostSession::switchTo(OpenDatabase database) {
+  mTerrainOwner = std::move(database.terrain);
+  mTerrain = mTerrainOwner.get();
+  mGeoreference = std::move(database.georeference);
+  mDatabaseNumber = database.number;
+  // Requests still waiting were placed in the old database's world: answered now, as invalid.
+  for (PendingHeight& pending : mHeightsWaiting) {
+    pending.pointM.reset();
+    pending.tiles.clear();
+  }
+  for (PendingLos& pending : mLosWaiting) {
+    pending.valid = false;
+    pending.tiles.clear();
+  }
+  // The ownship's kept samples are in the old world's metres: the pose follows the next sample.
+  mOwnship.startNewHistory();
 }
 
 HostSessionFigures HostSession::figures() const noexcept {

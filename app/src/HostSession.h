@@ -1,6 +1,7 @@
 #pragma once
 // What the host's CIGI packets mean to this IG (io_bridge/src/host/README.md has the packet
-// table): IG Control's mode and frame numbers, the ownship's pose and rates (entity 0) into the
+// table): IG Control's mode, frame numbers and database number (HostDatabases switches between
+// two fields), the ownship's pose and rates (entity 0) into the
 // host motion source, other entities into a table, HAT/HOT requests answered from the terrain,
 // Line of Sight Segment and Vector requests answered by a level-0 march (core::lineOfSight),
 // Atmosphere Control's visibility published as the haze range; and, once per field, the Start of
@@ -11,6 +12,8 @@
 // ahead of the prefetch and the answer waits for them (at most 100 ms, then the best resident
 // level answers), so an answer may come one or more fields after its request. LOS requests wait
 // the same way for the level-0 tiles under their whole segment (or vector, to its maximum range).
+
+#include "HostDatabases.h"
 
 #include <fieldcast/Time.h>
 #include <ig_core/Georeference.h>
@@ -23,6 +26,7 @@
 #include <atomic>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -49,9 +53,13 @@ struct HostSessionFigures {
 class HostSession final : public io::HostHandler {
  public:
   /// `ownship` receives entity 0's samples; `terrain` answers height requests; `georeference`
-  /// places geodetic positions (owned here: used on the link's thread only).
-  HostSession(motion::HostMotion& ownship, core::TileCache& terrain, core::Georeference georeference,
-              std::int8_t databaseNumber, const Clock& clock);
+  /// places geodetic positions (used on the link's thread only).
+  HostSession(motion::HostMotion& ownship, core::TileCache& terrain,
+              std::shared_ptr<const core::Georeference> georeference, std::int8_t databaseNumber, const Clock& clock);
+
+  /// The databases IG Control may switch between (null: none; Start of Frame then reports the
+  /// number given at construction). Set before the link starts.
+  void setDatabases(HostDatabases* databases) noexcept { mDatabases = databases; }
 
   void onMessage(const io::HostMessage& message) override;
   bool onField(const io::FieldAnnouncement& field, io::cigi::IgMessageBuilder& out) override;
@@ -66,6 +74,8 @@ class HostSession final : public io::HostHandler {
 
  private:
   double unwrapHostTime(std::uint32_t ticks);
+  // Answers from `database` from now on (a database switch, between two fields).
+  void switchTo(OpenDatabase database);
   void applyOwnship(const io::cigi::EntityControl& entity, const io::cigi::RateControl* rates, double hostTimeS,
                     TimePoint arrival, std::uint32_t hostFrame);
   // A height request whose answer waits for the full-resolution tiles under its point.
@@ -105,9 +115,12 @@ class HostSession final : public io::HostHandler {
   void respond(const PendingHeight& pending);
 
   motion::HostMotion& mOwnship;
-  core::TileCache& mTerrain;
-  core::Georeference mGeoreference;
+  // Link thread only (a database switch replaces them).
+  core::TileCache* mTerrain;
+  std::shared_ptr<core::TileCache> mTerrainOwner;  // after a switch: keeps the database open
+  std::shared_ptr<const core::Georeference> mGeoreference;
   std::int8_t mDatabaseNumber;
+  HostDatabases* mDatabases = nullptr;
   const Clock& mClock;
   std::atomic<io::cigi::IgMode> mMode{io::cigi::IgMode::Operate};
 

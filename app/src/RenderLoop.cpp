@@ -9,7 +9,7 @@ namespace fieldcast::app {
 
 RenderLoop::RenderLoop(core::Renderer& renderer, const motion::MotionSource& motion, const Intrinsics& display,
                        warp::FrameHandover& frames, ServiceMetrics& metrics, const RenderPacing& pacing,
-                       core::TileCache* tiles)
+                       core::TileCache* tiles, TerrainSwitch* terrainSwitch)
     : mRenderer(renderer),
       mMotion(motion),
       mDisplay(display),
@@ -17,6 +17,7 @@ RenderLoop::RenderLoop(core::Renderer& renderer, const motion::MotionSource& mot
       mMetrics(metrics),
       mPacing(pacing),
       mTiles(tiles),
+      mSwitch(terrainSwitch),
       mController(pacing.controller, pacing.initialQuality) {
   mRenderer.setQuality(pacing.initialQuality);
 }
@@ -30,7 +31,17 @@ RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
   request.poseTime = poseTime;
   request.display = mDisplay;
   request.frameNumber = mNextFrameNumber++;
+  if (mSwitch != nullptr) {
+    core::TileCache* wanted = mSwitch->wanted.load(std::memory_order_acquire);
+    if (wanted != nullptr && wanted != mTiles) {
+      // The frame in flight keeps the old terrain (and its lease on it) until it is finished.
+      mRenderer.setTerrain(wanted->view());
+      mTiles = wanted;
+      spdlog::info("render: frame {} on is rendered from {}", request.frameNumber, wanted->sourceName());
+    }
+  }
   InFlight frame;
+  frame.tiles = mTiles;
   if (mTiles != nullptr) {
     const Pose ahead = mMotion.poseAt(poseTime + std::chrono::milliseconds(100));
     mTiles->prefetch(request.pose, (ahead.positionM - request.pose.positionM) * 10.0, mDisplay);
@@ -53,6 +64,7 @@ void RenderLoop::finish(InFlight& frame) {
   core::RenderStats stats;
   Frame done = mRenderer.finish(std::move(frame.ticket), &stats);
   frame.lease.release();
+  if (mSwitch != nullptr) mSwitch->settled.store(frame.tiles, std::memory_order_release);
   publish(std::move(done), stats);
 }
 

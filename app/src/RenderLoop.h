@@ -30,14 +30,23 @@ struct RenderPacing {
   const std::atomic<double>* hazeRangeM = nullptr;
 };
 
+/// A database switch (Channel::switchTerrain): the render loop renders each frame from `wanted`
+/// once it is set, and publishes in `settled` the terrain of the newest finished frame — once
+/// that is the new one, no frame of the old terrain is in flight any more and it may be closed.
+struct TerrainSwitch {
+  std::atomic<core::TileCache*> wanted{nullptr};
+  std::atomic<const core::TileCache*> settled{nullptr};
+};
+
 class RenderLoop {
  public:
   /// Every reference must outlive the loop. With a tile cache, each frame first asks it to
   /// prefetch the view's footprint ahead of the motion and holds a lease on its tiles while the
-  /// frame is rendered; without one (a fully resident terrain) neither is needed.
+  /// frame is rendered; without one (a fully resident terrain) neither is needed. With a
+  /// `terrainSwitch`, frames are rendered from the terrain it wants (see TerrainSwitch).
   RenderLoop(core::Renderer& renderer, const motion::MotionSource& motion, const Intrinsics& display,
              warp::FrameHandover& frames, ServiceMetrics& metrics, const RenderPacing& pacing,
-             core::TileCache* tiles = nullptr);
+             core::TileCache* tiles = nullptr, TerrainSwitch* terrainSwitch = nullptr);
 
   /// Renders until `stop` is set. Render thread body; catches and logs, returning false on a
   /// fatal error (after setting `stop`).
@@ -52,6 +61,7 @@ class RenderLoop {
   struct InFlight {
     core::Renderer::Ticket ticket;
     core::FrameLease lease;
+    const core::TileCache* tiles = nullptr;  // the terrain it is rendered from
   };
   InFlight submitNext(TimePoint now);
   void finish(InFlight& frame);
@@ -64,6 +74,7 @@ class RenderLoop {
   ServiceMetrics& mMetrics;
   RenderPacing mPacing;
   core::TileCache* mTiles;
+  TerrainSwitch* mSwitch;
   core::FrameTimeController mController;
   Nanoseconds mExpectedLatency{std::chrono::milliseconds(50)};  // submit → frame ready, smoothed
   std::uint64_t mNextFrameNumber = 1;

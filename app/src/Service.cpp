@@ -3,6 +3,7 @@
 #include "Channel.h"
 #include "CockpitActions.h"
 #include "FieldLoop.h"
+#include "HostDatabases.h"
 #include "HostSession.h"
 #include "KeyboardFlight.h"
 #include "MemoryLock.h"
@@ -135,7 +136,7 @@ struct Service::Parts {
   ServiceConfig config;
   SystemClock clock;
   ServiceMetrics metrics;
-  std::unique_ptr<core::TileCache> terrain;
+  std::shared_ptr<core::TileCache> terrain;  // null once HostDatabases owns it: see currentTerrain()
   std::unique_ptr<motion::ScriptedTrajectory> flight;
   std::unique_ptr<FlownFlight> flown;
   std::unique_ptr<motion::FlightModel> flightModel;
@@ -153,12 +154,20 @@ struct Service::Parts {
   PendingInput pendingInput{0};
   TimePoint lastInputTime{};
   std::unique_ptr<Channel> channel;
+  // The databases a host may switch between. Declared after the channel: its loader thread asks
+  // the channel what it renders, so it is stopped first.
+  std::unique_ptr<HostDatabases> hostDatabases;
   std::atomic<bool> started{false};
   bool stopped = false;
   mutable std::mutex fatalMutex;
   std::string fatal;
   std::atomic<bool> failed{false};  // fatal is set: read without the lock
   ServiceFigures figures;
+
+  // The terrain rendered now: a host's database switch replaces the one opened at start.
+  std::shared_ptr<core::TileCache> currentTerrain() const {
+    return hostDatabases ? hostDatabases->current().terrain : terrain;
+  }
 
   void fail(const std::string& why) {
     {
@@ -211,6 +220,7 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
   Parts& p = *mParts;
   p.config = config;
   checkSummaryWritable(config.metrics.summaryJson);
+  if (!config.metrics.fieldLog.empty()) p.metrics.openFieldLog(config.metrics.fieldLog);  // checks the path now
 
   p.terrain = core::openTerrain(config.terrain);
   const core::TerrainGeometry& g = p.terrain->geometry();
@@ -224,6 +234,7 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
                config.render.visibilityGiven ? "render.visibility_m" : "from the database's extent");
   p.metrics.setVisibility(visibility);
 
+  std::shared_ptr<const core::Georeference> georeference;  // motion.source = "host": where the database lies
   if (config.motion.source == motion::MotionKind::Flight) {
     try {
       p.flight =
@@ -244,12 +255,14 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
   } else if (config.motion.source == motion::MotionKind::Host) {
     p.hostMotion = std::make_unique<motion::HostMotion>(config.host.motion, config.motion.start);
     p.ownship = p.hostMotion.get();
+    p.metrics.setHostSamples(p.hostMotion.get());  // the field record's host columns, host→field latency
     try {
-      core::Georeference georeference = core::Georeference::forTerrain(p.terrain->crs(), config.host.origin);
+      georeference = std::make_shared<const core::Georeference>(
+          core::Georeference::forTerrain(p.terrain->crs(), config.host.origin));
       spdlog::info("host: CIGI 3.3 on {}:{}, positions through the {}", config.host.link.listenAddress,
-                   config.host.link.port, georeference.description());
-      p.hostSession = std::make_unique<HostSession>(*p.hostMotion, *p.terrain, std::move(georeference),
-                                                    config.host.databaseNumber, p.clock);
+                   config.host.link.port, georeference->description());
+      p.hostSession =
+          std::make_unique<HostSession>(*p.hostMotion, *p.terrain, georeference, config.host.databaseNumber, p.clock);
       p.hostLink = std::make_unique<io::HostLink>(config.host.link, p.clock, *p.hostSession);
     } catch (const std::exception& e) {
       throw std::runtime_error(std::string("host: ") + e.what());
@@ -279,6 +292,14 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
           p.keyboard.onKey(key, p.clock.now());
         }
       });
+
+  if (p.hostSession && !config.host.databases.empty()) {
+    OpenDatabase first{config.host.databaseNumber, std::move(p.terrain), std::move(georeference)};
+    p.hostDatabases = std::make_unique<HostDatabases>(
+        std::move(first), config.host.databases, config.host.origin, [&p] { return p.channel->terrainSettled(); },
+        [&p](core::TileCache& terrain) { p.channel->switchTerrain(terrain); });
+    p.hostSession->setDatabases(p.hostDatabases.get());
+  }
 
   const std::pair<const char*, const std::string*> gpioLines[] = {{"sync", &config.input.sync},
                                                                   {"freeze", &config.input.freeze},
@@ -377,7 +398,7 @@ void Service::start() {
     s.warmUpWarpMs = warm.warpMs;
     s.warmUpFrame = warm.frameNumber;
     s.memoryLocked = memory;
-    s.tileMisses = p.terrain->stats().viewMisses;
+    s.tileMisses = p.currentTerrain()->stats().viewMisses;
     p.metrics.setStartup(s);
     p.metrics.startAt(warm.done);
     spdlog::info("start-up: {:.2f} s to the first field, warm-up warp {:.2f} ms (frame {}), {} tile misses so far",
@@ -411,7 +432,7 @@ std::string Service::intervalLine() {
     window->setFigures(figures);
   }
   // Misses of this interval only: the start-up's (before the first field) are in the summary.
-  const core::TileCacheStats t = p.terrain->stats();
+  const core::TileCacheStats t = p.currentTerrain()->stats();
   line += " | tiles " + std::to_string(t.residentTiles) + " resident, " +
           std::to_string(p.metrics.tileMissesSince(t.viewMisses)) + " misses";
   return line;
@@ -425,13 +446,14 @@ ServiceFigures Service::stop() {
   if (p.stick) p.stick->stop();
   if (p.gpio) p.gpio->stop();
   if (p.hostLink) p.hostLink->stop();
-  if (p.started.load()) (void)p.metrics.tileMissesSince(p.terrain->stats().viewMisses);
+  if (p.started.load()) (void)p.metrics.tileMissesSince(p.currentTerrain()->stats().viewMisses);
+  p.metrics.closeFieldLog();  // the fields have stopped: its last records are written
   p.figures = p.metrics.figures(p.clock.now());
   if (!p.config.metrics.summaryJson.empty() && p.started.load()) {
     nlohmann::json summary = toJson(p.figures);
     summary["config"] = p.config.sourcePath;
     summary["output"] = p.config.output.describe();
-    summary["terrain"] = p.terrain->sourceName();
+    summary["terrain"] = p.currentTerrain()->sourceName();
     summary["sinks_dropped"] = p.channel->sinksDropped();
     summary["fatal_error"] = fatalError();
     if (p.cockpit) {
@@ -440,6 +462,11 @@ ServiceFigures Service::stop() {
     }
     if (p.hostLink)
       summary["host"] = hostSummary(p.hostLink->counters(), p.hostSession->figures(), p.hostMotion->counters());
+    if (p.hostDatabases) {
+      summary["host"]["database_number"] = p.hostDatabases->current().number;
+      summary["host"]["database_switches"] = p.hostDatabases->switches();
+      summary["host"]["database_load_failures"] = p.hostDatabases->failures();
+    }
     const auto& path = p.config.metrics.summaryJson;
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
     std::ofstream out(path);

@@ -1,5 +1,6 @@
 #include <service/ServiceConfig.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -36,6 +37,17 @@ HostConfig readHostConfig(ConfigReader& t) {
     t.fail("origin_deg", "expected [latitude within ±89, longitude within ±180]");
   }
   h.origin = {origin[0], origin[1]};
+  for (ConfigReader& d : t.tables("database")) {
+    HostDatabase database;
+    if (!d.has("number")) d.fail("number", "expected the database's number (1 to 127)");
+    database.number = static_cast<std::int8_t>(d.integer("number", 0, 1, 127));
+    const bool taken = database.number == h.databaseNumber ||
+                       std::any_of(h.databases.begin(), h.databases.end(),
+                                   [&](const HostDatabase& other) { return other.number == database.number; });
+    if (taken) d.fail("number", "expected a number no other database has (host.database_number is [terrain]'s)");
+    database.terrain = core::readTerrainConfig(d);
+    h.databases.push_back(std::move(database));
+  }
   t.finish();
   return h;
 }
@@ -66,6 +78,7 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
     ConfigReader t = top.table("metrics");
     c.metrics.logIntervalS = t.number("log_interval_s", 1.0, 0.1, 3600.0);
     c.metrics.summaryJson = t.path("summary_json", "");
+    c.metrics.fieldLog = t.path("field_log", "");
     t.finish();
   }
   {

@@ -1,5 +1,7 @@
 #include <service/ServiceMetrics.h>
 
+#include "FieldLog.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -29,6 +31,14 @@ double mean(std::uint64_t sum, std::uint64_t count) {
 }  // namespace
 
 ServiceMetrics::ServiceMetrics() : mStart(MonotonicClock::now()), mLast(mStart) {}
+
+ServiceMetrics::~ServiceMetrics() = default;
+
+void ServiceMetrics::openFieldLog(const std::filesystem::path& path) { mFieldLog = std::make_unique<FieldLog>(path); }
+
+void ServiceMetrics::closeFieldLog() {
+  if (mFieldLog) mFieldLog->stop();
+}
 
 std::string ServiceMetrics::intervalLine(TimePoint now) {
   const double seconds = std::max(1e-9, toSeconds(now - mLast));
@@ -68,6 +78,8 @@ std::string ServiceMetrics::intervalLine(TimePoint now) {
   if (age.count > 0) result += " | frame age " + ms(age.p50S) + "/" + ms(age.p99S) + " ms";
   const DurationSummary& stick = s[static_cast<int>(Measure::StickLatency)];
   if (stick.count > 0) result += " | stick→field " + ms(stick.p50S) + "/" + ms(stick.p99S) + " ms";
+  const DurationSummary& host = s[static_cast<int>(Measure::HostToEmission)];
+  if (host.count > 0) result += " | host→field " + ms(host.p50S) + "/" + ms(host.p99S) + " ms";
   result += " (p50/p99)";
   mLast = now;
   mLastFrames = frames;
@@ -107,39 +119,54 @@ ServiceFigures ServiceMetrics::figures(TimePoint now) {
   f.frameAge = mTotal[static_cast<int>(Measure::FrameAge)].summary();
   f.jitter = mTotal[static_cast<int>(Measure::FieldJitter)].summary();
   f.stickLatency = mTotal[static_cast<int>(Measure::StickLatency)].summary();
+  f.hostToEmission = mTotal[static_cast<int>(Measure::HostToEmission)].summary();
+  f.hostToDisplay = mTotal[static_cast<int>(Measure::HostToDisplay)].summary();
+  if (mFieldLog) {
+    f.fieldLogPath = mFieldLog->path().string();
+    f.fieldLogRecords = mFieldLog->written();
+    f.fieldLogDropped = mFieldLog->dropped();
+  }
   return f;
 }
 
 nlohmann::json toJson(const ServiceFigures& f) {
-  return {{"duration_s", f.durationS},
-          {"frames_rendered", f.framesRendered},
-          {"render_hz", f.durationS > 0 ? static_cast<double>(f.framesRendered) / f.durationS : 0.0},
-          {"fields_emitted", f.fieldsEmitted},
-          {"fields_black", f.fieldsBlack},
-          {"fields_missed", f.fieldsMissed},
-          {"margin_violation_px", f.marginViolations},
-          {"warp_fallbacks", f.warpFallbacks},
-          {"warp_fallbacks_by_reason",
-           {{"few_points", f.fallbacksFewPoints},
-            {"all_sky", f.fallbacksAllSky},
-            {"degenerate", f.fallbacksDegenerate},
-            {"no_range_image", f.fallbacksNoRange}}},
-          {"fields_missed_first_second", f.fieldsMissedFirstSecond},
-          {"startup",
-           {{"to_first_field_s", f.startup.toFirstFieldS},
-            {"warm_up_warp_ms", f.startup.warmUpWarpMs},
-            {"warm_up_frame", f.startup.warmUpFrame},
-            {"memory_locked", f.startup.memoryLocked},
-            {"tile_misses", f.startup.tileMisses}}},
-          {"tile_misses_run", f.tileMissesRun},
-          {"visibility_m", f.visibilityM},
-          {"mean_quality", f.meanQuality},
-          {"frames_grazing", f.framesGrazing},
-          {"render_time", toJson(f.render)},
-          {"warp_time", toJson(f.warp)},
-          {"frame_age", toJson(f.frameAge)},
-          {"field_jitter", toJson(f.jitter)},
-          {"stick_latency", toJson(f.stickLatency)}};
+  nlohmann::json j = {{"duration_s", f.durationS},
+                      {"frames_rendered", f.framesRendered},
+                      {"render_hz", f.durationS > 0 ? static_cast<double>(f.framesRendered) / f.durationS : 0.0},
+                      {"fields_emitted", f.fieldsEmitted},
+                      {"fields_black", f.fieldsBlack},
+                      {"fields_missed", f.fieldsMissed},
+                      {"margin_violation_px", f.marginViolations},
+                      {"warp_fallbacks", f.warpFallbacks},
+                      {"warp_fallbacks_by_reason",
+                       {{"few_points", f.fallbacksFewPoints},
+                        {"all_sky", f.fallbacksAllSky},
+                        {"degenerate", f.fallbacksDegenerate},
+                        {"no_range_image", f.fallbacksNoRange}}},
+                      {"fields_missed_first_second", f.fieldsMissedFirstSecond},
+                      {"startup",
+                       {{"to_first_field_s", f.startup.toFirstFieldS},
+                        {"warm_up_warp_ms", f.startup.warmUpWarpMs},
+                        {"warm_up_frame", f.startup.warmUpFrame},
+                        {"memory_locked", f.startup.memoryLocked},
+                        {"tile_misses", f.startup.tileMisses}}},
+                      {"tile_misses_run", f.tileMissesRun},
+                      {"visibility_m", f.visibilityM},
+                      {"mean_quality", f.meanQuality},
+                      {"frames_grazing", f.framesGrazing},
+                      {"render_time", toJson(f.render)},
+                      {"warp_time", toJson(f.warp)},
+                      {"frame_age", toJson(f.frameAge)},
+                      {"field_jitter", toJson(f.jitter)},
+                      {"stick_latency", toJson(f.stickLatency)}};
+  if (f.hostToEmission.count > 0) {
+    j["host_to_field_emission"] = toJson(f.hostToEmission);
+    j["host_to_field_display"] = toJson(f.hostToDisplay);
+  }
+  if (!f.fieldLogPath.empty()) {
+    j["field_log"] = {{"path", f.fieldLogPath}, {"records", f.fieldLogRecords}, {"dropped", f.fieldLogDropped}};
+  }
+  return j;
 }
 
 std::string describe(const ServiceFigures& f) {
@@ -177,6 +204,17 @@ std::string describe(const ServiceFigures& f) {
   }
   if (f.stickLatency.count > 0) {
     result += "\n  stick→field ms p50 " + ms(f.stickLatency.p50S) + " p99 " + ms(f.stickLatency.p99S);
+  }
+  if (f.hostToEmission.count > 0) {
+    result += "\n  host datagram→first field using it ms: emission p50 " + ms(f.hostToEmission.p50S) + " p99 " +
+              ms(f.hostToEmission.p99S) + ", display p50 " + ms(f.hostToDisplay.p50S) + " p99 " +
+              ms(f.hostToDisplay.p99S);
+  }
+  if (!f.fieldLogPath.empty()) {
+    std::snprintf(text, sizeof text, "\n  field log %s: %llu records, %llu dropped", f.fieldLogPath.c_str(),
+                  static_cast<unsigned long long>(f.fieldLogRecords),
+                  static_cast<unsigned long long>(f.fieldLogDropped));
+    result += text;
   }
   return result;
 }

@@ -35,7 +35,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> overrides;
   bool checkOnly = false;
   double durationS = 0.0;
-  std::string flight, y4m, contactSheet, summary, rtp;
+  std::string flight, y4m, contactSheet, summary, fieldLog, rtp;
   cli.add_option("-c,--config", configPath, "Configuration file (TOML)")->capture_default_str();
   cli.add_option("--set", overrides, "Override a key: --set output.rate=50 (repeatable)");
   // Whether --duration was given is its count, not a magic value: -1 and NaN used to pass as "not
@@ -55,6 +55,7 @@ int run(int argc, char** argv) {
   cli.add_option("--y4m", y4m, "Write the fields to this Y4M file, or - for stdout (sinks.y4m)");
   cli.add_option("--contact-sheet", contactSheet, "Write a PNG of fields through the run here at exit");
   cli.add_option("--summary", summary, "Write the run's figures as JSON here at exit (metrics.summary_json)");
+  cli.add_option("--field-log", fieldLog, "Write one CSV line per emitted field here (metrics.field_log)");
   cli.add_option("--rtp", rtp, "Send RFC 4175 RTP video to host:port (sinks.rtp)");
   cli.add_flag("--check-config", checkOnly, "Validate the configuration, print a summary and exit");
   cli.set_version_flag("--version", std::string("fieldcast ") + FIELDCAST_VERSION);
@@ -75,6 +76,7 @@ int run(int argc, char** argv) {
   }
   if (!contactSheet.empty()) overrides.push_back("sinks.contact_sheet=" + quoted(absolute(contactSheet)));
   if (!summary.empty()) overrides.push_back("metrics.summary_json=" + quoted(absolute(summary)));
+  if (!fieldLog.empty()) overrides.push_back("metrics.field_log=" + quoted(absolute(fieldLog)));
   if (!rtp.empty()) {
     const auto colon = rtp.rfind(':');
     if (colon == std::string::npos) {

@@ -1,10 +1,16 @@
+#include "FieldLog.h"
 #include "FieldLoop.h"
 
 #include <fieldcast/Conventions.h>
 #include <io_bridge/FieldSink.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -159,6 +165,70 @@ TEST(FieldLoop, RunStopsAtTheLastFieldAsked) {
   loop.run(stop, 30);
   rig.hub->stop();
   EXPECT_EQ(rig.seen->numbers.size(), 30u);
+}
+
+// With a host: each field's record names the newest host sample its pose was made from, and the
+// first field made from a sample measures arrival → emission and → display; a field made from
+// the same sample again measures nothing.
+TEST(FieldLoop, RecordsEachFieldAndTheHostSampleItsPoseCameFrom) {
+  Rig rig;
+  motion::HostMotion host;
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("fieldcast_field_loop_" + std::to_string(getpid()) + ".csv");
+  rig.metrics.openFieldLog(path);
+  rig.metrics.setHostSamples(&host);
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, host, *rig.hub, rig.metrics);
+  const auto sample = [&](std::uint32_t frame, double eastM) {
+    motion::HostSample s;
+    s.hostTimeS = 100.0 + frame / 60.0;
+    s.arrival = rig.clock.now();
+    s.pose = Pose{{eastM, 0.0, 100.0}, 0.0, 0.0, 0.0};
+    s.hostFrame = frame;
+    host.addSample(s);
+    return s.arrival;
+  };
+  loop.emit(rig.fieldClock->next());  // before any sample
+  const TimePoint arrival7 = sample(7, 10.0);
+  rig.clock.advance(3ms);
+  const warp::FieldTick second = rig.fieldClock->next();
+  loop.emit(second);
+  loop.emit(rig.fieldClock->next());  // the same sample again
+  const TimePoint arrival8 = sample(8, 20.0);
+  const warp::FieldTick fourth = rig.fieldClock->next();
+  loop.emit(fourth);
+  rig.hub->stop();
+  rig.metrics.closeFieldLog();
+
+  const ServiceFigures f = rig.metrics.figures(rig.clock.now());
+  EXPECT_EQ(f.hostToEmission.count, 2u);
+  EXPECT_EQ(f.hostToDisplay.count, 2u);
+  EXPECT_EQ(f.fieldLogRecords, 4u);
+  EXPECT_EQ(f.fieldLogDropped, 0u);
+  const nlohmann::json summary = toJson(f);  // what --summary writes
+  EXPECT_EQ(summary["host_to_field_emission"]["count"], 2);
+  EXPECT_EQ(summary["field_log"]["records"], 4);
+  EXPECT_EQ(summary["field_log"]["dropped"], 0);
+  // Fields 1 and 3 were the first made from samples 7 and 8 (within the histogram's 2 % bins).
+  const double toDisplayS =
+      std::max(toSeconds(second.displayTime - arrival7), toSeconds(fourth.displayTime - arrival8));
+  EXPECT_NEAR(f.hostToDisplay.maxS, toDisplayS, 0.02 * toDisplayS);
+
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  std::filesystem::remove(path);
+  ASSERT_EQ(lines.size(), 5u);
+  const auto hostColumns = [](const std::string& line) {  // the last two: host_frame,host_arrival_ns
+    const auto last = line.rfind(',');
+    return line.substr(line.rfind(',', last - 1) + 1);
+  };
+  EXPECT_EQ(hostColumns(lines[1]), ",");
+  const std::string arrival7Ns = std::to_string(arrival7.time_since_epoch().count());
+  EXPECT_EQ(hostColumns(lines[2]), "7," + arrival7Ns);
+  EXPECT_EQ(hostColumns(lines[3]), "7," + arrival7Ns);
+  EXPECT_EQ(hostColumns(lines[4]).substr(0, 2), "8,");
+  EXPECT_EQ(lines[2].substr(0, 2), "1,");
+  EXPECT_NE(lines[2].find(",10.0000,0.0000,100.0000,"), std::string::npos) << lines[2];  // no rates, one sample: held
 }
 
 }  // namespace

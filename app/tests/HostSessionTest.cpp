@@ -50,7 +50,9 @@ class HostSessionTest : public ::testing::Test {
     delete sDir;
   }
 
-  HostSessionTest() : mSession(mOwnship, *sTerrain, core::Georeference::tangentPlane(), 1, mClock) {}
+  HostSessionTest()
+      : mSession(mOwnship, *sTerrain, std::make_shared<const core::Georeference>(core::Georeference::tangentPlane()), 1,
+                 mClock) {}
 
   // One host message: IG Control (operate unless told, timestamp = host seconds) and `packets`.
   void send(std::vector<cigi::HostPacket> packets, double hostTimeS = 0.0, cigi::IgMode mode = cigi::IgMode::Operate,

@@ -60,6 +60,11 @@ void HostMotion::addSample(const HostSample& sample) noexcept {
     mInvalid.fetch_add(1, std::memory_order_relaxed);
     return;
   }
+  if (mNewHistory) {
+    mNewHistory = false;
+    mDraft.count = 0;
+    mDraft.blending = false;
+  }
   if (mDraft.count > 0) {
     const KeptSample& newest = mDraft.samples[mDraft.count - 1];
     const Nanoseconds clockStep = sample.arrival - mDraft.clock.toLocal(sample.hostTimeS);
@@ -93,8 +98,9 @@ void HostMotion::addSample(const HostSample& sample) noexcept {
     std::copy(mDraft.samples.begin() + 1, mDraft.samples.end(), mDraft.samples.begin());
     --mDraft.count;
   }
-  mDraft.samples[mDraft.count++] = KeptSample{sample.hostTimeS,       sample.pose,      sample.velocityMps,
-                                              sample.angularRateRadS, sample.hostFrame, sample.hasRates};
+  mDraft.samples[mDraft.count++] =
+      KeptSample{sample.hostTimeS, sample.pose,    sample.velocityMps, sample.angularRateRadS,
+                 sample.hostFrame, sample.arrival, sample.hasRates};
   mPublished.store(mDraft);
   mAccepted.fetch_add(1, std::memory_order_relaxed);
 }
@@ -150,6 +156,16 @@ Pose HostMotion::track(const Snapshot& s, TimePoint t) const noexcept {
                     hermite(aAngles, spanS * a.angularRateRadS, bAngles, spanS * b.angularRateRadS, u));
   }
   return makePose(a.pose.positionM + u * (b.pose.positionM - a.pose.positionM), aAngles + u * (bAngles - aAngles));
+}
+
+HostSampleUsed HostMotion::sampleUsedAt(TimePoint t) const noexcept {
+  const Snapshot s = mPublished.load();
+  if (s.count == 0) return HostSampleUsed{};
+  // The same choice as track(): the first kept sample whose IG instant is at or after t, else the newest.
+  std::uint32_t k = 0;
+  while (k + 1 < s.count && s.clock.toLocal(s.samples[k].hostTimeS) < t) ++k;
+  const KeptSample& used = s.samples[k];
+  return HostSampleUsed{true, used.hostFrame, used.arrival, used.hostTimeS};
 }
 
 HostPoseState HostMotion::state(TimePoint now) const noexcept {

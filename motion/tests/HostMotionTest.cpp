@@ -424,11 +424,79 @@ TEST(HostMotion, CountsAndDropsNonFiniteSamples) {
   EXPECT_EQ(motion.poseAt(s[1].arrival), reference.poseAt(s[1].arrival));
 }
 
+// After a database switch the host's positions are in another world: the first sample of the
+// new history is not interpolated against the last one of the old (which would sweep the camera
+// across the gap), and the clock estimate carries on.
+TEST(HostMotion, ANewHistoryIsNotInterpolatedAgainstTheOldOne) {
+  const SteadyTurn turn;
+  HostLink link;
+  link.hostDrift = 0.0;
+  std::vector<HostSample> samples = sendFlight(turn, link, 1.0, true, false);
+  HostMotion motion;
+  for (const HostSample& s : samples) motion.addSample(s);
+  const std::uint64_t restarts = motion.counters().restarts;
+
+  HostSample moved = samples.back();
+  const double stepS = 1.0 / 60.0;
+  moved.hostTimeS += stepS;
+  moved.arrival += fromSeconds(stepS);
+  moved.hostFrame += 1;
+  moved.pose.positionM += glm::dvec3{5000.0, -3000.0, 0.0};  // the same flight in the new database
+  motion.startNewHistory();
+  motion.addSample(moved);
+
+  // Half-way between the old newest sample and the new one: before the new history begins, so
+  // its first sample as it is — not the mid-point of a 5.8 km jump.
+  const TimePoint between = samples.back().arrival + fromSeconds(stepS / 2);
+  EXPECT_LT(glm::length(motion.poseAt(between).positionM - moved.pose.positionM), 0.01);
+  EXPECT_EQ(motion.counters().restarts, restarts) << "a new history is not a host restart";
+  EXPECT_EQ(motion.sampleUsedAt(between).hostFrame, moved.hostFrame);
+}
+
 TEST(HostMotion, NoSamplesGivesTheInitialPose) {
   const Pose initial{{1.0, 2.0, 300.0}, 0.5, 0.1, 0.0};
   const HostMotion motion({}, initial);
   EXPECT_EQ(motion.poseAt(TimePoint{std::chrono::seconds{5}}), initial);
   EXPECT_EQ(motion.state(TimePoint{}), HostPoseState::NoSamples);
+}
+
+// The sample a pose was made from: the newest when extrapolating, the later of the pair when
+// interpolating, the oldest before the history; and moving that sample moves the pose (the
+// record names a sample the pose really depends on).
+TEST(HostMotion, SaysWhichSampleAPoseWasMadeFrom) {
+  const SteadyTurn turn;
+  HostLink link;
+  link.hostDrift = 0.0;
+  const std::vector<HostSample> samples = sendFlight(turn, link, 0.2, true, false);  // 13 samples, in order
+  HostMotion motion;
+  EXPECT_FALSE(motion.sampleUsedAt(link.igStart).valid);
+  for (const HostSample& s : samples) motion.addSample(s);
+  const HostSample& newest = samples.back();
+  const auto usedIs = [](const HostSampleUsed& used, const HostSample& s) {
+    return used.valid && used.hostFrame == s.hostFrame && used.arrival == s.arrival && used.hostTimeS == s.hostTimeS;
+  };
+  // After the newest sample: extrapolated from it.
+  EXPECT_TRUE(usedIs(motion.sampleUsedAt(link.idealLocal(newest.hostTimeS) + milliseconds{30}), newest));
+  EXPECT_TRUE(usedIs(motion.sampleUsedAt(link.idealLocal(newest.hostTimeS)), newest));
+  // Between samples 10 and 11: made from both, 11 the newer.
+  const HostSample& a = samples[10];
+  const HostSample& b = samples[11];
+  const TimePoint between = link.idealLocal(a.hostTimeS) + milliseconds{5};
+  EXPECT_TRUE(usedIs(motion.sampleUsedAt(between), b));
+  // Before the kept history: the oldest kept.
+  const HostSample& oldestKept = samples[samples.size() - HostMotion::kKeptSamples];
+  EXPECT_TRUE(usedIs(motion.sampleUsedAt(link.igStart - std::chrono::seconds{1}), oldestKept));
+
+  // The same samples with b moved 1 m east: the pose between a and b moves, the one before a does not.
+  HostMotion moved;
+  for (HostSample s : samples) {
+    if (s.hostFrame == b.hostFrame) s.pose.positionM.x += 1.0;
+    moved.addSample(s);
+  }
+  EXPECT_GT(positionError(moved.poseAt(between), motion.poseAt(between)), 0.1);
+  const TimePoint beforeA = link.idealLocal(samples[9].hostTimeS) + milliseconds{5};
+  EXPECT_EQ(moved.poseAt(beforeA), motion.poseAt(beforeA));
+  EXPECT_TRUE(usedIs(motion.sampleUsedAt(beforeA), a));
 }
 
 // One receiver thread adds samples of a climbing turn as fast as it can while two readers ask for

@@ -1,5 +1,7 @@
 #include "ScriptedHost.h"
 
+#include "LosReference.h"
+
 #include <io_bridge/cigi/DatagramDecoder.h>
 #include <io_bridge/cigi/MessageBuilder.h>
 
@@ -15,9 +17,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <numbers>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -57,9 +61,77 @@ class Socket {
   Socket(const Socket&) = delete;
   Socket& operator=(const Socket&) = delete;
   int fd() const noexcept { return mFd; }
+  /// The bound address and port (the port the system chose when asked for 0).
+  io::UdpEndpoint local() const {
+    sockaddr_in a{};
+    socklen_t length = sizeof a;
+    ::getsockname(mFd, reinterpret_cast<sockaddr*>(&a), &length);
+    return {ntohl(a.sin_addr.s_addr), ntohs(a.sin_port)};
+  }
 
  private:
   int mFd = -1;
+};
+
+io::UdpEndpoint endpointOf(const sockaddr_in& a) { return {ntohl(a.sin_addr.s_addr), ntohs(a.sin_port)}; }
+
+std::uint64_t wallClockUs() {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+}
+
+// The recorders as both threads use them: a capture that fails stops capturing and keeps its error
+// for the end of the run (the threads do not throw).
+class Recording {
+ public:
+  Recording(const ScriptedHostRecorders& recorders, io::UdpEndpoint host, io::UdpEndpoint ig)
+      : mRecorders(recorders), mHost(host), mIg(ig) {
+    if (mRecorders.sentLog != nullptr)
+      *mRecorders.sentLog << "host_frame\tlat_deg\tlon_deg\talt_m\tyaw_deg\tpitch_deg\troll_deg\n";
+  }
+
+  // Recorded as it is handed to the socket, before any answer to it can arrive: the capture keeps
+  // cause before effect.
+  void sending(std::span<const std::uint8_t> datagram) { capture(mHost, mIg, datagram); }
+  void received(const sockaddr_in& from, std::span<const std::uint8_t> datagram) {
+    capture(endpointOf(from), mHost, datagram);
+  }
+  void sentOwnship(std::uint32_t hostFrame, const io::cigi::EntityControl& e) {
+    if (mRecorders.sentLog == nullptr) return;
+    char line[256];
+    std::snprintf(line, sizeof line, "%u\t%.17g\t%.17g\t%.17g\t%.9g\t%.9g\t%.9g\n", hostFrame, e.latitudeDegOrXM,
+                  e.longitudeDegOrYM, e.altitudeMOrZM, static_cast<double>(e.yawDeg), static_cast<double>(e.pitchDeg),
+                  static_cast<double>(e.rollDeg));
+    *mRecorders.sentLog << line;
+  }
+  /// Completes the recordings; throws the first recording error, if any.
+  void check() {
+    if (mRecorders.capture != nullptr && !mFailed.load()) mRecorders.capture->flush();
+    if (mRecorders.sentLog != nullptr) mRecorders.sentLog->flush();
+    if (mRecorders.sentLog != nullptr && !*mRecorders.sentLog)
+      throw std::runtime_error("--sent-log: cannot write the file");
+    const std::lock_guard lock(mMutex);
+    if (!mError.empty()) throw std::runtime_error(mError);
+  }
+
+ private:
+  void capture(io::UdpEndpoint from, io::UdpEndpoint to, std::span<const std::uint8_t> datagram) {
+    if (mRecorders.capture == nullptr || mFailed.load()) return;
+    try {
+      mRecorders.capture->writeUdp(from, to, datagram, wallClockUs());
+    } catch (const std::exception& e) {
+      const std::lock_guard lock(mMutex);
+      mFailed = true;
+      mError = e.what();
+    }
+  }
+
+  ScriptedHostRecorders mRecorders;
+  io::UdpEndpoint mHost, mIg;
+  std::atomic<bool> mFailed{false};
+  std::mutex mMutex;  // guards mError
+  std::string mError;
 };
 
 // A request in flight: where it asked and when it left.
@@ -67,11 +139,33 @@ struct PendingHeight {
   glm::dvec3 pointM;
   Steady::time_point sent;
 };
+struct PendingLos {
+  glm::dvec3 fromM, toM;
+  Steady::time_point sent;
+};
+// The IG's answer to a LOS request, with the segment asked about.
+struct LosAnswer {
+  glm::dvec3 fromM, toM;
+  bool hit = false;
+  double rangeM = 0.0;
+};
+
+// Makes the level-0 tiles under the segment resident (the reference's full-resolution answer).
+void loadLevelZero(core::TileCache& terrain, const glm::dvec3& fromM, const glm::dvec3& toM) {
+  bool requested = false;
+  for (const glm::ivec2& t : core::lineOfSightTiles(terrain.geometry(), fromM, toM)) {
+    if (terrain.view().tile(0, t.x, t.y) != nullptr) continue;
+    terrain.request(0, t.x, t.y);
+    requested = true;
+  }
+  if (requested) terrain.waitIdle(std::chrono::seconds(5));
+}
 
 }  // namespace
 
 ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const motion::ScriptedTrajectory& flight,
-                                   core::TileCache& terrain, const core::Georeference& georeference) {
+                                   core::TileCache& terrain, const core::Georeference& georeference,
+                                   const ScriptedHostRecorders& recorders) {
   sockaddr_in ig{};
   ig.sin_family = AF_INET;
   ig.sin_port = htons(options.igPort);
@@ -79,14 +173,32 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     throw std::runtime_error("--ig: '" + options.igAddress + "' is not an IPv4 address");
   }
   Socket socket(options.localPort);
+  Recording recording(recorders, socket.local(), endpointOf(ig));
+  const auto send = [&](std::span<const std::uint8_t> bytes) {
+    recording.sending(bytes);
+    return ::sendto(socket.fd(), bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&ig), sizeof ig);
+  };
 
   std::mutex mutex;  // guards pending, the report's lists and counters shared with the reader
   std::map<std::uint16_t, PendingHeight> pending;
-  std::vector<double> sofIntervals, latenciesMs;
+  std::map<std::uint16_t, PendingLos> pendingLos;
+  std::vector<double> sofIntervals, latenciesMs, losLatenciesMs;
   std::vector<std::pair<glm::dvec3, double>> answers;  // where a valid answer was asked, and its height
+  std::vector<LosAnswer> losAnswers;
   ScriptedHostReport report;
   std::atomic<bool> stop{false};
   std::atomic<bool> heard{false};  // a Start of Frame has arrived
+
+  // A LOS answer (caller holds the mutex).
+  const auto takeLos = [&](std::uint16_t losId, bool hit, double rangeM, Steady::time_point arrival) {
+    const auto it = pendingLos.find(losId);
+    if (it == pendingLos.end()) return;
+    ++report.losAnswers;
+    if (hit) ++report.losHits;
+    losLatenciesMs.push_back(std::chrono::duration<double, std::milli>(arrival - it->second.sent).count());
+    losAnswers.push_back({it->second.fromM, it->second.toM, hit, rangeM});
+    pendingLos.erase(it);
+  };
 
   // The reader: Start of Frames and answers, timed on arrival.
   std::thread reader([&] {
@@ -97,10 +209,15 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     while (!stop.load()) {
       pollfd fd{socket.fd(), POLLIN, 0};
       if (::poll(&fd, 1, 50) <= 0) continue;
-      const ssize_t n = ::recv(socket.fd(), buffer.data(), buffer.size(), 0);
+      sockaddr_in from{};
+      socklen_t fromLength = sizeof from;
+      const ssize_t n =
+          ::recvfrom(socket.fd(), buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &fromLength);
       if (n <= 0) continue;
       const Steady::time_point arrival = Steady::now();
-      if (!decoder.decode(std::span<const std::uint8_t>(buffer.data(), static_cast<std::size_t>(n)), packets)) continue;
+      const std::span<const std::uint8_t> datagram(buffer.data(), static_cast<std::size_t>(n));
+      recording.received(from, datagram);
+      if (!decoder.decode(datagram, packets)) continue;
       const std::lock_guard lock(mutex);
       for (const cigi::IgPacket& packet : packets) {
         if (const auto* sof = std::get_if<cigi::StartOfFrame>(&packet)) {
@@ -119,6 +236,10 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
             answers.emplace_back(it->second.pointM, answer->heightM);
           }
           pending.erase(it);
+        } else if (const auto* los = std::get_if<cigi::LosResponse>(&packet)) {
+          takeLos(los->losId, los->valid, los->rangeM, arrival);
+        } else if (const auto* extended = std::get_if<cigi::LosExtendedResponse>(&packet)) {
+          takeLos(extended->losId, extended->valid && extended->rangeValid, extended->rangeM, arrival);
         }
       }
       report.rejectedDatagrams = decoder.counters().rejectedTotal();
@@ -137,12 +258,12 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
       if (Steady::now() > giveUp) {
         stop = true;
         reader.join();
+        recording.check();
         throw std::runtime_error("no Start of Frame from " + options.igAddress + ":" + std::to_string(options.igPort) +
                                  " within " + std::to_string(options.waitForIgS) + " s");
       }
       message.start(cigi::IgControl{});
-      const std::span<const std::uint8_t> bytes = message.bytes();
-      ::sendto(socket.fd(), bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&ig), sizeof ig);
+      send(message.bytes());
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
     const std::lock_guard lock(mutex);
@@ -150,6 +271,7 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     sofIntervals.clear();
   }
   const Steady::time_point start = Steady::now();
+  report.flightStartNs = std::chrono::duration_cast<std::chrono::nanoseconds>(start.time_since_epoch()).count();
   const auto frames = static_cast<std::uint64_t>(std::llround(options.durationS * options.rateHz));
   for (std::uint64_t frame = 0; frame < frames; ++frame) {
     const double t = static_cast<double>(frame) / options.rateHz;
@@ -185,6 +307,17 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     rates.xRateMps = static_cast<float>(velocity.y);
     rates.yRateMps = static_cast<float>(velocity.x);
     rates.zRateMps = static_cast<float>(-velocity.z);
+    // The attitude's rates, as the IG reads them (rates of heading, pitch and roll), by central
+    // difference over ±1 ms: a host without them makes the IG hold the attitude between frames.
+    const double h = 1e-3;
+    const Pose before = flight.poseAtSeconds(std::max(0.0, t - h)), after = flight.poseAtSeconds(t + h);
+    const double span = t + h - std::max(0.0, t - h);
+    const auto rateDegps = [span](double from, double to) {
+      return static_cast<float>(degrees(std::remainder(to - from, 2.0 * std::numbers::pi)) / span);
+    };
+    rates.yawRateDegps = rateDegps(before.headingRad, after.headingRad);
+    rates.pitchRateDegps = rateDegps(before.pitchRad, after.pitchRad);
+    rates.rollRateDegps = rateDegps(before.rollRad, after.rollRad);
     message.add(rates);
     if (options.requestHeights) {
       cigi::HatHotRequest request;
@@ -197,16 +330,40 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
       const std::lock_guard lock(mutex);
       pending[request.hatHotId] = PendingHeight{pose.positionM, Steady::now()};
     }
-    const std::span<const std::uint8_t> bytes = message.bytes();
-    if (::sendto(socket.fd(), bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&ig), sizeof ig) < 0) {
+    if (options.requestLineOfSight) {
+      // To a point ahead on the heading, swinging above and below the terrain there (our best
+      // resident level's height is good enough to aim with).
+      const glm::dvec3 ahead{std::sin(pose.headingRad), std::cos(pose.headingRad), 0.0};
+      glm::dvec3 to = pose.positionM + kLosAheadM * ahead;
+      to.z = terrain.heightAtM(to.x, to.y, 0) +
+             kLosSwingM * std::cos(2.0 * std::numbers::pi * static_cast<double>(frame) / kLosSwingPeriodFrames);
+      if (const std::optional<core::GeodeticPosition> destination = georeference.toGeodetic(to)) {
+        cigi::LosSegmentRequest request;
+        request.losId = static_cast<std::uint16_t>(frame);
+        request.requestType = frame % 2 == 0 ? cigi::LosRequestType::Basic : cigi::LosRequestType::Extended;
+        request.sourceLatitudeDegOrXM = where->latitudeDeg;
+        request.sourceLongitudeDegOrYM = where->longitudeDeg;
+        request.sourceAltitudeMOrZM = where->altitudeM;
+        request.destinationLatitudeDegOrXM = destination->latitudeDeg;
+        request.destinationLongitudeDegOrYM = destination->longitudeDeg;
+        request.destinationAltitudeMOrZM = destination->altitudeM;
+        message.add(request);
+        ++report.losRequests;
+        const std::lock_guard lock(mutex);
+        pendingLos[request.losId] = PendingLos{pose.positionM, to, Steady::now()};
+      }
+    }
+    if (send(message.bytes()) < 0) {
       throw std::runtime_error("sending to " + options.igAddress + ":" + std::to_string(options.igPort) + ": " +
                                std::strerror(errno));
     }
+    recording.sentOwnship(control.hostFrameNumber, ownship);
     ++report.framesSent;
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the last answers
   stop = true;
   reader.join();
+  recording.check();
 
   // The reference: the same bilinear surface at full resolution, its tiles loaded first.
   std::vector<double> heightErrors;
@@ -222,6 +379,23 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
   report.heightErrorP95M = percentile(heightErrors, 0.95);
   report.answerLatencyP50Ms = percentile(latenciesMs, 0.5);
   report.answerLatencyP99Ms = percentile(latenciesMs, 0.99);
+
+  // LOS: our own march along the same segments, over the same level-0 surface.
+  std::vector<double> rangeErrors;
+  for (const LosAnswer& answer : losAnswers) {
+    loadLevelZero(terrain, answer.fromM, answer.toM);
+    const std::optional<double> rangeM = referenceSegmentRangeM(terrain.view(), answer.fromM, answer.toM);
+    if (rangeM) ++report.losReferenceHits;
+    if (rangeM.has_value() != answer.hit) {
+      ++report.losDisagreements;
+    } else if (rangeM) {
+      rangeErrors.push_back(std::abs(answer.rangeM - *rangeM));
+    }
+  }
+  report.losRangeErrorMaxM = rangeErrors.empty() ? 0.0 : *std::max_element(rangeErrors.begin(), rangeErrors.end());
+  report.losRangeErrorP95M = percentile(rangeErrors, 0.95);
+  report.losLatencyP50Ms = percentile(losLatenciesMs, 0.5);
+  report.losLatencyP99Ms = percentile(losLatenciesMs, 0.99);
   return report;
 }
 
@@ -234,8 +408,14 @@ std::string describe(const ScriptedHostReport& r) {
     << r.ownshipHeldFrames << " with the ownship held\n"
     << "HAT/HOT answers " << r.heightAnswers << " (" << r.heightAnswersValid << " valid), height error max "
     << r.heightErrorMaxM << " m, p95 " << r.heightErrorP95M << " m\n"
-    << "answer latency p50 " << r.answerLatencyP50Ms << " ms, p99 " << r.answerLatencyP99Ms << " ms\n"
-    << "rejected datagrams " << r.rejectedDatagrams << "\n";
+    << "answer latency p50 " << r.answerLatencyP50Ms << " ms, p99 " << r.answerLatencyP99Ms << " ms\n";
+  if (r.losRequests > 0) {
+    s << "LOS answers " << r.losAnswers << " of " << r.losRequests << " (" << r.losHits
+      << " hits; the host's march: " << r.losReferenceHits << " hits, " << r.losDisagreements
+      << " disagreements), range error max " << r.losRangeErrorMaxM << " m, p95 " << r.losRangeErrorP95M << " m\n"
+      << "LOS answer latency p50 " << r.losLatencyP50Ms << " ms, p99 " << r.losLatencyP99Ms << " ms\n";
+  }
+  s << "rejected datagrams " << r.rejectedDatagrams << "\n";
   return s.str();
 }
 

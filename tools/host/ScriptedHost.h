@@ -1,15 +1,20 @@
 #pragma once
 // A CIGI 3.3 host that flies a scripted flight: every host frame it sends IG Control, the
 // ownship's Entity Control (geodetic, through the database's georeference) and Rate Control, and
-// a HAT/HOT request under the ownship; it reads back the IG's Start of Frame messages and answers
-// and measures them — Start of Frame rate, answer latency, height error against its own terrain
-// query. Faults on request: jitter, loss, byte swapping, a host clock offset, a silent spell.
+// a HAT/HOT request under the ownship (and, on request, a Line of Sight Segment request from the
+// ownship to the ground ahead); it reads back the IG's Start of Frame messages and answers and
+// measures them — Start of Frame rate, answer latency, height and range errors against its own
+// query of the same terrain. Faults on request: jitter, loss, byte swapping, a host clock offset,
+// a silent spell. It can record both directions as a pcap capture and log what it sent.
 
 #include <ig_core/Georeference.h>
 #include <ig_core/TileCache.h>
 #include <motion/ScriptedTrajectory.h>
 
+#include <io_bridge/PcapWriter.h>
+
 #include <cstdint>
+#include <ostream>
 #include <string>
 
 namespace fieldcast::tools {
@@ -27,11 +32,31 @@ struct ScriptedHostOptions {
   double silentFromS = -1.0;   ///< a silent spell: no datagram from here ...
   double silentForS = 0.0;     ///< ... for this long
   bool requestHeights = true;  ///< a HAT/HOT request under the ownship each frame
-  double waitForIgS = 0.0;     ///< first send IG Control alone until the IG answers (or this long)
+  /// A Line of Sight Segment request each frame from the ownship to a point kLosAheadM ahead on
+  /// its heading, kLosSwingM above or below the terrain there (the offset swings, so some segments
+  /// meet the ground and some do not); every other one asks for the Extended Response.
+  bool requestLineOfSight = false;
+  double waitForIgS = 0.0;  ///< first send IG Control alone until the IG answers (or this long)
   std::uint32_t seed = 1;
 };
 
-/// What came back. Heights are compared with the host's own query of the same terrain.
+/// The LOS request's geometry (see ScriptedHostOptions::requestLineOfSight).
+inline constexpr double kLosAheadM = 400.0;
+inline constexpr double kLosSwingM = 60.0;
+inline constexpr int kLosSwingPeriodFrames = 45;
+
+/// Where to record the exchange; null members record nothing. Written from the sending and the
+/// receiving thread.
+struct ScriptedHostRecorders {
+  /// Every datagram sent and received, with its real addresses and ports, stamped with the wall
+  /// clock when it was sent or received.
+  io::PcapWriter* capture = nullptr;
+  /// One line per host frame sent (header line first): host frame number, then the ownship's
+  /// latitude, longitude, altitude, yaw, pitch, roll exactly as they went into Entity Control.
+  std::ostream* sentLog = nullptr;
+};
+
+/// What came back. Heights and LOS ranges are compared with the host's own query of the same terrain.
 struct ScriptedHostReport {
   std::uint64_t framesSent = 0;
   std::uint64_t framesDropped = 0;  ///< by lossFraction or the silent spell
@@ -44,13 +69,27 @@ struct ScriptedHostReport {
   double heightErrorP95M = 0.0;
   double answerLatencyP50Ms = 0.0;  ///< request sent → answer received
   double answerLatencyP99Ms = 0.0;
+  std::uint64_t losRequests = 0;       ///< LOS Segment requests sent
+  std::uint64_t losAnswers = 0;        ///< LOS Responses and Extended Responses to our requests
+  std::uint64_t losHits = 0;           ///< ... that met the terrain (valid)
+  std::uint64_t losReferenceHits = 0;  ///< requests answered whose segment meets the terrain by our march
+  std::uint64_t losDisagreements = 0;  ///< answers that hit where our march does not, or the reverse
+  double losRangeErrorMaxM = 0.0;      ///< |IG range − our march's range| over answers both call hits
+  double losRangeErrorP95M = 0.0;
+  double losLatencyP50Ms = 0.0;  ///< LOS request sent → answer received
+  double losLatencyP99Ms = 0.0;
   std::uint64_t rejectedDatagrams = 0;
+  /// CLOCK_MONOTONIC instant of flight time 0 (steady_clock is CLOCK_MONOTONIC on Linux): the
+  /// flight's pose at IG instant t is flight.poseAtSeconds((t - flightStartNs) / 1e9).
+  std::int64_t flightStartNs = 0;
 };
 
 /// Plays `flight` as the host of the IG at options.igAddress:igPort. `terrain` is the database the
-/// IG renders (for the reference heights), `georeference` its placement on the Earth.
+/// IG renders (for the reference heights and ranges), `georeference` its placement on the Earth.
+/// Throws std::runtime_error on a socket or recording failure.
 ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const motion::ScriptedTrajectory& flight,
-                                   core::TileCache& terrain, const core::Georeference& georeference);
+                                   core::TileCache& terrain, const core::Georeference& georeference,
+                                   const ScriptedHostRecorders& recorders = {});
 
 /// The report as a few lines for people.
 std::string describe(const ScriptedHostReport& report);

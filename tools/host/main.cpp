@@ -1,9 +1,13 @@
 // fieldcast-host — a scripted CIGI 3.3 host: flies a flight file as the host of a Fieldcast IG
 // (or any IG) over UDP, and reports what the IG sent back.
 //   fieldcast-host --config config/host.toml --flight config/flights/ridge_run.toml --duration 20
+//   fieldcast-host --flight config/flights/ridge_run.toml --los --pcap out/host.pcap --sent-log out/sent.tsv
 // The configuration is the IG's own (its [terrain] and [host] sections): the host places the
-// flight on the Earth through the same georeference and checks the IG's heights against the same
-// terrain.
+// flight on the Earth through the same georeference and checks the IG's heights and line-of-sight
+// ranges against the same terrain (its own fine march: LosReference.h).
+//   --los            a Line of Sight Segment request each frame, to the ground ahead and below
+//   --pcap FILE      both directions as a classic pcap capture (Wireshark: decode the IG's port as CIGI)
+//   --sent-log FILE  the ownship's Entity Control values of each host frame sent, tab-separated
 #include "ScriptedHost.h"
 
 #include <service/ServiceConfig.h>
@@ -13,7 +17,10 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <memory>
+#include <stdexcept>
 #include <string>
 
 int main(int argc, char** argv) {
@@ -22,6 +29,8 @@ int main(int argc, char** argv) {
   std::string configPath = FIELDCAST_DEFAULT_CONFIG;
   std::string flightPath;
   std::string summaryPath;
+  std::string pcapPath;
+  std::string sentLogPath;
   std::string ig = "127.0.0.1";
   tools::ScriptedHostOptions options;
   int igPort = -1;
@@ -49,19 +58,42 @@ int main(int argc, char** argv) {
   app.add_option("--wait-for-ig", options.waitForIgS, "first wait this long for the IG to answer, seconds")
       ->check(tools::finiteRange(0, 3600, "s"));
   app.add_flag("!--no-heights", options.requestHeights, "do not request HAT/HOT each frame");
+  app.add_flag("--los", options.requestLineOfSight,
+               "request line of sight each frame to the ground ahead and check the ranges");
+  app.add_option("--pcap", pcapPath, "record every datagram sent and received as a pcap file");
+  app.add_option("--sent-log", sentLogPath, "log the ownship values sent each host frame (tab-separated)");
   app.add_option("--summary", summaryPath, "write the report as JSON here");
   CLI11_PARSE(app, argc, argv);
   options.igAddress = ig;
 
   try {
+    // The recordings are opened first, so an unwritable path fails at once.
+    for (const std::string& path : {pcapPath, sentLogPath}) {
+      std::error_code ignored;  // a directory that cannot be made shows as the file's error below
+      if (!path.empty()) std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ignored);
+    }
+    std::unique_ptr<io::PcapWriter> capture;
+    if (!pcapPath.empty()) {
+      try {
+        capture = std::make_unique<io::PcapWriter>(pcapPath);
+      } catch (const std::exception& e) {
+        throw std::runtime_error(std::string("--pcap: ") + e.what());
+      }
+    }
+    std::ofstream sentLog;
+    if (!sentLogPath.empty()) {
+      sentLog.open(sentLogPath);
+      if (!sentLog) throw std::runtime_error("--sent-log: " + sentLogPath + ": cannot create the file");
+    }
     const app::ServiceConfig config = app::loadServiceConfig(configPath);
     options.igPort = igPort > 0 ? static_cast<std::uint16_t>(igPort) : config.host.link.port;
     const motion::ScriptedTrajectory flight = motion::ScriptedTrajectory::load(flightPath);
     std::unique_ptr<core::TileCache> terrain = core::openTerrain(config.terrain);
     const core::Georeference georeference = core::Georeference::forTerrain(terrain->crs(), config.host.origin);
+    const tools::ScriptedHostRecorders recorders{capture.get(), sentLogPath.empty() ? nullptr : &sentLog};
     std::printf("host: flying %s for %.1f s at %.1f Hz to %s:%u (%s)\n", flightPath.c_str(), options.durationS,
                 options.rateHz, options.igAddress.c_str(), options.igPort, georeference.description().c_str());
-    const tools::ScriptedHostReport report = tools::runScriptedHost(options, flight, *terrain, georeference);
+    const tools::ScriptedHostReport report = tools::runScriptedHost(options, flight, *terrain, georeference, recorders);
     std::fputs(tools::describe(report).c_str(), stdout);
     if (!summaryPath.empty()) {
       nlohmann::json j;
@@ -76,7 +108,18 @@ int main(int argc, char** argv) {
       j["height_error_p95_m"] = report.heightErrorP95M;
       j["answer_latency_p50_ms"] = report.answerLatencyP50Ms;
       j["answer_latency_p99_ms"] = report.answerLatencyP99Ms;
+      j["los_requests"] = report.losRequests;
+      j["los_answers"] = report.losAnswers;
+      j["los_hits"] = report.losHits;
+      j["los_reference_hits"] = report.losReferenceHits;
+      j["los_disagreements"] = report.losDisagreements;
+      j["los_range_error_max_m"] = report.losRangeErrorMaxM;
+      j["los_range_error_p95_m"] = report.losRangeErrorP95M;
+      j["los_latency_p50_ms"] = report.losLatencyP50Ms;
+      j["los_latency_p99_ms"] = report.losLatencyP99Ms;
+      j["pcap_frames"] = capture ? capture->frames() : 0;
       j["rejected_datagrams"] = report.rejectedDatagrams;
+      j["flight_start_monotonic_ns"] = report.flightStartNs;
       std::ofstream out(summaryPath);
       out << j.dump(2) << "\n";
       if (!out) throw std::runtime_error("--summary: cannot write " + summaryPath);

@@ -31,13 +31,21 @@ using fieldcast::ConfigError;
 struct MetricsConfig {
   double logIntervalS = 1.0;
   std::filesystem::path summaryJson;  ///< JSON summary written at exit; empty: none
+  std::filesystem::path fieldLog;     ///< per-field CSV record (FieldLog); empty: none
+};
+
+/// [[host.database]]: a database the host may load by its number (IG Control).
+struct HostDatabase {
+  std::int8_t number = 0;       ///< 1 to 127
+  core::TerrainConfig terrain;  ///< read like [terrain]
 };
 
 /// [host]: the CIGI host link, used when motion.source = "host".
 struct HostConfig {
   io::HostLinkConfig link;
   motion::HostMotionOptions motion;
-  std::int8_t databaseNumber = 1;                             ///< what Start of Frame reports as the loaded database
+  std::int8_t databaseNumber = 1;                             ///< the number of [terrain], loaded at start
+  std::vector<HostDatabase> databases;                        ///< the others the host may load
   core::GeodeticOrigin origin = core::kBuiltinTerrainOrigin;  ///< world (0, 0) of a database without a CRS
 };
 

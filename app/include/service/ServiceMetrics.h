@@ -13,18 +13,28 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
+#include <memory>
 #include <string>
 
+namespace fieldcast::motion {
+class HostMotion;
+}
+
 namespace fieldcast::app {
+
+class FieldLog;
 
 /// Durations the service measures. Each is recorded into its interval histogram; every report
 /// drains the interval into the run total.
 enum class Measure : std::uint8_t {
-  RenderTime,    ///< render start → frame complete
-  WarpTime,      ///< field thread: warp + post-processing + hand-off to the sinks
-  FrameAge,      ///< field display time − the pose time of the frame it was warped from
-  FieldJitter,   ///< |field emission − its scheduled emission instant|
-  StickLatency,  ///< stick event timestamp → display time of the first field reflecting it
+  RenderTime,      ///< render start → frame complete
+  WarpTime,        ///< field thread: warp + post-processing + hand-off to the sinks
+  FrameAge,        ///< field display time − the pose time of the frame it was warped from
+  FieldJitter,     ///< |field emission − its scheduled emission instant|
+  StickLatency,    ///< stick event timestamp → display time of the first field reflecting it
+  HostToEmission,  ///< host datagram arrival → emission of the first field whose pose uses its sample
+  HostToDisplay,   ///< host datagram arrival → display time of that field
   kCount
 };
 
@@ -69,11 +79,16 @@ struct ServiceFigures {
   double meanQuality = 0.0;         ///< mean quality knob over the frames rendered (0 when none)
   std::uint64_t framesGrazing = 0;
   DurationSummary render, warp, frameAge, jitter, stickLatency;
+  DurationSummary hostToEmission, hostToDisplay;  ///< motion.source = "host" (see Measure)
+  std::string fieldLogPath;                       ///< metrics.field_log (empty: none)
+  std::uint64_t fieldLogRecords = 0;              ///< lines written to it
+  std::uint64_t fieldLogDropped = 0;              ///< records lost to a full ring (the writer fell behind)
 };
 
 class ServiceMetrics {
  public:
   ServiceMetrics();
+  ~ServiceMetrics();
 
   ServiceCounters counters;  ///< any thread
 
@@ -117,6 +132,20 @@ class ServiceMetrics {
   /// The haze range the frames are rendered with, for the summary.
   void setVisibility(double visibilityM) noexcept { mVisibilityM = visibilityM; }
 
+  /// Opens the per-field record (FieldLog) at `path` and starts its writer: the path is checked
+  /// now. Throws std::runtime_error naming metrics.field_log. Call before the fields start.
+  void openFieldLog(const std::filesystem::path& path);
+  /// Stops the record's writer and closes the file once the fields have stopped (its counts stay
+  /// in figures()). Throws when the file could not be written. No-op without a record.
+  void closeFieldLog();
+  /// The per-field record, or null. The field thread is its one producer.
+  FieldLog* fieldLog() noexcept { return mFieldLog.get(); }
+  /// With motion.source = "host": where the field thread asks which sample each pose was made
+  /// from (the field record's host columns, HostToEmission and HostToDisplay). Set before the
+  /// fields start; must outlive them.
+  void setHostSamples(const motion::HostMotion* host) noexcept { mHostSamples = host; }
+  const motion::HostMotion* hostSamples() const noexcept { return mHostSamples; }
+
   /// Render rate of the last interval reported by intervalLine(), Hz.
   double lastRenderHz() const noexcept { return mLastRenderHz; }
 
@@ -139,6 +168,8 @@ class ServiceMetrics {
   StartupFigures mStartup;
   std::uint64_t mLastTileMisses = 0;
   double mVisibilityM = 0.0;
+  std::unique_ptr<FieldLog> mFieldLog;
+  const motion::HostMotion* mHostSamples = nullptr;
 };
 
 /// The figures as JSON (seconds, counts), with `extra` fields merged at the top level.

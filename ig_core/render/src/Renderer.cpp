@@ -17,8 +17,8 @@ class Renderer::InFlight {
         quality(s.quality),
         maxAnisotropy(s.maxAnisotropy),
         frame(frameShell(request, s, s.rangeImage, std::move(recycle))),
-        geometry(frame.pose, frame.intrinsics, r.mView.geometry(), s),
-        caster(r.mView, geometry, s, r.mCeilingQ, r.mBaseColourRgba, &frame.image,
+        geometry(frame.pose, frame.intrinsics, r.mView->geometry(), s),
+        caster(*r.mView, geometry, s, r.mCeilingQ, r.mBaseColourRgba, &frame.image,
                s.rangeImage ? frame.rangeM.data() : nullptr) {
     frame.renderStart = MonotonicClock::now();
     job.run = &InFlight::runColumns;
@@ -51,7 +51,7 @@ class Renderer::InFlight {
 };
 
 Renderer::Renderer(const TerrainView& view, const RenderSettings& settings, int threads)
-    : mView(view),
+    : mView(&view),
       mSettings(settings),
       mCeilingQ(terrainCeilingQ(view)),
       mBaseColourRgba(basePlaneColour(view)),
@@ -61,6 +61,12 @@ Renderer::Renderer(const TerrainView& view, const RenderSettings& settings, int 
       mPool(static_cast<int>(mThreads.size())) {}
 
 Renderer::~Renderer() = default;
+
+void Renderer::setTerrain(const TerrainView& view) {
+  mView = &view;
+  mCeilingQ = terrainCeilingQ(view);
+  mBaseColourRgba = basePlaneColour(view);
+}
 
 void Renderer::InFlightDeleter::operator()(InFlight* frame) const noexcept {
   frame->renderer.mPool.wait(frame->job);

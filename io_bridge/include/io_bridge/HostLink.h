@@ -70,7 +70,7 @@ struct HostLinkCounters {
   std::uint64_t messagesSent = 0;    ///< IG→host datagrams (one per field once a host was heard)
   std::uint64_t fieldsWithoutHost = 0;
   std::uint64_t sendErrors = 0;
-  std::uint64_t fieldsCoalesced = 0;  ///< announcements that found the previous one not yet served
+  std::uint64_t fieldsCoalesced = 0;  ///< fields announced but never served (a newer one was, the link was late)
 };
 
 class HostLink {
@@ -113,9 +113,12 @@ class HostLink {
   SeqLock<FieldAnnouncement> mAnnounced;
   std::atomic<bool> mAnnouncementPending{false};
 
-  std::atomic<std::uint64_t> mCoalesced{0};
+  bool mAnnouncedAny = false;  // field thread only
+  std::atomic<std::uint64_t> mFirstAnnounced{0};
 
   // Link thread only.
+  bool mServedAny = false;
+  std::uint64_t mLastServed = 0;  // the newest field whose announcement was served
   cigi::HostDatagramDecoder mDecoder;
   std::vector<cigi::HostPacket> mPackets;
   std::vector<std::uint8_t> mReceiveBuffer;

@@ -16,7 +16,7 @@ if(FIELDCAST_BUILD_TESTS)
 
   # Third-party judge: tshark's CIGI dissector reads a capture of both directions in both byte
   # orders (the capture writer is ours; the script compares tshark's field values with the sent ones).
-  add_executable(fieldcast_cigi_capture ${_cigi_tests}/CigiCaptureWriter.cpp ${_cigi_tests}/PcapWriter.cpp)
+  add_executable(fieldcast_cigi_capture ${_cigi_tests}/CigiCaptureWriter.cpp)
   target_include_directories(fieldcast_cigi_capture PRIVATE ${_cigi_tests})
   target_link_libraries(fieldcast_cigi_capture PRIVATE fieldcast::io fieldcast::warnings)
   fieldcast_add_command_test(NAME io_cigi_tshark_interop

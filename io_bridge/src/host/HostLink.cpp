@@ -71,10 +71,12 @@ void HostLink::stop() {
 }
 
 void HostLink::fieldStarted(std::uint64_t fieldNumber, TimePoint displayTime) noexcept {
-  mAnnounced.store(FieldAnnouncement{fieldNumber, displayTime});
-  if (mAnnouncementPending.exchange(true, std::memory_order_release)) {
-    mCoalesced.fetch_add(1, std::memory_order_relaxed);  // the link had not served the last one yet
+  if (!mAnnouncedAny) {  // one announcing thread: a plain flag and a relaxed store suffice
+    mAnnouncedAny = true;
+    mFirstAnnounced.store(fieldNumber, std::memory_order_relaxed);
   }
+  mAnnounced.store(FieldAnnouncement{fieldNumber, displayTime});
+  mAnnouncementPending.store(true, std::memory_order_release);
   const std::uint64_t one = 1;
   [[maybe_unused]] const ssize_t written = ::write(mWake, &one, sizeof one);
 }
@@ -120,6 +122,14 @@ void HostLink::receiveAll() {
 void HostLink::sendField() {
   mAnnouncementPending.store(false, std::memory_order_relaxed);
   const FieldAnnouncement field = mAnnounced.load();
+  // The flag may have been raised again between clearing it and the load, for the field this
+  // load already read: served, not to be sent twice. Fields announced but never read (the link
+  // was late) are counted here, the one place that sees which fields were served.
+  const std::uint64_t expected = mServedAny ? mLastServed + 1 : mFirstAnnounced.load(std::memory_order_relaxed);
+  if (mServedAny && field.fieldNumber <= mLastServed) return;
+  if (field.fieldNumber > expected) mCounting.fieldsCoalesced += field.fieldNumber - expected;
+  mServedAny = true;
+  mLastServed = field.fieldNumber;
   if (!mHandler.onField(field, mOut)) return;
   if (!mHaveHost) {
     ++mCounting.fieldsWithoutHost;
@@ -146,13 +156,8 @@ void HostLink::publishCounters() {
 }
 
 HostLinkCounters HostLink::counters() const noexcept {
-  HostLinkCounters c;
-  {
-    const std::lock_guard lock(mCountersMutex);
-    c = mPublished;
-  }
-  c.fieldsCoalesced = mCoalesced.load(std::memory_order_relaxed);
-  return c;
+  const std::lock_guard lock(mCountersMutex);
+  return mPublished;
 }
 
 }  // namespace fieldcast::io

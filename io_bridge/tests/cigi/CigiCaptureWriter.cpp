@@ -5,9 +5,9 @@
 // Usage: fieldcast_cigi_capture <output directory>
 //   writes <dir>/cigi.pcap and <dir>/expected.tsv (frame number, tshark field name, value; one
 //   line per field, booleans and enumerations as integers).
+#include <io_bridge/PcapWriter.h>
 #include <io_bridge/cigi/MessageBuilder.h>
 
-#include "PcapWriter.h"
 #include "SamplePackets.h"
 
 #include <cstdio>
@@ -295,7 +295,7 @@ int main(int argc, char** argv) {
   try {
     const std::filesystem::path dir = argv[1];
     std::filesystem::create_directories(dir);
-    td::PcapWriter pcap((dir / "cigi.pcap").string());
+    fieldcast::io::PcapWriter pcap((dir / "cigi.pcap").string());
     std::ofstream expectedFile(dir / "expected.tsv");
     if (!expectedFile) throw std::runtime_error((dir / "expected.tsv").string() + ": cannot create");
     Expectations expected(expectedFile);
@@ -303,12 +303,12 @@ int main(int argc, char** argv) {
     std::uint64_t timeUs = 1'700'000'000'000'000;
     for (const ByteOrder order : {ByteOrder::Big, ByteOrder::Little}) {
       HostMessageBuilder host(order);
-      pcap.writeUdp(kHostPort, kIgPort, hostMessage(host), timeUs += 16'667);
+      pcap.writeUdp({.port = kHostPort}, {.port = kIgPort}, hostMessage(host), timeUs += 16'667);
       expected.frame(pcap.frames());
       expectHostPackets(expected);
 
       IgMessageBuilder ig(order);
-      pcap.writeUdp(kIgPort, kHostPort, igMessage(ig), timeUs += 1'000);
+      pcap.writeUdp({.port = kIgPort}, {.port = kHostPort}, igMessage(ig), timeUs += 1'000);
       expected.frame(pcap.frames());
       expectIgPackets(expected);
     }

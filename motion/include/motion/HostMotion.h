@@ -67,6 +67,16 @@ enum class HostPoseState : std::uint8_t {
   Holding,        ///< silent for longer: the pose reached at maxExtrapolation is held
 };
 
+/// Which host sample a pose was made from (for the per-field record and arrival → field latency).
+struct HostSampleUsed {
+  bool valid = false;           ///< false before the first sample (the initial pose)
+  std::uint32_t hostFrame = 0;  ///< the sample's host frame number
+  TimePoint arrival{};          ///< IG clock when its datagram arrived
+  double hostTimeS = 0.0;       ///< its host timestamp, seconds
+
+  friend bool operator==(const HostSampleUsed&, const HostSampleUsed&) = default;
+};
+
 /// The host-driven motion source. addSample from one thread (the receiver); poseAt, state,
 /// toLocal and counters from any thread, lock-free (a SeqLock of a small snapshot).
 class HostMotion final : public MotionSource {
@@ -87,9 +97,16 @@ class HostMotion final : public MotionSource {
 
   /// Takes one sample. One thread only (the receiver). O(HostClockEstimator::kWindow), RT-safe.
   void addSample(const HostSample& sample) noexcept;
+  /// The next sample starts a new history (the receiver's thread): a database switch moved the
+  /// world the poses are in, so no pose is interpolated across it. The clock estimate stays.
+  void startNewHistory() noexcept { mNewHistory = true; }
   /// The pose at IG instant `t` (world metres, radians; heading and roll in [−π, π]).
   /// Any thread, lock-free, RT-safe.
   Pose poseAt(TimePoint t) const noexcept override;
+  /// The newest sample the pose at IG instant `t` depends on: the newest kept sample when `t` is
+  /// at or after it (extrapolation), the later of the two samples `t` lies between
+  /// (interpolation), the oldest when `t` precedes it. Any thread, lock-free, RT-safe.
+  HostSampleUsed sampleUsedAt(TimePoint t) const noexcept;
   /// The link's state seen at IG instant `now`. Any thread, RT-safe.
   HostPoseState state(TimePoint now) const noexcept;
   /// Sample counts. Any thread, RT-safe.
@@ -107,6 +124,7 @@ class HostMotion final : public MotionSource {
     glm::dvec3 velocityMps;
     glm::dvec3 angularRateRadS;
     std::uint32_t hostFrame;
+    TimePoint arrival;
     bool hasRates;
   };
   /// Everything poseAt needs, published whole.
@@ -125,6 +143,7 @@ class HostMotion final : public MotionSource {
   HostMotionOptions mOptions;
   Pose mInitial;
   HostClockEstimator mClock;  // writer only
+  bool mNewHistory = false;   // writer only: startNewHistory() was called
   Snapshot mDraft{};          // writer only: the next snapshot
   SeqLock<Snapshot> mPublished;
   std::atomic<std::uint64_t> mAccepted{0}, mReordered{0}, mDuplicates{0}, mRestarts{0}, mInvalid{0};

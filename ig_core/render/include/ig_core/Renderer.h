@@ -44,6 +44,9 @@ class Renderer {
   /// Grazing-angle level of detail for frames submitted from now on (RenderSettings::maxAnisotropy).
   void setMaxAnisotropy(double anisotropy) noexcept { mSettings.maxAnisotropy = anisotropy; }
   int threads() const noexcept { return mPool.threads(); }
+  /// Renders frames submitted from now on from `view` (a database switch). Frames in flight keep
+  /// the view they were submitted with, which must outlive them. Not RT-safe (scans the view).
+  void setTerrain(const TerrainView& view);
 
   class InFlight;
   /// Deleting a ticket waits for its frame's columns first (never frees work in progress).
@@ -62,7 +65,7 @@ class Renderer {
   Frame render(const ViewRequest& request, RenderStats* stats = nullptr, Frame&& recycle = Frame{});
 
  private:
-  const TerrainView& mView;
+  const TerrainView* mView;
   RenderSettings mSettings;
   std::uint16_t mCeilingQ;
   std::uint32_t mBaseColourRgba;          // the base plane beyond the terrain's edge
