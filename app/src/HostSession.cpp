@@ -81,6 +81,11 @@ void HostSession::onMessage(const io::HostMessage& message) {
       mOtherEntities.store(0, std::memory_order_relaxed);
     }
   }
+  if (control.extrapolationEnabled != mSmoothing) {
+    mSmoothing = control.extrapolationEnabled;
+    spdlog::info("host: extrapolation/interpolation {}", mSmoothing ? "enabled: the ownship's pose is predicted"
+                                                                    : "disabled: the ownship is shown as last sent");
+  }
   mLastHostFrame.store(control.hostFrameNumber, std::memory_order_relaxed);
   if (mDatabases != nullptr) mDatabases->request(control.databaseNumber);
   // Without a valid host timestamp the arrival time stands in for it (jitter then reaches the pose).
@@ -110,7 +115,8 @@ void HostSession::onMessage(const io::HostMessage& message) {
       // Not an entity update: applies in every mode. CIGI's 0 is no visibility, the renderer's 0
       // no haze: hence the 1 m floor.
       if (std::isfinite(atmosphere->visibilityRangeM) && atmosphere->visibilityRangeM >= 0.0f) {
-        mHazeRangeM.store(std::max(1.0, static_cast<double>(atmosphere->visibilityRangeM)), std::memory_order_relaxed);
+        mHazeRangeM.store(std::max(1.0, hazeRangeForVisibility(atmosphere->visibilityRangeM)),
+                          std::memory_order_relaxed);
       }
     } else if (const auto* segment = std::get_if<cigi::LosSegmentRequest>(&packet)) {
       answer(*segment, message.arrival);
@@ -132,6 +138,7 @@ void HostSession::applyOwnship(const cigi::EntityControl& entity, const cigi::Ra
   sample.arrival = arrival;
   sample.pose = Pose{*position, radians(entity.yawDeg), radians(entity.pitchDeg), radians(entity.rollDeg)};
   sample.hostFrame = hostFrame;
+  sample.smooth = mSmoothing && entity.extrapolationEnabled;  // CIGI: the global enable, then the entity's
   if (rates != nullptr) {
     sample.hasRates = true;
     if (rates->frame == cigi::RateFrame::World) {

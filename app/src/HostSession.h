@@ -24,6 +24,7 @@
 #include <glm/vec2.hpp>
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -50,6 +51,11 @@ struct HostSessionFigures {
   std::uint32_t lastHostFrame = 0;
 };
 
+/// The renderer's haze range (haze covers 1 − exp(−r/R) at range r) for a meteorological
+/// visibility: the range where a dark object's contrast against the horizon falls to 5 % (the
+/// WMO's meteorological optical range), so R = V / ln 20 and haze covers 95 % at V.
+inline double hazeRangeForVisibility(double visibilityM) { return visibilityM / std::log(20.0); }
+
 class HostSession final : public io::HostHandler {
  public:
   /// `ownship` receives entity 0's samples; `terrain` answers height requests; `georeference`
@@ -67,9 +73,9 @@ class HostSession final : public io::HostHandler {
   /// The mode the host last commanded (Operate until told otherwise). Any thread.
   io::cigi::IgMode mode() const noexcept { return mMode.load(std::memory_order_relaxed); }
   HostSessionFigures figures() const noexcept;
-  /// The haze range the host's Atmosphere Control asks for: its visibility range in metres, taken
-  /// as the renderer's hazeRangeM (the meaning render.visibility_m has), at least 1 m; 0 until
-  /// the host sends one. The render loop reads it before each frame. Any thread.
+  /// The haze range the host's Atmosphere Control asks for (hazeRangeForVisibility of its
+  /// visibility range), at least 1 m; 0 until the host sends one. The render loop reads it before
+  /// each frame. Any thread.
   const std::atomic<double>& hazeRangeM() const noexcept { return mHazeRangeM; }
 
  private:
@@ -125,6 +131,7 @@ class HostSession final : public io::HostHandler {
   std::atomic<io::cigi::IgMode> mMode{io::cigi::IgMode::Operate};
 
   // Link thread only.
+  bool mSmoothing = true;  // IG Control's extrapolation/interpolation enable, as last received
   bool mHaveTime = false;
   std::uint32_t mLastTicks = 0;
   double mHostTimeS = 0.0;

@@ -56,9 +56,10 @@ class HostSessionTest : public ::testing::Test {
 
   // One host message: IG Control (operate unless told, timestamp = host seconds) and `packets`.
   void send(std::vector<cigi::HostPacket> packets, double hostTimeS = 0.0, cigi::IgMode mode = cigi::IgMode::Operate,
-            std::uint32_t hostFrame = 7) {
+            std::uint32_t hostFrame = 7, bool smooth = true) {
     cigi::IgControl control;
     control.igMode = mode;
+    control.extrapolationEnabled = smooth;
     control.hostFrameNumber = hostFrame;
     control.timestampValid = true;
     control.timestampTicks = static_cast<std::uint32_t>(std::llround(hostTimeS / 10e-6));
@@ -95,6 +96,7 @@ class HostSessionTest : public ::testing::Test {
     e.longitudeDegOrYM = geo->longitudeDeg;
     e.altitudeMOrZM = geo->altitudeM;
     e.yawDeg = yawDeg;
+    e.extrapolationEnabled = true;
     return e;
   }
 
@@ -146,6 +148,31 @@ TEST_F(HostSessionTest, WorldRatesNorthEastDownBecomeEastNorthUp) {
   EXPECT_NEAR(pose.positionM.x, worldM.x + 2.0, 1e-3);
   EXPECT_NEAR(pose.positionM.y, worldM.y + 1.0, 1e-3);
   EXPECT_NEAR(pose.positionM.z, worldM.z - 0.3, 1e-3);
+}
+
+// IG Control's extrapolation/interpolation enable off: the ownship is shown as the host sent it,
+// between samples and past the newest; turned back on, the host's rates carry it again; the
+// ownship's own Entity Control flag off: as sent too (CIGI: the global flag, then the entity's).
+TEST_F(HostSessionTest, ExtrapolationDisabledShowsTheOwnshipAsSent) {
+  cigi::RateControl rates;
+  rates.entityId = 0;
+  rates.xRateMps = 50.0f;  // north
+  const glm::dvec3 first{100.0, 100.0, 500.0}, second{100.0, 105.0, 500.0};
+  send({rates, entityAt(0, first)}, 5.0, cigi::IgMode::Operate, 7, false);
+  send({rates, entityAt(0, second)}, 5.1, cigi::IgMode::Operate, 8, false);
+  const TimePoint between = mOwnship.toLocal(5.05), after = mOwnship.toLocal(5.1) + 100ms;
+  EXPECT_NEAR(mOwnship.poseAt(between).positionM.y, first.y, 1e-3);  // not interpolated
+  EXPECT_NEAR(mOwnship.poseAt(after).positionM.y, second.y, 1e-3);   // not extrapolated
+  EXPECT_EQ(mOwnship.sampleUsedAt(between).hostFrame, 7u);
+
+  send({rates, entityAt(0, second)}, 5.2, cigi::IgMode::Operate, 9, true);
+  EXPECT_NEAR(mOwnship.poseAt(mOwnship.toLocal(5.2) + 100ms).positionM.y, second.y + 5.0, 1e-3);
+
+  // Enabled globally but not for the ownship's entity: as sent again.
+  cigi::EntityControl unsmoothed = entityAt(0, first);
+  unsmoothed.extrapolationEnabled = false;
+  send({rates, unsmoothed}, 5.3, cigi::IgMode::Operate, 10, true);
+  EXPECT_NEAR(mOwnship.poseAt(mOwnship.toLocal(5.3) + 100ms).positionM.y, first.y, 1e-3);
 }
 
 TEST_F(HostSessionTest, StandbyIgnoresEntityUpdatesAndForgetsOtherEntities) {
@@ -392,7 +419,9 @@ TEST_F(HostSessionTest, AtmosphereVisibilityBecomesTheHazeRange) {
   cigi::AtmosphereControl atmosphere;
   atmosphere.visibilityRangeM = 2500.0f;
   send({atmosphere}, 1.0, cigi::IgMode::ResetStandby);  // not an entity update: any mode
-  EXPECT_EQ(mSession.hazeRangeM().load(), 2500.0);
+  // 2.5 km visibility: haze covers 95 % of a dark object's contrast at 2.5 km (the WMO's MOR).
+  EXPECT_NEAR(mSession.hazeRangeM().load(), 2500.0 / 2.9957, 0.1);
+  EXPECT_NEAR(1.0 - std::exp(-2500.0 / mSession.hazeRangeM().load()), 0.95, 1e-4);
   atmosphere.visibilityRangeM = 0.0f;  // CIGI: nothing visible; the renderer's 0 would be no haze
   send({atmosphere}, 2.0);
   EXPECT_EQ(mSession.hazeRangeM().load(), 1.0);
@@ -415,7 +444,7 @@ TEST_F(HostSessionTest, TheRenderLoopRendersWithTheHostsHaze) {
   while (loop.framesPublished() < 1) std::this_thread::sleep_for(1ms);
   stop = true;
   thread.join();
-  EXPECT_EQ(renderer.settings().hazeRangeM, 2500.0);
+  EXPECT_EQ(renderer.settings().hazeRangeM, hazeRangeForVisibility(2500.0));
 }
 
 }  // namespace

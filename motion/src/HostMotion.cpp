@@ -100,7 +100,7 @@ void HostMotion::addSample(const HostSample& sample) noexcept {
   }
   mDraft.samples[mDraft.count++] =
       KeptSample{sample.hostTimeS, sample.pose,    sample.velocityMps, sample.angularRateRadS,
-                 sample.hostFrame, sample.arrival, sample.hasRates};
+                 sample.hostFrame, sample.arrival, sample.hasRates,    sample.smooth};
   mPublished.store(mDraft);
   mAccepted.fetch_add(1, std::memory_order_relaxed);
 }
@@ -110,12 +110,16 @@ Pose HostMotion::poseAt(TimePoint t) const noexcept { return evaluate(mPublished
 Pose HostMotion::evaluate(const Snapshot& s, TimePoint t) const noexcept {
   if (s.count == 0) return mInitial;
   const Pose onTrack = track(s, t);
-  if (!s.blending || t >= s.blendStart + mOptions.resumeBlend) return onTrack;
+  if (!s.blending || !s.samples[s.count - 1].smooth || t >= s.blendStart + mOptions.resumeBlend) return onTrack;
   const double u = t <= s.blendStart ? 0.0 : toSeconds(t - s.blendStart) / toSeconds(mOptions.resumeBlend);
   return mix(s.blendFrom, onTrack, u * u * (3.0 - 2.0 * u));  // smoothstep: no kink at either end
 }
 
 Pose HostMotion::track(const Snapshot& s, TimePoint t) const noexcept {
+  if (!s.samples[s.count - 1].smooth) {  // the host asked for its poses as sent
+    const KeptSample& asSent = s.samples[sampleIndexAt(s, t)];
+    return makePose(asSent.pose.positionM, angles(asSent.pose));
+  }
   const KeptSample& oldest = s.samples[0];
   if (t <= s.clock.toLocal(oldest.hostTimeS)) return makePose(oldest.pose.positionM, angles(oldest.pose));
 
@@ -161,11 +165,19 @@ Pose HostMotion::track(const Snapshot& s, TimePoint t) const noexcept {
 HostSampleUsed HostMotion::sampleUsedAt(TimePoint t) const noexcept {
   const Snapshot s = mPublished.load();
   if (s.count == 0) return HostSampleUsed{};
-  // The same choice as track(): the first kept sample whose IG instant is at or after t, else the newest.
-  std::uint32_t k = 0;
-  while (k + 1 < s.count && s.clock.toLocal(s.samples[k].hostTimeS) < t) ++k;
-  const KeptSample& used = s.samples[k];
+  const KeptSample& used = s.samples[sampleIndexAt(s, t)];
   return HostSampleUsed{true, used.hostFrame, used.arrival, used.hostTimeS};
+}
+
+std::uint32_t HostMotion::sampleIndexAt(const Snapshot& s, TimePoint t) noexcept {
+  std::uint32_t k = 0;
+  if (!s.samples[s.count - 1].smooth) {
+    k = s.count - 1;
+    while (k > 0 && s.clock.toLocal(s.samples[k].hostTimeS) > t) --k;
+    return k;
+  }
+  while (k + 1 < s.count && s.clock.toLocal(s.samples[k].hostTimeS) < t) ++k;
+  return k;
 }
 
 HostPoseState HostMotion::state(TimePoint now) const noexcept {

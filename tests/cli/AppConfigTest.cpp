@@ -92,6 +92,37 @@ TEST(AppConfig, BadRateNamesFileLineKeyAndExpectation) {
   EXPECT_NE(r.output.find(path + ":3: output.rate: expected 50, 59.94 or 60, got 61"), std::string::npos) << r.output;
 }
 
+// [[host.database]]: each entry needs its own number, 1 to 127, not [terrain]'s; its other keys
+// are [terrain]'s, checked the same way.
+TEST(AppConfig, HostDatabasesNeedTheirOwnNumbers) {
+  const std::string head = "[motion]\nsource = \"host\"\n[host]\ndatabase_number = 1\n";
+  const auto ok = writeConfig("hostdb_ok", head +
+                                               "[[host.database]]\nnumber = 2\nbuiltin_seed = 7\n"
+                                               "[[host.database]]\nnumber = 3\nsource = \"/srv/valley.fctdb\"\n");
+  EXPECT_EQ(run("--check-config --config " + ok).exitCode, 0);
+
+  const auto same = writeConfig("hostdb_same", head + "[[host.database]]\nnumber = 1\n");
+  RunResult r = run("--check-config --config " + same);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("number: expected a number no other database has"), std::string::npos) << r.output;
+
+  const auto twice =
+      writeConfig("hostdb_twice", head + "[[host.database]]\nnumber = 2\n[[host.database]]\nnumber = 2\n");
+  r = run("--check-config --config " + twice);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find(":8:"), std::string::npos) << "the second entry's line: " << r.output;
+
+  const auto missing = writeConfig("hostdb_missing", head + "[[host.database]]\nbuiltin_seed = 7\n");
+  r = run("--check-config --config " + missing);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("expected the database's number (1 to 127)"), std::string::npos) << r.output;
+
+  const auto typo = writeConfig("hostdb_typo", head + "[[host.database]]\nnumber = 2\nsorce = \"x.fctdb\"\n");
+  r = run("--check-config --config " + typo);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("sorce: unknown key"), std::string::npos) << r.output;
+}
+
 TEST(AppConfig, UnknownKeyIsAnError) {
   const auto path = writeConfig("unknown", "[output]\nrat = 50\n");
   const auto r = run("--check-config --config " + path);

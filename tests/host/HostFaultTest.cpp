@@ -4,7 +4,8 @@
 // over loopback UDP — reads the IG's Start of Frames on its own socket, and then the service's
 // summary. Each test injects one fault (a silence, a restart, reordered and duplicated datagrams,
 // every malformed kind the decoder counts, the other byte order, a garbage flood) and checks that
-// the fields went on and that the counters say exactly what was injected.
+// the fields went on and that the counters say exactly what was injected. Last, the host switches
+// databases mid-run, which must cost no field either.
 #include "../common/RunFieldcast.h"
 
 #include <fieldcast/Pose.h>
@@ -189,11 +190,14 @@ class TestHost {
   /// Rate Control at flight time `flightTimeS`. Returns the message's bytes (valid until the next call).
   std::span<const std::uint8_t> frameMessage(std::uint32_t hostFrame, double hostTimeS, double flightTimeS) {
     cigi::IgControl control;
+    control.extrapolationEnabled = true;
+    control.databaseNumber = mDatabase;
     control.hostFrameNumber = hostFrame;
     control.timestampValid = true;
     control.timestampTicks = static_cast<std::uint32_t>(std::llround(hostTimeS / 10e-6));
     mMessage.start(control);
-    const FlightState s = flightAt(flightTimeS);
+    FlightState s = flightAt(mStill ? 0.0 : flightTimeS);
+    if (mStill) s.velocityMps = glm::dvec3{0.0};
     const std::optional<fieldcast::core::GeodeticPosition> where = mGeoreference.toGeodetic(s.pose.positionM);
     cigi::EntityControl ownship;
     ownship.entityId = 0;
@@ -201,6 +205,7 @@ class TestHost {
     ownship.longitudeDegOrYM = where->longitudeDeg;
     ownship.altitudeMOrZM = where->altitudeM;
     ownship.yawDeg = static_cast<float>(s.pose.headingRad * 180.0 / std::numbers::pi);
+    ownship.extrapolationEnabled = true;
     mMessage.add(ownship);
     cigi::RateControl rates;  // world frame: north, east, down
     rates.xRateMps = static_cast<float>(s.velocityMps.y);
@@ -230,6 +235,11 @@ class TestHost {
     }
     return true;
   }
+
+  /// What IG Control's database number asks for from the next frame on (0: nothing).
+  void requestDatabase(std::int8_t number) { mDatabase = number; }
+  /// From the next frame on, the ownship stays where the flight starts, still.
+  void holdStill() { mStill = true; }
 
   std::uint64_t sent() const noexcept { return mSent; }
   std::size_t startOfFrameCount() const {
@@ -267,6 +277,8 @@ class TestHost {
   fieldcast::core::Georeference mGeoreference =
       fieldcast::core::Georeference::tangentPlane();  // [host] origin_deg's default
   std::uint64_t mSent = 0;
+  std::int8_t mDatabase = 0;
+  bool mStill = false;
   std::atomic<bool> mStop{false};
   mutable std::mutex mMutex;
   std::vector<ReceivedSof> mReceived;
@@ -475,19 +487,27 @@ class HostFault : public ::testing::Test {
     EXPECT_EQ(std::count(firstPicture, blackFrames.end(), true), 0) << "a black field after the first picture";
   }
 
-  // Per frame of the Y4M output: whether it is black (uniform and dark).
-  std::vector<bool> blackFramesOfVideo() const {
+  // The luma planes of the Y4M output's frames, in order (grey8: the frame is its luma).
+  std::vector<Bytes> framesOfVideo() const {
     const std::size_t kLuma = static_cast<std::size_t>(kOutputWidth) * kOutputHeight;
     std::ifstream in(mDir / "out/video.y4m", std::ios::binary);
     std::string line;
     std::getline(in, line);
+    std::vector<Bytes> frames;
+    Bytes luma(kLuma);
+    while (std::getline(in, line) &&
+           in.read(reinterpret_cast<char*>(luma.data()), static_cast<std::streamsize>(kLuma))) {
+      frames.push_back(luma);
+    }
+    return frames;
+  }
+
+  // Per frame of the Y4M output: whether it is black (uniform and dark).
+  std::vector<bool> blackFramesOfVideo() const {
     std::vector<bool> black;
-    std::string luma(kLuma, '\0');
-    while (std::getline(in, line) && in.read(luma.data(), static_cast<std::streamsize>(kLuma))) {
-      const auto [lo, hi] = std::minmax_element(luma.begin(), luma.end(), [](char a, char b) {
-        return static_cast<unsigned char>(a) < static_cast<unsigned char>(b);
-      });
-      black.push_back(*lo == *hi && static_cast<unsigned char>(*hi) <= 16);
+    for (const Bytes& luma : framesOfVideo()) {
+      const auto [lo, hi] = std::minmax_element(luma.begin(), luma.end());
+      black.push_back(*lo == *hi && *hi <= 16);
     }
     return black;
   }
@@ -831,3 +851,77 @@ TEST_F(HostFault, GarbageFloodCostsNoFieldAndNoPose) {
 }
 
 }  // namespace
+
+// ---- A database switch mid-run ------------------------------------------------------------------
+
+// Mean absolute difference of two luma planes, in grey levels.
+double meanDifference(const Bytes& a, const Bytes& b) {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) sum += std::abs(int{a[k]} - int{b[k]});
+  return sum / static_cast<double>(a.size());
+}
+
+// IG Control asks for database 2 (the built-in terrain of another seed) while the ownship holds
+// still over the middle of the terrain: Start of Frame says 1, then −2 while it loads (a fresh
+// built-in terrain is generated: longer than a field), then 2; the video goes on without a
+// missed or black field, and the picture, steady before, is another terrain after.
+class HostDatabaseSwitch : public HostFault {
+ protected:
+  void SetUp() override {
+    HostFault::SetUp();
+    std::ofstream(mDir / "fieldcast.toml", std::ios::app)
+        << "[[host.database]]\nnumber = 2\nbuiltin_size = 512\nbuiltin_seed = 7\nmemory_budget_mb = 64\n"
+        << "cache_dir = \"" << (mDir / "cache").string() << "\"\n";
+  }
+};
+
+TEST_F(HostDatabaseSwitch, TheHostSwitchesDatabasesBetweenFieldsWithoutLosingOne) {
+  startService(7.0);
+  TestHost host(mPort, cigi::nativeByteOrder());
+  ASSERT_TRUE(host.waitForIg(60.0)) << "no Start of Frame from the service";
+  host.holdStill();
+  constexpr double kSwitchAtS = 2.5, kFlightS = 6.0;
+  const Steady::time_point start = Steady::now();
+  pace(start, kFlightS, [&](std::uint32_t k, double tS) {
+    if (tS >= kSwitchAtS) host.requestDatabase(2);
+    host.sendFrame(k, tS, tS);
+  });
+  const nlohmann::json s = finishService();
+  ASSERT_FALSE(s.is_null());
+  expectFieldsContinued(s);
+  EXPECT_EQ(s["host"]["database_number"], 2) << s.dump();
+  EXPECT_EQ(s["host"]["database_switches"], 1) << s.dump();
+  EXPECT_EQ(s["host"]["database_load_failures"], 0) << s.dump();
+
+  // Start of Frame's database number: 1, then −2, then 2, in that order and nothing else.
+  const std::vector<ReceivedSof> all = host.startOfFrames();
+  expectStartOfFramesKeptComing(between(all, start, start + seconds(kFlightS)), s, start);
+  std::vector<std::pair<int, std::uint32_t>> runs;  // (database number, first IG frame) per run
+  for (const ReceivedSof& r : all) {
+    if (runs.empty() || runs.back().first != r.sof.databaseNumber) {
+      runs.emplace_back(r.sof.databaseNumber, r.sof.igFrameNumber);
+    }
+  }
+  ASSERT_EQ(runs.size(), 3u) << "expected runs of 1, −2, 2";
+  EXPECT_EQ(runs[0].first, 1);
+  EXPECT_EQ(runs[1].first, -2);
+  EXPECT_EQ(runs[2].first, 2);
+  const std::uint32_t loadingFrom = runs[1].second, switchedAt = runs[2].second;
+  std::printf("database 2: loading from field %u, switched at field %u (%.2f s later)\n", loadingFrom, switchedAt,
+              (switchedAt - loadingFrom) / kFieldRateHz);
+
+  // The picture: the same before the request (a still ownship), another terrain 0.5 s after the
+  // switch. The video's frame k is field k when no field was missed; a missed field shifts the
+  // index by one frame of the same still picture.
+  const std::vector<Bytes> frames = framesOfVideo();
+  ASSERT_GT(frames.size(), switchedAt + 40u);
+  const Bytes& before = frames[loadingFrom - 5];
+  const double steady = meanDifference(frames[loadingFrom - 35], before);
+  const double switched = meanDifference(before, frames[switchedAt + 30]);
+  const double steadyAfter = meanDifference(frames[switchedAt + 30], frames[switchedAt + 40]);
+  std::printf("mean luma difference: %.2f within database 1, %.2f across the switch, %.2f within database 2\n", steady,
+              switched, steadyAfter);
+  EXPECT_LT(steady, 2.0);
+  EXPECT_LT(steadyAfter, 2.0);
+  EXPECT_GT(switched, 3.0) << "the picture after the switch is still database 1's terrain";
+}

@@ -290,6 +290,7 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
       throw std::runtime_error("the flight leaves the georeference's domain at t = " + std::to_string(t) + " s");
 
     cigi::IgControl control;
+    control.extrapolationEnabled = options.extrapolation;
     control.hostFrameNumber = static_cast<std::uint32_t>(frame);
     control.timestampValid = true;
     control.timestampTicks = static_cast<std::uint32_t>(std::llround((t + options.clockOffsetS) / 10e-6));
@@ -302,6 +303,7 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     ownship.yawDeg = static_cast<float>(degrees(pose.headingRad));
     ownship.pitchDeg = static_cast<float>(degrees(pose.pitchRad));
     ownship.rollDeg = static_cast<float>(degrees(pose.rollRad));
+    ownship.extrapolationEnabled = options.extrapolation;
     message.add(ownship);
     cigi::RateControl rates;  // world frame: north, east, down
     rates.xRateMps = static_cast<float>(velocity.y);

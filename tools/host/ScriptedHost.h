@@ -32,6 +32,7 @@ struct ScriptedHostOptions {
   double silentFromS = -1.0;   ///< a silent spell: no datagram from here ...
   double silentForS = 0.0;     ///< ... for this long
   bool requestHeights = true;  ///< a HAT/HOT request under the ownship each frame
+  bool extrapolation = true;   ///< IG Control's extrapolation/interpolation enable
   /// A Line of Sight Segment request each frame from the ownship to a point kLosAheadM ahead on
   /// its heading, kLosSwingM above or below the terrain there (the offset swings, so some segments
   /// meet the ground and some do not); every other one asks for the Extended Response.

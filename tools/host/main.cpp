@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
   app.add_option("--wait-for-ig", options.waitForIgS, "first wait this long for the IG to answer, seconds")
       ->check(tools::finiteRange(0, 3600, "s"));
   app.add_flag("!--no-heights", options.requestHeights, "do not request HAT/HOT each frame");
+  app.add_flag("!--no-extrapolation", options.extrapolation,
+               "clear IG Control's extrapolation/interpolation enable: the IG shows each pose as sent");
   app.add_flag("--los", options.requestLineOfSight,
                "request line of sight each frame to the ground ahead and check the ranges");
   app.add_option("--pcap", pcapPath, "record every datagram sent and received as a pcap file");

@@ -47,6 +47,9 @@ struct HostSample {
   glm::dvec3 velocityMps{0.0};      ///< world-frame linear velocity, m/s (when hasRates)
   glm::dvec3 angularRateRadS{0.0};  ///< d/dt of (heading, pitch, roll), rad/s (when hasRates)
   std::uint32_t hostFrame = 0;      ///< host frame number
+  /// IG Control's extrapolation/interpolation enable. Off, the pose at any instant is the newest
+  /// sample at or before it, as received: no interpolation, no extrapolation, no resume blend.
+  bool smooth = true;
 };
 
 /// Tuning of HostMotion.
@@ -126,6 +129,7 @@ class HostMotion final : public MotionSource {
     std::uint32_t hostFrame;
     TimePoint arrival;
     bool hasRates;
+    bool smooth;
   };
   /// Everything poseAt needs, published whole.
   struct Snapshot {
@@ -139,6 +143,9 @@ class HostMotion final : public MotionSource {
 
   Pose evaluate(const Snapshot& s, TimePoint t) const noexcept;
   Pose track(const Snapshot& s, TimePoint t) const noexcept;
+  /// The kept sample the pose at `t` is made from: the newest at or before t for a host that
+  /// turned smoothing off, the first at or after t otherwise (the later of an interpolated pair).
+  static std::uint32_t sampleIndexAt(const Snapshot& s, TimePoint t) noexcept;
 
   HostMotionOptions mOptions;
   Pose mInitial;
