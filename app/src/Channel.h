@@ -12,6 +12,7 @@
 
 #include <fieldcast/Conventions.h>
 #include <fieldcast/Intrinsics.h>
+#include <fieldcast/SeqLock.h>
 #include <fieldcast/Time.h>
 #include <ig_core/TileCache.h>
 #include <io_bridge/SinksConfig.h>
@@ -64,11 +65,15 @@ ChannelSettings channelSettingsOf(const ServiceConfig& config);
 class ViewMotion final : public motion::MotionSource {
  public:
   ViewMotion(const motion::MotionSource& ownship, const ViewOffset& offset) : mOwnship(ownship), mOffset(offset) {}
-  Pose poseAt(TimePoint t) const noexcept override { return offsetPose(mOwnship.poseAt(t), mOffset); }
+  Pose poseAt(TimePoint t) const noexcept override { return offsetPose(mOwnship.poseAt(t), mOffset.load()); }
+  /// Moves the eye (a host's View Control) for every pose asked from now on: the next frame
+  /// renders from it and the fields warp to it. One writer thread; RT-safe.
+  void setOffset(const ViewOffset& offset) noexcept { mOffset.store(offset); }
+  ViewOffset offset() const noexcept { return mOffset.load(); }
 
  private:
   const motion::MotionSource& mOwnship;
-  ViewOffset mOffset;
+  SeqLock<ViewOffset> mOffset;
 };
 
 class Channel {
@@ -89,6 +94,10 @@ class Channel {
   /// Where the render loop reads a runtime haze range (HostSession::hazeRangeM; see RenderPacing);
   /// call before startRendering. Null: the configured haze throughout.
   void setHazeRange(const std::atomic<double>* rangeM) noexcept { mHazeRangeM = rangeM; }
+  /// Moves the channel's eye on the ownship (a host's View Control; one thread). The next frame
+  /// renders from it; fields warp to it at once (the warp's fallback covers the cut).
+  void setViewOffset(const ViewOffset& offset) noexcept { mMotion.setOffset(offset); }
+  ViewOffset viewOffset() const noexcept { return mMotion.offset(); }
   /// Starts the render thread.
   void startRendering();
   /// Renders from `terrain` from the next frame on (a database switch; any thread). The terrain

@@ -118,6 +118,8 @@ void HostSession::onMessage(const io::HostMessage& message) {
         mHazeRangeM.store(std::max(1.0, hazeRangeForVisibility(atmosphere->visibilityRangeM)),
                           std::memory_order_relaxed);
       }
+    } else if (const auto* view = std::get_if<cigi::ViewControl>(&packet)) {
+      if (operate) applyViewControl(*view);  // a view update: ignored outside operate, as entity updates are
     } else if (const auto* segment = std::get_if<cigi::LosSegmentRequest>(&packet)) {
       answer(*segment, message.arrival);
     } else if (const auto* vector = std::get_if<cigi::LosVectorRequest>(&packet)) {
@@ -126,6 +128,34 @@ void HostSession::onMessage(const io::HostMessage& message) {
   }
   mOtherEntities.store(mEntities.size(), std::memory_order_relaxed);
   if (ownship != nullptr) applyOwnship(*ownship, ownshipRates, hostTimeS, message.arrival, control.hostFrameNumber);
+}
+
+void HostSession::applyViewControl(const cigi::ViewControl& control) {
+  if (!mView.apply) return;
+  const bool addressed =
+      control.groupId == 0 ? control.viewId == mView.viewId : mView.groupId != 0 && control.groupId == mView.groupId;
+  if (!addressed) return;  // another IG's view
+  const bool finite = std::isfinite(control.xOffsetM) && std::isfinite(control.yOffsetM) &&
+                      std::isfinite(control.zOffsetM) && std::isfinite(control.yawDeg) &&
+                      std::isfinite(control.pitchDeg) && std::isfinite(control.rollDeg);
+  if (control.entityId != 0 || !finite) {
+    if (mViewControlsIgnored.fetch_add(1, std::memory_order_relaxed) == 0) {
+      spdlog::warn("host: View Control for entity {} ignored: this IG's view rides the ownship (entity 0){}",
+                   control.entityId, finite ? "" : ", and its values must be finite");
+    }
+    return;
+  }
+  // CIGI's offsets are in the entity's body axes, x forward, y right, z down; the view offset's
+  // are x right, y forward, z up. The angles mean the same in both. Only enabled fields change.
+  ViewOffset& offset = mView.offset;
+  if (control.xOffsetEnabled) offset.positionM.y = control.xOffsetM;
+  if (control.yOffsetEnabled) offset.positionM.x = control.yOffsetM;
+  if (control.zOffsetEnabled) offset.positionM.z = -control.zOffsetM;
+  if (control.yawEnabled) offset.headingRad = radians(control.yawDeg);
+  if (control.pitchEnabled) offset.pitchRad = radians(control.pitchDeg);
+  if (control.rollEnabled) offset.rollRad = radians(control.rollDeg);
+  mView.apply(offset);
+  mViewControls.fetch_add(1, std::memory_order_relaxed);
 }
 
 void HostSession::applyOwnship(const cigi::EntityControl& entity, const cigi::RateControl* rates, double hostTimeS,
@@ -423,6 +453,8 @@ HostSessionFigures HostSession::figures() const noexcept {
   f.otherEntities = mOtherEntities.load(std::memory_order_relaxed);
   f.modeChanges = mModeChanges.load(std::memory_order_relaxed);
   f.lastHostFrame = mLastHostFrame.load(std::memory_order_relaxed);
+  f.viewControls = mViewControls.load(std::memory_order_relaxed);
+  f.viewControlsIgnored = mViewControlsIgnored.load(std::memory_order_relaxed);
   return f;
 }
 

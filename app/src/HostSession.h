@@ -15,6 +15,7 @@
 
 #include "HostDatabases.h"
 
+#include <fieldcast/Conventions.h>
 #include <fieldcast/Time.h>
 #include <ig_core/Georeference.h>
 #include <ig_core/TileCache.h>
@@ -26,6 +27,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -49,6 +51,16 @@ struct HostSessionFigures {
   std::uint64_t otherEntities = 0;  ///< entities other than the ownship, active now
   std::uint64_t modeChanges = 0;
   std::uint32_t lastHostFrame = 0;
+  std::uint64_t viewControls = 0;         ///< View Controls addressed to this IG's view and applied
+  std::uint64_t viewControlsIgnored = 0;  ///< addressed to it but not applicable (another entity, not finite)
+};
+
+/// The view this IG renders as a host addresses it with View Control, and how to move it.
+struct HostView {
+  std::uint16_t viewId = 0;
+  std::uint8_t groupId = 0;                      ///< the view group it belongs to; 0: none
+  ViewOffset offset;                             ///< the configured eye offset ([view]), where View Controls start from
+  std::function<void(const ViewOffset&)> apply;  ///< moves the channel's eye (called on the link thread)
 };
 
 /// The renderer's haze range (haze covers 1 − exp(−r/R) at range r) for a meteorological
@@ -66,6 +78,8 @@ class HostSession final : public io::HostHandler {
   /// The databases IG Control may switch between (null: none; Start of Frame then reports the
   /// number given at construction). Set before the link starts.
   void setDatabases(HostDatabases* databases) noexcept { mDatabases = databases; }
+  /// The view View Control may move (without one, View Controls are ignored). Set before the link starts.
+  void setView(HostView view) { mView = std::move(view); }
 
   void onMessage(const io::HostMessage& message) override;
   bool onField(const io::FieldAnnouncement& field, io::cigi::IgMessageBuilder& out) override;
@@ -82,6 +96,7 @@ class HostSession final : public io::HostHandler {
   double unwrapHostTime(std::uint32_t ticks);
   // Answers from `database` from now on (a database switch, between two fields).
   void switchTo(OpenDatabase database);
+  void applyViewControl(const io::cigi::ViewControl& control);
   void applyOwnship(const io::cigi::EntityControl& entity, const io::cigi::RateControl* rates, double hostTimeS,
                     TimePoint arrival, std::uint32_t hostFrame);
   // A height request whose answer waits for the full-resolution tiles under its point.
@@ -131,6 +146,7 @@ class HostSession final : public io::HostHandler {
   std::atomic<io::cigi::IgMode> mMode{io::cigi::IgMode::Operate};
 
   // Link thread only.
+  HostView mView;
   bool mSmoothing = true;  // IG Control's extrapolation/interpolation enable, as last received
   bool mHaveTime = false;
   std::uint32_t mLastTicks = 0;
@@ -144,7 +160,7 @@ class HostSession final : public io::HostHandler {
   std::vector<io::cigi::LosExtendedResponse> mLosExtendedDue;
 
   std::atomic<std::uint64_t> mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0}, mLosRequests{0}, mLosHits{0},
-      mOtherEntities{0}, mModeChanges{0};
+      mOtherEntities{0}, mModeChanges{0}, mViewControls{0}, mViewControlsIgnored{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
   std::atomic<double> mHazeRangeM{0.0};
 };

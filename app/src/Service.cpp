@@ -86,7 +86,9 @@ nlohmann::json hostSummary(const io::HostLinkCounters& link, const HostSessionFi
           {"los_hits", session.losHits},
           {"other_entities", session.otherEntities},
           {"mode_changes", session.modeChanges},
-          {"last_host_frame", session.lastHostFrame}};
+          {"last_host_frame", session.lastHostFrame},
+          {"view_controls", session.viewControls},
+          {"view_controls_ignored", session.viewControlsIgnored}};
 }
 
 std::unique_ptr<io::StickInput> openStick(const io::InputConfig& config, Clock& clock) {
@@ -299,6 +301,10 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
         std::move(first), config.host.databases, config.host.origin, [&p] { return p.channel->terrainSettled(); },
         [&p](core::TileCache& terrain) { p.channel->switchTerrain(terrain); });
     p.hostSession->setDatabases(p.hostDatabases.get());
+  }
+  if (p.hostSession) {
+    p.hostSession->setView(HostView{config.host.viewId, config.host.viewGroup, config.view,
+                                    [&p](const ViewOffset& offset) { p.channel->setViewOffset(offset); }});
   }
 
   const std::pair<const char*, const std::string*> gpioLines[] = {{"sync", &config.input.sync},

@@ -26,6 +26,8 @@ HostConfig readHostConfig(ConfigReader& t) {
   h.link.port = static_cast<std::uint16_t>(t.integer("port", h.link.port, 1, 65535));
   h.link.replyPort = static_cast<std::uint16_t>(t.integer("reply_port", h.link.replyPort, 0, 65535));
   h.databaseNumber = static_cast<std::int8_t>(t.integer("database_number", h.databaseNumber, 0, 127));
+  h.viewId = static_cast<std::uint16_t>(t.integer("view_id", h.viewId, 0, 65535));
+  h.viewGroup = static_cast<std::uint8_t>(t.integer("view_group", h.viewGroup, 0, 255));
   auto milliseconds = [&t](const char* key, Nanoseconds fallback, double max) {
     const double ms = t.number(key, std::chrono::duration<double, std::milli>(fallback).count(), 0.0, max);
     return std::chrono::duration_cast<Nanoseconds>(std::chrono::duration<double, std::milli>(ms));

@@ -1,6 +1,7 @@
 // HostSession driven directly with decoded packets (no sockets) over a small built-in terrain:
 // what each packet the IG acts on does, and what the Start of Frame and the answers carry.
 
+#include "Channel.h"
 #include "HostSession.h"
 #include "RenderLoop.h"
 
@@ -410,6 +411,70 @@ TEST_F(HostSessionTest, LosVectorFromTheOwnshipTurnsWithItsHeading) {
   ASSERT_EQ(answers.size(), 1u);
   EXPECT_TRUE(answers[0].valid);
   EXPECT_NEAR(answers[0].rangeM, expected.rangeM, 1e-3);
+}
+
+// ---- View Control -------------------------------------------------------------------------------
+
+// View Control addressed to this IG's view (by id, or by its group) moves the channel's eye on
+// the ownship: CIGI's body axes (x forward, y right, z down) become the view offset's (right,
+// forward, up), only the enabled fields change, and the eye's poses are the ownship's moved so.
+// Another view's, another entity's, or one in standby changes nothing.
+TEST_F(HostSessionTest, ViewControlMovesTheChannelsEyeOnTheOwnship) {
+  ViewOffset configured;
+  configured.pitchRad = radians(-10.0);
+  ViewMotion eye(mOwnship, configured);
+  mSession.setView(HostView{3, 9, configured, [&](const ViewOffset& offset) { eye.setOffset(offset); }});
+  const glm::dvec3 ownshipM{200.0, 300.0, 600.0};
+  send({entityAt(0, ownshipM, 45.0f)}, 1.0);
+
+  cigi::ViewControl control;
+  control.viewId = 3;
+  control.xOffsetEnabled = control.zOffsetEnabled = control.yawEnabled = true;
+  control.xOffsetM = 4.0f;   // forward
+  control.yOffsetM = 99.0f;  // not enabled
+  control.zOffsetM = 1.5f;   // down
+  control.yawDeg = 90.0f;
+  control.pitchDeg = 30.0f;  // not enabled: the configured −10° stays
+  send({control}, 1.1);
+  ViewOffset expected = configured;
+  expected.positionM = {0.0, 4.0, -1.5};
+  expected.headingRad = radians(90.0);
+  EXPECT_EQ(eye.offset().positionM, expected.positionM);
+  EXPECT_DOUBLE_EQ(eye.offset().headingRad, expected.headingRad);
+  EXPECT_DOUBLE_EQ(eye.offset().pitchRad, configured.pitchRad);
+  const TimePoint t = mOwnship.toLocal(1.1);
+  const Pose want = offsetPose(mOwnship.poseAt(t), expected);
+  const Pose got = eye.poseAt(t);
+  EXPECT_NEAR(glm::length(got.positionM - want.positionM), 0.0, 1e-9);
+  EXPECT_NEAR(got.headingRad, want.headingRad, 1e-12);
+  EXPECT_NEAR(got.headingRad, radians(135.0), 1e-6);  // the ownship's 45° plus the view's 90°
+  EXPECT_EQ(mSession.figures().viewControls, 1u);
+
+  // By its group: the same view, pitch now enabled.
+  control.viewId = 77;
+  control.groupId = 9;
+  control.pitchEnabled = true;
+  send({control}, 1.2);
+  EXPECT_DOUBLE_EQ(eye.offset().pitchRad, radians(30.0));
+
+  // Not for this view, or in standby: nothing moves.
+  const ViewOffset before = eye.offset();
+  control.yawDeg = -60.0f;
+  control.groupId = 4;  // another group
+  send({control}, 1.3);
+  control.groupId = 0;
+  control.viewId = 4;  // another view
+  send({control}, 1.4);
+  control.viewId = 3;
+  send({control}, 1.5, cigi::IgMode::ResetStandby);
+  EXPECT_DOUBLE_EQ(eye.offset().headingRad, before.headingRad);
+  EXPECT_EQ(mSession.figures().viewControls, 2u);
+
+  // A view on another entity is not this IG's to render: counted, not applied.
+  control.entityId = 12;
+  send({control}, 1.6);
+  EXPECT_DOUBLE_EQ(eye.offset().headingRad, before.headingRad);
+  EXPECT_EQ(mSession.figures().viewControlsIgnored, 1u);
 }
 
 // ---- Atmosphere ---------------------------------------------------------------------------------

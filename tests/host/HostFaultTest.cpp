@@ -212,6 +212,7 @@ class TestHost {
     rates.yRateMps = static_cast<float>(s.velocityMps.x);
     rates.zRateMps = static_cast<float>(-s.velocityMps.z);
     mMessage.add(rates);
+    if (mView) mMessage.add(*mView);
     return mMessage.bytes();
   }
   void sendFrame(std::uint32_t hostFrame, double hostTimeS, double flightTimeS) {
@@ -240,6 +241,8 @@ class TestHost {
   void requestDatabase(std::int8_t number) { mDatabase = number; }
   /// From the next frame on, the ownship stays where the flight starts, still.
   void holdStill() { mStill = true; }
+  /// From the next frame on, every frame carries this View Control.
+  void sendView(const cigi::ViewControl& view) { mView = view; }
 
   std::uint64_t sent() const noexcept { return mSent; }
   std::size_t startOfFrameCount() const {
@@ -279,6 +282,7 @@ class TestHost {
   std::uint64_t mSent = 0;
   std::int8_t mDatabase = 0;
   bool mStill = false;
+  std::optional<cigi::ViewControl> mView;
   std::atomic<bool> mStop{false};
   mutable std::mutex mMutex;
   std::vector<ReceivedSof> mReceived;
@@ -450,11 +454,12 @@ class HostFault : public ::testing::Test {
   }
 
   // Starts the service for `durationS` seconds of video.
-  void startService(double durationS) {
+  void startService(double durationS, const std::string& moreArgs = "") {
     mDurationS = durationS;
     const std::string config = (mDir / "fieldcast.toml").string();
-    mService = std::async(std::launch::async, [config, durationS] {
-      return fieldcast::testing::runFieldcast("--config " + config + " --duration " + std::to_string(durationS), 120);
+    mService = std::async(std::launch::async, [config, durationS, moreArgs] {
+      return fieldcast::testing::runFieldcast(
+          "--config " + config + " --duration " + std::to_string(durationS) + " " + moreArgs, 120);
     });
   }
 
@@ -924,4 +929,72 @@ TEST_F(HostDatabaseSwitch, TheHostSwitchesDatabasesBetweenFieldsWithoutLosingOne
   EXPECT_LT(steady, 2.0);
   EXPECT_LT(steadyAfter, 2.0);
   EXPECT_GT(switched, 3.0) << "the picture after the switch is still database 1's terrain";
+}
+
+// ---- A view moved by the host -------------------------------------------------------------------
+
+// View Control turns the eye 180° on a still ownship mid-run: every field after it (the per-field
+// record) looks the other way, the picture changes and the video goes on without a missed field.
+TEST_F(HostFault, ViewControlTurnsTheEyeWithoutLosingAField) {
+  startService(6.0, "--field-log " + (mDir / "out/fields.csv").string());
+  TestHost host(mPort, cigi::nativeByteOrder());
+  ASSERT_TRUE(host.waitForIg(60.0)) << "no Start of Frame from the service";
+  host.holdStill();
+  constexpr double kTurnAtS = 2.0, kFlightS = 5.0;
+  cigi::ViewControl turn;
+  turn.yawEnabled = true;
+  turn.yawDeg = 180.0f;
+  const Steady::time_point start = Steady::now();
+  pace(start, kFlightS, [&](std::uint32_t k, double tS) {
+    if (tS >= kTurnAtS) host.sendView(turn);
+    host.sendFrame(k, tS, tS);
+  });
+  const nlohmann::json s = finishService();
+  ASSERT_FALSE(s.is_null());
+  expectFieldsContinued(s);
+  EXPECT_GE(s["host"]["view_controls"].get<int>(), 60) << s.dump();
+
+  // The fields' headings: the ownship's before, the ownship's + 180° after (the record is the eye's).
+  const double ownshipDeg = flightAt(0.0).pose.headingRad * 180.0 / std::numbers::pi;
+  std::ifstream log(mDir / "out/fields.csv");
+  std::string line;
+  std::getline(log, line);  // header
+  std::vector<double> headings;
+  while (std::getline(log, line)) {
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 7u) << line;
+    headings.push_back(std::stod(cells[6]));  // heading_deg
+  }
+  const auto offFromOwnship = [&](double headingDeg) {
+    return std::abs(std::remainder(headingDeg - ownshipDeg, 360.0));
+  };
+  std::size_t before = 0, after = 0, between = 0, turnedAt = 0;
+  for (std::size_t k = 0; k < headings.size(); ++k) {
+    const double off = offFromOwnship(headings[k]);
+    if (off < 0.5) {
+      ++before;
+    } else if (off > 179.5) {
+      if (after++ == 0) turnedAt = k;
+    } else {
+      ++between;
+    }
+  }
+  std::printf("fields looking along the ownship: %zu, the other way: %zu, neither: %zu\n", before, after, between);
+  EXPECT_GE(after, 120u);  // about 3 s of fields
+  EXPECT_EQ(between, 0u) << "a field whose eye looks neither along the ownship nor against it";
+
+  // The picture: the log's lines and the video's frames are the emitted fields, in order.
+  const std::vector<Bytes> frames = framesOfVideo();
+  ASSERT_GT(frames.size(), turnedAt + 90);
+  ASSERT_GT(turnedAt, 30u);
+  const double steadyBefore = meanDifference(frames[turnedAt - 30], frames[turnedAt - 5]);
+  const double turned = meanDifference(frames[turnedAt - 5], frames[turnedAt + 60]);
+  const double steadyAfter = meanDifference(frames[turnedAt + 60], frames[turnedAt + 90]);
+  std::printf("mean luma difference: %.2f before the turn, %.2f across it, %.2f after\n", steadyBefore, turned,
+              steadyAfter);
+  EXPECT_LT(steadyBefore, 2.0);
+  EXPECT_LT(steadyAfter, 2.0);
+  EXPECT_GT(turned, 3.0) << "the picture did not turn";
 }

@@ -47,6 +47,8 @@ struct HostConfig {
   std::int8_t databaseNumber = 1;                             ///< the number of [terrain], loaded at start
   std::vector<HostDatabase> databases;                        ///< the others the host may load
   core::GeodeticOrigin origin = core::kBuiltinTerrainOrigin;  ///< world (0, 0) of a database without a CRS
+  std::uint16_t viewId = 0;                                   ///< the view View Control addresses as this IG's
+  std::uint8_t viewGroup = 0;                                 ///< the view group it belongs to (0: none)
 };
 
 /// [threads]: scheduling.
