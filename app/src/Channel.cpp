@@ -29,6 +29,7 @@ Channel::Channel(const ChannelSettings& settings, core::TileCache& terrain, cons
     : mSettings(settings),
       mTerrain(terrain),
       mMotion(ownship, settings.view.offset),
+      mDisplay(settings.view.display),
       mClock(clock),
       mMetrics(metrics),
       mOnFatal(std::move(onFatal)) {
@@ -71,6 +72,7 @@ void Channel::renderMain() noexcept {
     pacing.controller = render.controller;
     pacing.initialQuality = render.settings.quality;
     pacing.hazeRangeM = mHazeRangeM;
+    pacing.display = &mDisplay;
     RenderLoop loop(renderer, mMotion, mSettings.view.display, mFrames, mMetrics, pacing, &mTerrain, &mTerrainSwitch);
     spdlog::info("render: {} worker threads, {}x{} display, margin {:.0f}%", renderer.threads(),
                  mSettings.view.display.widthPx, mSettings.view.display.heightPx, render.settings.marginFraction * 100);

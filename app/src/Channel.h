@@ -98,6 +98,10 @@ class Channel {
   /// renders from it; fields warp to it at once (the warp's fallback covers the cut).
   void setViewOffset(const ViewOffset& offset) noexcept { mMotion.setOffset(offset); }
   ViewOffset viewOffset() const noexcept { return mMotion.offset(); }
+  /// Changes the display window's frustum (a host's View Definition; one thread): its size stays
+  /// the configured one. The next frame renders it; the warp maps each frame's window to the
+  /// output, so the fields follow with that frame.
+  void setDisplay(const Intrinsics& display) noexcept { mDisplay.store(display); }
   /// Starts the render thread.
   void startRendering();
   /// Renders from `terrain` from the next frame on (a database switch; any thread). The terrain
@@ -141,6 +145,7 @@ class Channel {
   ChannelSettings mSettings;
   core::TileCache& mTerrain;
   ViewMotion mMotion;
+  SeqLock<Intrinsics> mDisplay;  // the display window's frustum, read by the render loop
   Clock& mClock;
   ServiceMetrics& mMetrics;
   OnFatal mOnFatal;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fieldcast::app {
 namespace {
@@ -120,6 +121,8 @@ void HostSession::onMessage(const io::HostMessage& message) {
       }
     } else if (const auto* view = std::get_if<cigi::ViewControl>(&packet)) {
       if (operate) applyViewControl(*view);  // a view update: ignored outside operate, as entity updates are
+    } else if (const auto* definition = std::get_if<cigi::ViewDefinition>(&packet)) {
+      if (operate) applyViewDefinition(*definition);
     } else if (const auto* segment = std::get_if<cigi::LosSegmentRequest>(&packet)) {
       answer(*segment, message.arrival);
     } else if (const auto* vector = std::get_if<cigi::LosVectorRequest>(&packet)) {
@@ -130,11 +133,12 @@ void HostSession::onMessage(const io::HostMessage& message) {
   if (ownship != nullptr) applyOwnship(*ownship, ownshipRates, hostTimeS, message.arrival, control.hostFrameNumber);
 }
 
+bool HostSession::addressesThisView(std::uint16_t viewId, std::uint8_t groupId) const noexcept {
+  return groupId == 0 ? viewId == mView.viewId : mView.groupId != 0 && groupId == mView.groupId;
+}
+
 void HostSession::applyViewControl(const cigi::ViewControl& control) {
-  if (!mView.apply) return;
-  const bool addressed =
-      control.groupId == 0 ? control.viewId == mView.viewId : mView.groupId != 0 && control.groupId == mView.groupId;
-  if (!addressed) return;  // another IG's view
+  if (!mView.apply || !addressesThisView(control.viewId, control.groupId)) return;  // another IG's view
   const bool finite = std::isfinite(control.xOffsetM) && std::isfinite(control.yOffsetM) &&
                       std::isfinite(control.zOffsetM) && std::isfinite(control.yawDeg) &&
                       std::isfinite(control.pitchDeg) && std::isfinite(control.rollDeg);
@@ -156,6 +160,39 @@ void HostSession::applyViewControl(const cigi::ViewControl& control) {
   if (control.rollEnabled) offset.rollRad = radians(control.rollDeg);
   mView.apply(offset);
   mViewControls.fetch_add(1, std::memory_order_relaxed);
+}
+
+void HostSession::applyViewDefinition(const cigi::ViewDefinition& definition) {
+  if (!mView.applyDisplay || !addressesThisView(definition.viewId, definition.groupId)) return;
+  // Only the enabled half-angles change; near and far do not apply to a ray caster (it draws the
+  // terrain to the horizon), pixel replication and the view type are the IG's own choices.
+  FrustumAngles angles = mFrustum.value_or(mView.display.frustum());
+  const auto take = [](bool enabled, float deg, double& rad) {
+    if (enabled) rad = std::isfinite(deg) ? radians(deg) : std::numeric_limits<double>::quiet_NaN();
+  };
+  take(definition.leftEnabled, definition.leftDeg, angles.leftRad);
+  take(definition.rightEnabled, definition.rightDeg, angles.rightRad);
+  take(definition.topEnabled, definition.topDeg, angles.topRad);
+  take(definition.bottomEnabled, definition.bottomDeg, angles.bottomRad);
+  // A window around the view axis, under 80° from it on every side: what the caster's columns
+  // and the frame's margins are made for. Mirroring and orthographic views are not rendered.
+  const double maxRad = radians(80.0);
+  const bool aroundTheAxis = angles.leftRad < 0.0 && angles.rightRad > 0.0 && angles.bottomRad < 0.0 &&
+                             angles.topRad > 0.0 && -angles.leftRad < maxRad && angles.rightRad < maxRad &&
+                             -angles.bottomRad < maxRad && angles.topRad < maxRad;  // false for NaN too
+  const bool supported =
+      definition.mirrorMode == cigi::MirrorMode::None && definition.projectionType == cigi::ProjectionType::Perspective;
+  if (!aroundTheAxis || !supported) {
+    if (mViewDefinitionsIgnored.fetch_add(1, std::memory_order_relaxed) == 0) {
+      spdlog::warn("host: View Definition ignored: {}",
+                   supported ? "the view axis must lie inside the window, each side under 80° from it"
+                             : "mirrored and orthographic views are not rendered");
+    }
+    return;
+  }
+  mFrustum = angles;
+  mView.applyDisplay(Intrinsics::fromFrustum(mView.display.widthPx, mView.display.heightPx, angles));
+  mViewDefinitions.fetch_add(1, std::memory_order_relaxed);
 }
 
 void HostSession::applyOwnship(const cigi::EntityControl& entity, const cigi::RateControl* rates, double hostTimeS,
@@ -455,6 +492,8 @@ HostSessionFigures HostSession::figures() const noexcept {
   f.lastHostFrame = mLastHostFrame.load(std::memory_order_relaxed);
   f.viewControls = mViewControls.load(std::memory_order_relaxed);
   f.viewControlsIgnored = mViewControlsIgnored.load(std::memory_order_relaxed);
+  f.viewDefinitions = mViewDefinitions.load(std::memory_order_relaxed);
+  f.viewDefinitionsIgnored = mViewDefinitionsIgnored.load(std::memory_order_relaxed);
   return f;
 }
 

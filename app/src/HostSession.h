@@ -16,6 +16,7 @@
 #include "HostDatabases.h"
 
 #include <fieldcast/Conventions.h>
+#include <fieldcast/Intrinsics.h>
 #include <fieldcast/Time.h>
 #include <ig_core/Georeference.h>
 #include <ig_core/TileCache.h>
@@ -51,8 +52,10 @@ struct HostSessionFigures {
   std::uint64_t otherEntities = 0;  ///< entities other than the ownship, active now
   std::uint64_t modeChanges = 0;
   std::uint32_t lastHostFrame = 0;
-  std::uint64_t viewControls = 0;         ///< View Controls addressed to this IG's view and applied
-  std::uint64_t viewControlsIgnored = 0;  ///< addressed to it but not applicable (another entity, not finite)
+  std::uint64_t viewControls = 0;            ///< View Controls addressed to this IG's view and applied
+  std::uint64_t viewControlsIgnored = 0;     ///< addressed to it but not applicable (another entity, not finite)
+  std::uint64_t viewDefinitions = 0;         ///< View Definitions addressed to this IG's view and applied
+  std::uint64_t viewDefinitionsIgnored = 0;  ///< addressed to it but not a frustum this IG renders
 };
 
 /// The view this IG renders as a host addresses it with View Control, and how to move it.
@@ -61,6 +64,8 @@ struct HostView {
   std::uint8_t groupId = 0;                      ///< the view group it belongs to; 0: none
   ViewOffset offset;                             ///< the configured eye offset ([view]), where View Controls start from
   std::function<void(const ViewOffset&)> apply;  ///< moves the channel's eye (called on the link thread)
+  Intrinsics display;                            ///< the configured display window, where View Definitions start from
+  std::function<void(const Intrinsics&)> applyDisplay;  ///< changes its frustum (called on the link thread)
 };
 
 /// The renderer's haze range (haze covers 1 − exp(−r/R) at range r) for a meteorological
@@ -96,7 +101,9 @@ class HostSession final : public io::HostHandler {
   double unwrapHostTime(std::uint32_t ticks);
   // Answers from `database` from now on (a database switch, between two fields).
   void switchTo(OpenDatabase database);
+  bool addressesThisView(std::uint16_t viewId, std::uint8_t groupId) const noexcept;
   void applyViewControl(const io::cigi::ViewControl& control);
+  void applyViewDefinition(const io::cigi::ViewDefinition& definition);
   void applyOwnship(const io::cigi::EntityControl& entity, const io::cigi::RateControl* rates, double hostTimeS,
                     TimePoint arrival, std::uint32_t hostFrame);
   // A height request whose answer waits for the full-resolution tiles under its point.
@@ -147,7 +154,8 @@ class HostSession final : public io::HostHandler {
 
   // Link thread only.
   HostView mView;
-  bool mSmoothing = true;  // IG Control's extrapolation/interpolation enable, as last received
+  std::optional<FrustumAngles> mFrustum;  // the host's View Definition so far (nothing: the configured one)
+  bool mSmoothing = true;                 // IG Control's extrapolation/interpolation enable, as last received
   bool mHaveTime = false;
   std::uint32_t mLastTicks = 0;
   double mHostTimeS = 0.0;
@@ -160,7 +168,8 @@ class HostSession final : public io::HostHandler {
   std::vector<io::cigi::LosExtendedResponse> mLosExtendedDue;
 
   std::atomic<std::uint64_t> mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0}, mLosRequests{0}, mLosHits{0},
-      mOtherEntities{0}, mModeChanges{0}, mViewControls{0}, mViewControlsIgnored{0};
+      mOtherEntities{0}, mModeChanges{0}, mViewControls{0}, mViewControlsIgnored{0}, mViewDefinitions{0},
+      mViewDefinitionsIgnored{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
   std::atomic<double> mHazeRangeM{0.0};
 };

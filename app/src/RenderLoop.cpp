@@ -26,6 +26,7 @@ RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
   // Render for the instant the frame will be ready: the warp then extrapolates over the shortest
   // possible interval (frame → field), which is where the quadratic is most exact.
   const TimePoint poseTime = now + mExpectedLatency;
+  if (mPacing.display != nullptr) mDisplay = mPacing.display->load();
   core::ViewRequest request;
   request.pose = mMotion.poseAt(poseTime);
   request.poseTime = poseTime;

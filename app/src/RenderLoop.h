@@ -7,6 +7,7 @@
 #include <service/ServiceMetrics.h>
 
 #include <fieldcast/Intrinsics.h>
+#include <fieldcast/SeqLock.h>
 #include <fieldcast/Time.h>
 #include <ig_core/FrameTimeController.h>
 #include <ig_core/Renderer.h>
@@ -28,6 +29,9 @@ struct RenderPacing {
   /// When set and > 0: the haze range (m) of the frames submitted from then on (the CIGI host's
   /// visibility, HostSession::hazeRangeM); read before each frame.
   const std::atomic<double>* hazeRangeM = nullptr;
+  /// When set: the display window's frustum for the frames submitted from then on (the CIGI
+  /// host's View Definition); read before each frame. Its size must stay the display's.
+  const SeqLock<Intrinsics>* display = nullptr;
 };
 
 /// A database switch (Channel::switchTerrain): the render loop renders each frame from `wanted`

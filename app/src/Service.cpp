@@ -88,7 +88,9 @@ nlohmann::json hostSummary(const io::HostLinkCounters& link, const HostSessionFi
           {"mode_changes", session.modeChanges},
           {"last_host_frame", session.lastHostFrame},
           {"view_controls", session.viewControls},
-          {"view_controls_ignored", session.viewControlsIgnored}};
+          {"view_controls_ignored", session.viewControlsIgnored},
+          {"view_definitions", session.viewDefinitions},
+          {"view_definitions_ignored", session.viewDefinitionsIgnored}};
 }
 
 std::unique_ptr<io::StickInput> openStick(const io::InputConfig& config, Clock& clock) {
@@ -304,7 +306,9 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
   }
   if (p.hostSession) {
     p.hostSession->setView(HostView{config.host.viewId, config.host.viewGroup, config.view,
-                                    [&p](const ViewOffset& offset) { p.channel->setViewOffset(offset); }});
+                                    [&p](const ViewOffset& offset) { p.channel->setViewOffset(offset); },
+                                    p.channel->settings().view.display,
+                                    [&p](const Intrinsics& display) { p.channel->setDisplay(display); }});
   }
 
   const std::pair<const char*, const std::string*> gpioLines[] = {{"sync", &config.input.sync},

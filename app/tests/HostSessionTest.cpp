@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -475,6 +476,99 @@ TEST_F(HostSessionTest, ViewControlMovesTheChannelsEyeOnTheOwnship) {
   send({control}, 1.6);
   EXPECT_DOUBLE_EQ(eye.offset().headingRad, before.headingRad);
   EXPECT_EQ(mSession.figures().viewControlsIgnored, 1u);
+}
+
+// View Definition addressed to this IG's view changes the display window's frustum: the enabled
+// half-angles replace the current ones (the configured window's, then the host's), the window's
+// size stays. A window the caster does not render (the view axis outside it, a side at 80° or
+// more, mirrored, orthographic) is ignored and counted; another view's changes nothing.
+TEST_F(HostSessionTest, ViewDefinitionChangesTheDisplayFrustum) {
+  const Intrinsics configured = Intrinsics::fromHorizontalFov(64, 48, radians(60.0));
+  std::vector<Intrinsics> applied;
+  mSession.setView(HostView{3, 0, ViewOffset{}, [](const ViewOffset&) {}, configured,
+                            [&](const Intrinsics& display) { applied.push_back(display); }});
+  cigi::ViewDefinition definition;
+  definition.viewId = 3;
+  definition.leftEnabled = definition.rightEnabled = true;
+  definition.leftDeg = -20.0f;
+  definition.rightDeg = 35.0f;
+  definition.topDeg = 70.0f;  // not enabled
+  send({definition}, 1.0);
+  ASSERT_EQ(applied.size(), 1u);
+  const FrustumAngles first{radians(-20.0), radians(35.0), configured.frustum().topRad, configured.frustum().bottomRad};
+  const Intrinsics expected = Intrinsics::fromFrustum(64, 48, first);
+  EXPECT_NEAR(applied[0].fxPx, expected.fxPx, 1e-9);
+  EXPECT_NEAR(applied[0].cxPx, expected.cxPx, 1e-9);
+  EXPECT_NEAR(applied[0].fyPx, configured.fyPx, 1e-9);
+  EXPECT_NEAR(applied[0].cyPx, configured.cyPx, 1e-9);
+  EXPECT_EQ(applied[0].widthPx, 64);
+  EXPECT_EQ(applied[0].heightPx, 48);
+
+  // Then the top alone: left and right stay the host's.
+  definition.leftEnabled = definition.rightEnabled = false;
+  definition.topEnabled = true;
+  definition.topDeg = 10.0f;
+  send({definition}, 1.1);
+  ASSERT_EQ(applied.size(), 2u);
+  const FrustumAngles second = applied[1].frustum();
+  EXPECT_NEAR(second.leftRad, radians(-20.0), 1e-9);
+  EXPECT_NEAR(second.rightRad, radians(35.0), 1e-9);
+  EXPECT_NEAR(second.topRad, radians(10.0), 1e-9);
+  EXPECT_NEAR(second.bottomRad, configured.frustum().bottomRad, 1e-9);
+  EXPECT_EQ(mSession.figures().viewDefinitions, 2u);
+
+  // Not rendered: ignored and counted, nothing applied.
+  cigi::ViewDefinition offAxis = definition;
+  offAxis.leftEnabled = true;
+  offAxis.leftDeg = 5.0f;  // the axis left of the window
+  cigi::ViewDefinition wide = definition;
+  wide.rightEnabled = true;
+  wide.rightDeg = 85.0f;
+  cigi::ViewDefinition mirrored = definition;
+  mirrored.mirrorMode = cigi::MirrorMode::Horizontal;
+  cigi::ViewDefinition notANumber = definition;
+  notANumber.topDeg = std::numeric_limits<float>::quiet_NaN();
+  send({offAxis, wide, mirrored, notANumber}, 1.2);
+  EXPECT_EQ(applied.size(), 2u);
+  EXPECT_EQ(mSession.figures().viewDefinitionsIgnored, 4u);
+  cigi::ViewDefinition another = definition;
+  another.viewId = 4;
+  send({another}, 1.3);
+  EXPECT_EQ(applied.size(), 2u);
+  EXPECT_EQ(mSession.figures().viewDefinitionsIgnored, 4u);
+}
+
+// The render loop renders each frame with the display window it reads before the frame: a
+// frame after a change has the new frustum (same focal lengths; principal point shifted by the
+// frame's margin).
+TEST_F(HostSessionTest, TheRenderLoopRendersTheNewFrustum) {
+  const Intrinsics configured = Intrinsics::fromHorizontalFov(64, 48, radians(60.0));
+  const Intrinsics narrow =
+      Intrinsics::fromFrustum(64, 48, {radians(-10.0), radians(25.0), radians(12.0), radians(-14.0)});
+  SeqLock<Intrinsics> display(configured);
+  send({entityAt(0, {500.0, 500.0, 900.0})}, 1.0);
+  core::Renderer renderer(sTerrain->view(), core::RenderSettings{}, 1);
+  warp::FrameHandover frames;
+  ServiceMetrics metrics;
+  RenderPacing pacing;
+  pacing.display = &display;
+  RenderLoop loop(renderer, mOwnship, configured, frames, metrics, pacing);
+  std::atomic<bool> stop{false};
+  std::thread thread([&] { loop.run(stop); });
+  while (loop.framesPublished() < 1) std::this_thread::sleep_for(1ms);
+  display.store(narrow);
+  const std::uint64_t before = loop.framesPublished();
+  while (loop.framesPublished() < before + 3) std::this_thread::sleep_for(1ms);
+  stop = true;
+  thread.join();
+  ASSERT_TRUE(frames.update());
+  const Frame& frame = frames.front();
+  EXPECT_EQ(frame.displayWidthPx(), 64);
+  EXPECT_EQ(frame.displayHeightPx(), 48);
+  EXPECT_NEAR(frame.intrinsics.fxPx, narrow.fxPx, 1e-9);
+  EXPECT_NEAR(frame.intrinsics.fyPx, narrow.fyPx, 1e-9);
+  EXPECT_NEAR(frame.intrinsics.cxPx - frame.margin.x, narrow.cxPx, 1e-9);
+  EXPECT_NEAR(frame.intrinsics.cyPx - frame.margin.y, narrow.cyPx, 1e-9);
 }
 
 // ---- Atmosphere ---------------------------------------------------------------------------------

@@ -213,6 +213,7 @@ class TestHost {
     rates.zRateMps = static_cast<float>(-s.velocityMps.z);
     mMessage.add(rates);
     if (mView) mMessage.add(*mView);
+    if (mDefinition) mMessage.add(*mDefinition);
     return mMessage.bytes();
   }
   void sendFrame(std::uint32_t hostFrame, double hostTimeS, double flightTimeS) {
@@ -243,6 +244,8 @@ class TestHost {
   void holdStill() { mStill = true; }
   /// From the next frame on, every frame carries this View Control.
   void sendView(const cigi::ViewControl& view) { mView = view; }
+  /// From the next frame on, every frame carries this View Definition.
+  void sendDefinition(const cigi::ViewDefinition& definition) { mDefinition = definition; }
 
   std::uint64_t sent() const noexcept { return mSent; }
   std::size_t startOfFrameCount() const {
@@ -283,6 +286,7 @@ class TestHost {
   std::int8_t mDatabase = 0;
   bool mStill = false;
   std::optional<cigi::ViewControl> mView;
+  std::optional<cigi::ViewDefinition> mDefinition;
   std::atomic<bool> mStop{false};
   mutable std::mutex mMutex;
   std::vector<ReceivedSof> mReceived;
@@ -997,4 +1001,48 @@ TEST_F(HostFault, ViewControlTurnsTheEyeWithoutLosingAField) {
   EXPECT_LT(steadyBefore, 2.0);
   EXPECT_LT(steadyAfter, 2.0);
   EXPECT_GT(turned, 3.0) << "the picture did not turn";
+}
+
+// View Definition narrows the frustum to ±10° × ±7.5° mid-run (a zoom): the video goes on without
+// a missed or black field, and the picture, steady before and after, changes.
+TEST_F(HostFault, ViewDefinitionZoomsWithoutLosingAField) {
+  startService(6.0);
+  TestHost host(mPort, cigi::nativeByteOrder());
+  ASSERT_TRUE(host.waitForIg(60.0)) << "no Start of Frame from the service";
+  host.holdStill();
+  constexpr double kZoomAtS = 2.0, kFlightS = 5.0;
+  cigi::ViewDefinition zoom;
+  zoom.leftEnabled = zoom.rightEnabled = zoom.topEnabled = zoom.bottomEnabled = true;
+  zoom.leftDeg = -10.0f;
+  zoom.rightDeg = 10.0f;
+  zoom.topDeg = 7.5f;
+  zoom.bottomDeg = -7.5f;
+  const Steady::time_point start = Steady::now();
+  pace(start, kFlightS, [&](std::uint32_t k, double tS) {
+    if (tS >= kZoomAtS) host.sendDefinition(zoom);
+    host.sendFrame(k, tS, tS);
+  });
+  const nlohmann::json s = finishService();
+  ASSERT_FALSE(s.is_null());
+  expectFieldsContinued(s);
+  EXPECT_GE(s["host"]["view_definitions"].get<int>(), 60) << s.dump();
+  EXPECT_EQ(s["host"]["view_definitions_ignored"].get<int>(), 0) << s.dump();
+
+  // The picture: the zoom lands within a frame or two of the first Start of Frame after it.
+  const std::vector<ReceivedSof> sofs = host.startOfFrames();
+  const Steady::time_point zoomSent = start + seconds(kZoomAtS);
+  const auto firstAfter =
+      std::find_if(sofs.begin(), sofs.end(), [&](const ReceivedSof& r) { return r.arrival > zoomSent; });
+  ASSERT_NE(firstAfter, sofs.end());
+  const std::size_t zoomedAt = firstAfter->sof.igFrameNumber;
+  const std::vector<Bytes> frames = framesOfVideo();
+  ASSERT_GT(frames.size(), zoomedAt + 90);
+  const double steadyBefore = meanDifference(frames[zoomedAt - 30], frames[zoomedAt - 5]);
+  const double zoomed = meanDifference(frames[zoomedAt - 5], frames[zoomedAt + 60]);
+  const double steadyAfter = meanDifference(frames[zoomedAt + 60], frames[zoomedAt + 90]);
+  std::printf("mean luma difference: %.2f before the zoom, %.2f across it, %.2f after\n", steadyBefore, zoomed,
+              steadyAfter);
+  EXPECT_LT(steadyBefore, 2.0);
+  EXPECT_LT(steadyAfter, 2.0);
+  EXPECT_GT(zoomed, 3.0) << "the picture did not zoom";
 }

@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include <cmath>
+
 namespace fieldcast {
 namespace {
 
@@ -23,6 +25,33 @@ TEST(Intrinsics, FromHorizontalFov) {
   EXPECT_EQ(kCamera.cxPx, 320.0);
   EXPECT_EQ(kCamera.cyPx, 240.0);
   EXPECT_NEAR(kCamera.horizontalFovRad(), radians(90.0), 1e-12);
+}
+
+// A frustum's half-angles: the symmetric 90° one is kCamera; an asymmetric one puts the rays at
+// its angles on the window's edges (projected through the camera conventions), and back.
+TEST(Intrinsics, FromFrustumPutsTheEdgeAnglesOnTheEdges) {
+  const Intrinsics symmetric =
+      Intrinsics::fromFrustum(640, 480, {radians(-45.0), radians(45.0), std::atan(0.75), -std::atan(0.75)});
+  EXPECT_NEAR(symmetric.fxPx, kCamera.fxPx, 1e-9);
+  EXPECT_NEAR(symmetric.fyPx, kCamera.fyPx, 1e-9);
+  EXPECT_NEAR(symmetric.cxPx, kCamera.cxPx, 1e-9);
+  EXPECT_NEAR(symmetric.cyPx, kCamera.cyPx, 1e-9);
+
+  const FrustumAngles angles{radians(-40.0), radians(15.0), radians(20.0), radians(-30.0)};
+  const Intrinsics k = Intrinsics::fromFrustum(640, 480, angles);
+  const Pose pose{};  // looking north, level: x east, y north, z up
+  const auto atAngles = [](double azimuthRad, double elevationRad) {
+    return glm::dvec3{std::tan(azimuthRad), 1.0, std::tan(elevationRad)} * 100.0;
+  };
+  expectPixel(projectPoint(pose, k, atAngles(angles.leftRad, 0.0)), 0.0, k.cyPx);
+  expectPixel(projectPoint(pose, k, atAngles(angles.rightRad, 0.0)), 640.0, k.cyPx);
+  expectPixel(projectPoint(pose, k, atAngles(0.0, angles.topRad)), k.cxPx, 0.0);
+  expectPixel(projectPoint(pose, k, atAngles(0.0, angles.bottomRad)), k.cxPx, 480.0);
+  const FrustumAngles back = k.frustum();
+  EXPECT_NEAR(back.leftRad, angles.leftRad, 1e-12);
+  EXPECT_NEAR(back.rightRad, angles.rightRad, 1e-12);
+  EXPECT_NEAR(back.topRad, angles.topRad, 1e-12);
+  EXPECT_NEAR(back.bottomRad, angles.bottomRad, 1e-12);
 }
 
 TEST(Intrinsics, MarginKeepsFocalAndShiftsCentre) {

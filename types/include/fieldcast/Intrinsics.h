@@ -6,6 +6,15 @@
 
 namespace fieldcast {
 
+/// A frustum's half-angles from the view axis to the window's edges, radians: left and bottom
+/// negative when the axis passes inside the window (CIGI View Definition's convention).
+struct FrustumAngles {
+  double leftRad = 0.0;
+  double rightRad = 0.0;
+  double topRad = 0.0;
+  double bottomRad = 0.0;
+};
+
 /// Pinhole intrinsics of an image `widthPx` × `heightPx`.
 /// fx, fy are focal lengths in pixels (fy = fx for square pixels; NTSC's 10:11 pixels differ);
 /// (cx, cy) is the principal point in the same continuous pixel coordinates.
@@ -28,6 +37,27 @@ struct Intrinsics {
     k.cxPx = 0.5 * widthPx;
     k.cyPx = 0.5 * heightPx;
     return k;
+  }
+
+  /// The camera whose `widthPx` × `heightPx` window spans `angles` (asymmetric when the view axis
+  /// is off the window's centre; the pixels are square only when the angles make them so).
+  static Intrinsics fromFrustum(int widthPx, int heightPx, const FrustumAngles& angles) noexcept {
+    const double left = std::tan(angles.leftRad), right = std::tan(angles.rightRad);
+    const double top = std::tan(angles.topRad), bottom = std::tan(angles.bottomRad);
+    Intrinsics k;
+    k.widthPx = widthPx;
+    k.heightPx = heightPx;
+    k.fxPx = widthPx / (right - left);  // u = cx + fx·x: 0 at the left edge, width at the right
+    k.cxPx = -left * k.fxPx;
+    k.fyPx = heightPx / (top - bottom);  // v = cy − fy·y (v down): 0 at the top edge
+    k.cyPx = top * k.fyPx;
+    return k;
+  }
+
+  /// The half-angles of this camera's window (fromFrustum's inverse).
+  FrustumAngles frustum() const noexcept {
+    return FrustumAngles{std::atan(-cxPx / fxPx), std::atan((widthPx - cxPx) / fxPx), std::atan(cyPx / fyPx),
+                         std::atan((cyPx - heightPx) / fyPx)};
   }
 
   /// The same camera with `marginXPx`/`marginYPx` more pixels on each side: same focal length,
