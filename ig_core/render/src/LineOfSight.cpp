@@ -1,7 +1,5 @@
 #include <ig_core/LineOfSight.h>
 
-#include "ColumnCaster.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -27,6 +25,37 @@ std::uint32_t bilinearColour(const TerrainView& view, double x, double y) {
     out |= v << shift;
   }
   return out;
+}
+
+// The coarsest level empty space is skipped at (2^8 voxels a side): coarser voxels rarely lie
+// wholly under a ray that is going to meet the terrain.
+constexpr int kCoarsestSkipLevel = 8;
+// How far past a voxel's exit a skip lands, so the next look is in the next voxel.
+constexpr double kSkipPastM = 1e-6;
+
+// The level-`level` voxel the ray is over at t, and the t where the ray leaves its area (the
+// square of level-0 voxel centres it covers, widened by half a level-0 voxel each side).
+struct VoxelSpan {
+  int i = 0, j = 0;
+  double exitT = 0.0;
+};
+VoxelSpan voxelSpanAt(const TerrainGeometry& g, const glm::dvec3& originM, const glm::dvec3& d, double t,
+                      int level) noexcept {
+  const double cell = g.spacingM * static_cast<double>(1 << level);
+  const glm::dvec3 p = originM + t * d;
+  const double x0 = g.originM.x - 0.5 * g.spacingM, y0 = g.originM.y - 0.5 * g.spacingM;
+  VoxelSpan span;
+  span.i = static_cast<int>(std::floor((p.x - x0) / cell));
+  span.j = static_cast<int>(std::floor((p.y - y0) / cell));
+  const auto exitAlong = [](double origin, double dir, double low, double high) {
+    if (dir > 0.0) return (high - origin) / dir;
+    if (dir < 0.0) return (low - origin) / dir;
+    return std::numeric_limits<double>::infinity();
+  };
+  const double xLow = x0 + span.i * cell, yLow = y0 + span.j * cell;
+  span.exitT = std::min(exitAlong(originM.x, d.x, xLow, xLow + cell), exitAlong(originM.y, d.y, yLow, yLow + cell));
+  span.exitT = std::max(span.exitT, t);  // a point on the border rounds either way
+  return span;
 }
 
 LineOfSightHit hitAt(const TerrainView& view, const glm::dvec3& originM, const glm::dvec3& d, double t) {
@@ -56,9 +85,9 @@ LineOfSightHit lineOfSight(const TerrainView& view, const glm::dvec3& originM, c
   if (!(length > 0.0) || !(maxRangeM >= minRangeM)) return {};
   const glm::dvec3 d = direction / length;  // t is then the range in metres
   const TerrainGeometry& g = view.geometry();
-  const double ceilingM = g.heightM(terrainCeilingQ(view));
 
-  // Clip to the box over the hull of the level-0 voxel centres, below the terrain's ceiling.
+  // Clip to the hull of the level-0 voxel centres (the max mip below skips the space above the
+  // terrain: no whole-terrain ceiling scan per ray).
   double lo = std::max(minRangeM, 0.0);
   double hi = maxRangeM;
   const auto slab = [&](double origin, double dir, double minV, double maxV) {
@@ -71,8 +100,7 @@ LineOfSightHit lineOfSight(const TerrainView& view, const glm::dvec3& originM, c
   };
   const double x1 = g.originM.x + (g.widthVox - 1) * g.spacingM;
   const double y1 = g.originM.y + (g.heightVox - 1) * g.spacingM;
-  if (!slab(originM.x, d.x, g.originM.x, x1) || !slab(originM.y, d.y, g.originM.y, y1) ||
-      !slab(originM.z, d.z, -1e12, ceilingM) || lo > hi) {
+  if (!slab(originM.x, d.x, g.originM.x, x1) || !slab(originM.y, d.y, g.originM.y, y1) || lo > hi) {
     return {};
   }
   const auto above = [&](double t) {
@@ -84,18 +112,43 @@ LineOfSightHit lineOfSight(const TerrainView& view, const glm::dvec3& originM, c
   // 1/8 voxel horizontally; steep rays also advance at most 1/8 voxel-height of drop per step.
   const double horizontal = std::sqrt(d.x * d.x + d.y * d.y);
   const double dt = 0.125 * g.spacingM / std::max(horizontal, 0.05 * std::abs(d.z) + 1e-12);
+  const int coarsest = std::min(g.levels - 1, kCoarsestSkipLevel);
   while (t < hi) {
-    const double tNext = std::min(t + dt, hi);
-    if (above(tNext) <= 0.0) {
-      double a = t;      // above the surface
-      double b = tNext;  // on or below it
-      for (int k = 0; k < 60 && (b - a) > 1e-7; ++k) {
-        const double mid = 0.5 * (a + b);
-        (above(mid) > 0.0 ? a : b) = mid;
+    // Empty space first: from the coarsest level down, the level-L voxel the ray is over bounds
+    // the surface beneath it (max mip); a ray above that bound all the way across cannot meet
+    // the surface there and jumps to where it leaves the voxel.
+    double fineUntil = hi;
+    bool skipped = false;
+    for (int level = coarsest; level >= 1 && !skipped; --level) {
+      const VoxelSpan span = voxelSpanAt(g, originM, d, t, level);
+      const double end = std::min(span.exitT, hi);
+      const double lowestZ = std::min(originM.z + t * d.z, originM.z + end * d.z);
+      if (lowestZ > g.heightM(view.maxHeightQ(level, span.i, span.j))) {
+        t = end + kSkipPastM;  // into the next voxel (the surface stays below the ray at `end`)
+        skipped = true;
+      } else if (level == 1) {
+        fineUntil = end;  // the surface may rise to the ray here: march it finely
       }
-      return hitAt(view, originM, d, b);
     }
-    t = tNext;
+    if (skipped) {
+      if (t >= hi) break;
+      if (above(t) <= 0.0) return hitAt(view, originM, d, t);  // met within the skip's last micrometre
+      continue;
+    }
+    // The plain march over this level-1 voxel: steps of dt, the crossing refined by bisection.
+    do {
+      const double tNext = std::min(t + dt, hi);
+      if (above(tNext) <= 0.0) {
+        double a = t;      // above the surface
+        double b = tNext;  // on or below it
+        for (int k = 0; k < 60 && (b - a) > 1e-7; ++k) {
+          const double mid = 0.5 * (a + b);
+          (above(mid) > 0.0 ? a : b) = mid;
+        }
+        return hitAt(view, originM, d, b);
+      }
+      t = tNext;
+    } while (t < fineUntil && t < hi);
   }
   return {};
 }

@@ -2,7 +2,9 @@
 // Line of sight against the terrain the renderer draws at full resolution: a world ray marched
 // over the bilinear level-0 surface (TerrainView::heightAtM) in steps of 1/8 voxel, the crossing
 // refined by bisection — the reference renderer's method (ReferenceRenderer.cpp), at level 0
-// only. For the CIGI host's LOS requests (app HostSession) and any tool that needs a range.
+// only. Where the ray stays above a coarser voxel's max mip (levels 8 down to 1) it jumps across
+// that voxel instead: no crossing can lie there. For the CIGI host's LOS requests (app
+// HostSession) and any tool that needs a range.
 //
 // Tiles: the march reads whatever is resident; where a level-0 tile is missing the view answers
 // from a coarser level (TerrainView::sample). Callers wanting the full-resolution answer make the
