@@ -8,6 +8,7 @@
 #include "KeyboardFlight.h"
 #include "MemoryLock.h"
 #include "TerrainCeiling.h"
+#include "ThreadScheduling.h"
 
 #include <io_bridge/GpioInput.h>
 #include <io_bridge/HostLink.h>
@@ -267,7 +268,13 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
                    config.host.link.port, georeference->description());
       p.hostSession =
           std::make_unique<HostSession>(*p.hostMotion, *p.terrain, georeference, config.host.databaseNumber, p.clock);
-      p.hostLink = std::make_unique<io::HostLink>(config.host.link, p.clock, *p.hostSession);
+      io::HostLinkConfig link = config.host.link;
+      // Start of Frame and the answers are due every field: the link's thread runs just below the
+      // field thread, so a busy machine cannot hold it off for fields at a time.
+      link.onThreadStart = [realtime = config.threads.realtimeHostThread] {
+        spdlog::info("{}", applyScheduling("fc-host-link", ThreadScheduling{realtime, 45, -5, -1}));
+      };
+      p.hostLink = std::make_unique<io::HostLink>(link, p.clock, *p.hostSession);
     } catch (const std::exception& e) {
       throw std::runtime_error(std::string("host: ") + e.what());
     }

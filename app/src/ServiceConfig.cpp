@@ -86,6 +86,7 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
   {
     ConfigReader t = top.table("threads");
     c.threads.realtimeFieldThread = t.boolean("realtime_field_thread", true);
+    c.threads.realtimeHostThread = t.boolean("realtime_host_thread", true);
     c.threads.fieldThreadCpu = static_cast<int>(t.integer("field_thread_cpu", -1, -1, 1023));
     t.finish();
   }

@@ -346,10 +346,10 @@ std::uint64_t fieldsWithoutStartOfFrame(const std::vector<ReceivedSof>& sofs) {
 // every field has its own, except fields the field loop missed (never announced: the summary's
 // `fields_missed`) and fields whose announcement found the link's thread late and coalesced with
 // the next one into one Start of Frame (README, timing model; the link counts them,
-// `fields_coalesced`). The thread has ordinary priority: on an idle machine no field coalesces,
-// but with this 2-core machine's other work at full priority (load 6) it was held off for up to
-// 0.48 s (28 fields). So the accounting is exact and the time bound loose: a link that stops
-// sending (to a silent host, say) fails both.
+// `fields_coalesced`). The thread runs at SCHED_FIFO below the field thread where the machine
+// grants it; where refused it has ordinary priority, and with this 2-core machine's other work at
+// full priority (load 6) it was once held off for 0.48 s (28 fields). So the accounting is exact
+// and the time bound loose: a link that stops sending (to a silent host, say) fails both.
 void expectStartOfFramesKeptComing(const std::vector<ReceivedSof>& sofs, const nlohmann::json& summary,
                                    Steady::time_point start) {
   ASSERT_GE(sofs.size(), 2u);
@@ -374,6 +374,22 @@ void expectOwnshipNotHeld(const std::vector<ReceivedSof>& sofs, Steady::time_poi
   }
   EXPECT_LE(static_cast<double>(count), std::max(1.0, 0.05 * static_cast<double>(sofs.size())))
       << count << " of " << sofs.size() << " Start of Frames with the ownship held: " << held.str();
+}
+
+// The scheduling policy (proc(5) stat field 41: 0 SCHED_OTHER, 1 SCHED_FIFO) of each thread of
+// process `pid`, by thread name.
+std::vector<std::pair<std::string, int>> threadPolicies(int pid) {
+  std::vector<std::pair<std::string, int>> out;
+  for (const fs::directory_entry& task : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
+    std::string name, stat;
+    std::getline(std::ifstream(task.path() / "comm"), name);
+    std::getline(std::ifstream(task.path() / "stat"), stat);
+    std::istringstream fields(stat.substr(stat.rfind(')') + 2));  // from field 3 on
+    std::vector<std::string> f;
+    for (std::string v; fields >> v;) f.push_back(v);
+    if (f.size() >= 39) out.emplace_back(name, std::stoi(f[38]));
+  }
+  return out;
 }
 
 // ---- Malformed datagrams: one kind per reason the decoder counts ----------------------------
@@ -1045,4 +1061,25 @@ TEST_F(HostFault, ViewDefinitionZoomsWithoutLosingAField) {
   EXPECT_LT(steadyBefore, 2.0);
   EXPECT_LT(steadyAfter, 2.0);
   EXPECT_GT(zoomed, 3.0) << "the picture did not zoom";
+}
+
+// The link's thread is named and scheduled like the field thread, one priority step below it:
+// where the field thread got SCHED_FIFO, so did the link's.
+TEST_F(HostFault, TheLinksThreadRunsAtRealtimePriorityLikeTheFieldThread) {
+  startService(3.0);
+  TestHost host(mPort, cigi::nativeByteOrder());
+  ASSERT_TRUE(host.waitForIg(60.0)) << "no Start of Frame from the service";
+  const std::optional<int> pid = servicePid(mDir / "fieldcast.toml");
+  ASSERT_TRUE(pid.has_value());
+  std::optional<int> field, link;
+  for (const auto& [name, policy] : threadPolicies(*pid)) {
+    if (name == "fc-field") field = policy;
+    if (name == "fc-host-link") link = policy;
+  }
+  ASSERT_TRUE(field.has_value());
+  ASSERT_TRUE(link.has_value()) << "no thread named fc-host-link";
+  EXPECT_EQ(*link, *field) << "SCHED_FIFO is 1";
+  std::printf("field thread policy %d, link thread policy %d\n", *field, *link);
+  const nlohmann::json s = finishService();
+  ASSERT_FALSE(s.is_null());
 }

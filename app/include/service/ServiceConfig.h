@@ -54,6 +54,7 @@ struct HostConfig {
 /// [threads]: scheduling.
 struct ThreadsConfig {
   bool realtimeFieldThread = true;  ///< ask for SCHED_FIFO for the field thread
+  bool realtimeHostThread = true;   ///< ask for SCHED_FIFO (below the field thread) for the CIGI link's thread
   int fieldThreadCpu = -1;          ///< pin the field thread to this CPU; -1: no pinning
 };
 

@@ -19,6 +19,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <span>
 #include <string>
@@ -32,6 +33,7 @@ struct HostLinkConfig {
   std::string listenAddress = "127.0.0.1";  ///< an IPv4 address of this machine ("0.0.0.0": all)
   std::uint16_t port = 8004;                ///< the IG's port (0: any free port, for tests)
   std::uint16_t replyPort = 0;              ///< the host's port for IG→host messages; 0: the sender's port
+  std::function<void()> onThreadStart;      ///< run first on the link's thread (its scheduling); may be empty
 };
 
 /// One accepted host→IG message.

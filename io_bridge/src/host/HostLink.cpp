@@ -82,6 +82,7 @@ void HostLink::fieldStarted(std::uint64_t fieldNumber, TimePoint displayTime) no
 }
 
 void HostLink::run() noexcept {
+  if (mConfig.onThreadStart) mConfig.onThreadStart();
   pollfd fds[2] = {{mSocket, POLLIN, 0}, {mWake, POLLIN, 0}};
   while (!mStop.load()) {
     if (::poll(fds, 2, 100) < 0 && errno != EINTR) {
