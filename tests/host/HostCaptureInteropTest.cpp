@@ -6,6 +6,7 @@
 //   capture's clock and with the host frames captured before them;
 // - the IG's line-of-sight ranges agree with the host's fine march of the same terrain within one
 //   voxel, over segments that meet the ground and segments that do not.
+#include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
 
 #include <gtest/gtest.h>
@@ -36,18 +37,7 @@ using fieldcast::testing::RunResult;
 
 constexpr double kVoxelM = 2.0;  // the built-in terrain's spacing (builtin_size 512: a 1 km square)
 
-// A UDP port nobody uses now (bound, read back, released).
-std::uint16_t freePort() {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
-  socklen_t length = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &length);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
+using fieldcast::testing::freePort;
 
 bool haveTshark() { return std::system("command -v tshark >/dev/null 2>&1") == 0; }
 

@@ -6,6 +6,7 @@
 // every malformed kind the decoder counts, the other byte order, a garbage flood) and checks that
 // the fields went on and that the counters say exactly what was injected. Last, the host switches
 // databases mid-run, which must cost no field either.
+#include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
 
 #include <fieldcast/Pose.h>
@@ -68,18 +69,7 @@ Steady::duration seconds(double s) {
   return std::chrono::duration_cast<Steady::duration>(std::chrono::duration<double>(s));
 }
 
-// A UDP port nobody uses now (bound, read back, released).
-std::uint16_t freePort() {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
-  socklen_t length = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &length);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
+using fieldcast::testing::freePort;
 
 // Datagrams the kernel dropped at the 127.0.0.1:`port` socket because its receive buffer was full
 // (the last column of /proc/net/udp); nothing when no socket is bound there.
@@ -886,6 +876,21 @@ double meanDifference(const Bytes& a, const Bytes& b) {
   return sum / static_cast<double>(a.size());
 }
 
+// A still ownship's picture changed at video frame `changedAt` (a host's command took effect
+// there): steady before it and from 0.5 s after it, and another picture between the two.
+void expectPictureChangedAt(const std::vector<Bytes>& frames, std::size_t changedAt, const char* what) {
+  ASSERT_GT(changedAt, 30u);
+  ASSERT_GT(frames.size(), changedAt + 90);
+  const double steadyBefore = meanDifference(frames[changedAt - 30], frames[changedAt - 5]);
+  const double across = meanDifference(frames[changedAt - 5], frames[changedAt + 60]);
+  const double steadyAfter = meanDifference(frames[changedAt + 60], frames[changedAt + 90]);
+  std::printf("mean luma difference: %.2f before the %s, %.2f across it, %.2f after\n", steadyBefore, what, across,
+              steadyAfter);
+  EXPECT_LT(steadyBefore, 2.0);
+  EXPECT_LT(steadyAfter, 2.0);
+  EXPECT_GT(across, 3.0) << "the picture did not change at the " << what;
+}
+
 // IG Control asks for database 2 (the built-in terrain of another seed) while the ownship holds
 // still over the middle of the terrain: Start of Frame says 1, then −2 while it loads (a fresh
 // built-in terrain is generated: longer than a field), then 2; the video goes on without a
@@ -938,17 +943,7 @@ TEST_F(HostDatabaseSwitch, TheHostSwitchesDatabasesBetweenFieldsWithoutLosingOne
   // The picture: the same before the request (a still ownship), another terrain 0.5 s after the
   // switch. The video's frame k is field k when no field was missed; a missed field shifts the
   // index by one frame of the same still picture.
-  const std::vector<Bytes> frames = framesOfVideo();
-  ASSERT_GT(frames.size(), switchedAt + 40u);
-  const Bytes& before = frames[loadingFrom - 5];
-  const double steady = meanDifference(frames[loadingFrom - 35], before);
-  const double switched = meanDifference(before, frames[switchedAt + 30]);
-  const double steadyAfter = meanDifference(frames[switchedAt + 30], frames[switchedAt + 40]);
-  std::printf("mean luma difference: %.2f within database 1, %.2f across the switch, %.2f within database 2\n", steady,
-              switched, steadyAfter);
-  EXPECT_LT(steady, 2.0);
-  EXPECT_LT(steadyAfter, 2.0);
-  EXPECT_GT(switched, 3.0) << "the picture after the switch is still database 1's terrain";
+  expectPictureChangedAt(framesOfVideo(), switchedAt, "database switch");
 }
 
 // ---- A view moved by the host -------------------------------------------------------------------
@@ -1006,17 +1001,7 @@ TEST_F(HostFault, ViewControlTurnsTheEyeWithoutLosingAField) {
   EXPECT_EQ(between, 0u) << "a field whose eye looks neither along the ownship nor against it";
 
   // The picture: the log's lines and the video's frames are the emitted fields, in order.
-  const std::vector<Bytes> frames = framesOfVideo();
-  ASSERT_GT(frames.size(), turnedAt + 90);
-  ASSERT_GT(turnedAt, 30u);
-  const double steadyBefore = meanDifference(frames[turnedAt - 30], frames[turnedAt - 5]);
-  const double turned = meanDifference(frames[turnedAt - 5], frames[turnedAt + 60]);
-  const double steadyAfter = meanDifference(frames[turnedAt + 60], frames[turnedAt + 90]);
-  std::printf("mean luma difference: %.2f before the turn, %.2f across it, %.2f after\n", steadyBefore, turned,
-              steadyAfter);
-  EXPECT_LT(steadyBefore, 2.0);
-  EXPECT_LT(steadyAfter, 2.0);
-  EXPECT_GT(turned, 3.0) << "the picture did not turn";
+  expectPictureChangedAt(framesOfVideo(), turnedAt, "turn");
 }
 
 // View Definition narrows the frustum to ±10° × ±7.5° mid-run (a zoom): the video goes on without
@@ -1051,16 +1036,7 @@ TEST_F(HostFault, ViewDefinitionZoomsWithoutLosingAField) {
       std::find_if(sofs.begin(), sofs.end(), [&](const ReceivedSof& r) { return r.arrival > zoomSent; });
   ASSERT_NE(firstAfter, sofs.end());
   const std::size_t zoomedAt = firstAfter->sof.igFrameNumber;
-  const std::vector<Bytes> frames = framesOfVideo();
-  ASSERT_GT(frames.size(), zoomedAt + 90);
-  const double steadyBefore = meanDifference(frames[zoomedAt - 30], frames[zoomedAt - 5]);
-  const double zoomed = meanDifference(frames[zoomedAt - 5], frames[zoomedAt + 60]);
-  const double steadyAfter = meanDifference(frames[zoomedAt + 60], frames[zoomedAt + 90]);
-  std::printf("mean luma difference: %.2f before the zoom, %.2f across it, %.2f after\n", steadyBefore, zoomed,
-              steadyAfter);
-  EXPECT_LT(steadyBefore, 2.0);
-  EXPECT_LT(steadyAfter, 2.0);
-  EXPECT_GT(zoomed, 3.0) << "the picture did not zoom";
+  expectPictureChangedAt(framesOfVideo(), zoomedAt, "zoom");
 }
 
 // The link's thread is named and scheduled like the field thread, one priority step below it:

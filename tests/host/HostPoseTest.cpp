@@ -3,6 +3,7 @@
 // each field was warped to (the service's per-field record, metrics.field_log) must be the host's
 // flight at that field's display time: flight.poseAtSeconds((display − flight start) / 1 s), with
 // the flight start read from the host's --summary (a CLOCK_MONOTONIC instant, as the IG's are).
+#include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
 
 #include <motion/ScriptedTrajectory.h>
@@ -33,18 +34,7 @@ using fieldcast::testing::RunResult;
 constexpr double kFlightS = 20.0;
 constexpr double kFieldHz = 59.94;
 
-// A UDP port nobody uses now (bound, read back, released).
-std::uint16_t freePort() {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
-  socklen_t length = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &length);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
+using fieldcast::testing::freePort;
 
 // One line of the field record (the columns this test reads).
 struct FieldLine {

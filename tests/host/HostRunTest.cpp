@@ -1,6 +1,7 @@
 // The service driven by `fieldcast-host` over loopback CIGI, both run as a user runs them, on a
 // small built-in terrain: the host's flight moves the picture, every field has its Start of Frame,
 // the heights the IG answers are those of the terrain it draws, and the link counts what it saw.
+#include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
 
 #include <gtest/gtest.h>
@@ -23,18 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 using fieldcast::testing::RunResult;
 
-// A UDP port nobody uses now (bound, read back, released).
-std::uint16_t freePort() {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
-  socklen_t length = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &length);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
+using fieldcast::testing::freePort;
 
 RunResult runHost(const std::string& args, int timeoutS) {
   return fieldcast::testing::runProgram(FIELDCAST_HOST_EXE, args, timeoutS);
