@@ -8,6 +8,7 @@
 //   voxel, over segments that meet the ground and segments that do not.
 #include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
+#include "HostServiceConfig.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -81,15 +82,7 @@ position = [900.0, 500.0, 280.0]
     mIgPort = freePort();
     do mHostPort = freePort();
     while (mHostPort == mIgPort);
-    std::ofstream(mDir / "fieldcast.toml")
-        << "[terrain]\nsource = \"builtin\"\ncache_dir = \"" << (mDir / "cache").string()
-        << "\"\nbuiltin_size = 512\nmemory_budget_mb = 64\n"
-        << "[render]\nthreads = 2\n"
-        << "[output]\nrate = 59.94\nscan = \"progressive\"\nwidth = 320\nheight = 240\nformat = \"grey8\"\n"
-        << "[motion]\nsource = \"host\"\nstart = [500.0, 500.0, 400.0, 0.0]\n"
-        << "[host]\nport = " << mIgPort << "\n"
-        << "[metrics]\nsummary_json = \"out/summary.json\"\n"
-        << "[threads]\nrealtime_field_thread = false\n";
+    std::ofstream(mDir / "fieldcast.toml") << fieldcast::testing::hostServiceConfig(mDir, mIgPort);
   }
   void TearDown() override {
     if (!HasFailure()) fs::remove_all(mDir);

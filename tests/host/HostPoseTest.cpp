@@ -5,6 +5,7 @@
 // the flight start read from the host's --summary (a CLOCK_MONOTONIC instant, as the IG's are).
 #include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
+#include "HostServiceConfig.h"
 
 #include <motion/ScriptedTrajectory.h>
 
@@ -107,14 +108,7 @@ position = [200.0, 200.0, 300.0]
 )";
     const std::uint16_t port = freePort();
     std::ofstream(mDir / "fieldcast.toml")
-        << "[terrain]\nsource = \"builtin\"\ncache_dir = \"" << (mDir / "cache").string()
-        << "\"\nbuiltin_size = 512\nmemory_budget_mb = 64\n"
-        << "[render]\nthreads = 2\n"
-        << "[output]\nrate = 59.94\nscan = \"progressive\"\nwidth = 320\nheight = 240\nformat = \"grey8\"\n"
-        << "[motion]\nsource = \"host\"\nstart = [500.0, 500.0, 400.0, 0.0]\n"
-        << "[host]\nport = " << port << "\n"
-        << "[metrics]\nsummary_json = \"out/summary.json\"\nfield_log = \"out/fields.csv\"\n"
-        << "[threads]\nrealtime_field_thread = false\n";
+        << fieldcast::testing::hostServiceConfig(mDir, port, "", "field_log = \"out/fields.csv\"\n");
   }
   void TearDown() override {
     if (!HasFailure()) fs::remove_all(mDir);

@@ -3,6 +3,7 @@
 // the heights the IG answers are those of the terrain it draws, and the link counts what it saw.
 #include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
+#include "HostServiceConfig.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -49,16 +50,8 @@ t = 8
 position = [900.0, 500.0, 280.0]
 )";
     mPort = freePort();
-    std::ofstream(mDir / "fieldcast.toml")
-        << "[terrain]\nsource = \"builtin\"\ncache_dir = \"" << (mDir / "cache").string()
-        << "\"\nbuiltin_size = 512\nmemory_budget_mb = 64\n"
-        << "[render]\nthreads = 2\n"
-        << "[output]\nrate = 59.94\nscan = \"progressive\"\nwidth = 320\nheight = 240\nformat = \"grey8\"\n"
-        << "[motion]\nsource = \"host\"\nstart = [500.0, 500.0, 400.0, 0.0]\n"
-        << "[host]\nport = " << mPort << "\n"
-        << "[sinks.y4m]\nenabled = true\npath = \"out/video.y4m\"\n"
-        << "[metrics]\nsummary_json = \"out/summary.json\"\n"
-        << "[threads]\nrealtime_field_thread = false\n";
+    std::ofstream(mDir / "fieldcast.toml") << fieldcast::testing::hostServiceConfig(
+        mDir, mPort, "[sinks.y4m]\nenabled = true\npath = \"out/video.y4m\"\n");
   }
   void TearDown() override {
     if (!HasFailure()) fs::remove_all(mDir);
