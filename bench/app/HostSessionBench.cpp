@@ -23,6 +23,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace {
@@ -103,7 +104,7 @@ void BM_HostFrameDecodeApplyAnswer(benchmark::State& state) {
   cigi::HostDatagramDecoder decoder;
   std::vector<cigi::HostPacket> packets;
   cigi::IgMessageBuilder out;
-  std::uint64_t field = 0, answered = 0;
+  std::uint64_t field = 0;
   for (auto _ : state) {
     clock.advance(16'667us);  // one host frame at 60 Hz, and one field
     control.hostFrameNumber = static_cast<std::uint32_t>(field);
@@ -117,12 +118,16 @@ void BM_HostFrameDecodeApplyAnswer(benchmark::State& state) {
     if (!decoder.decode(message.bytes(), packets)) state.SkipWithError("datagram not accepted");
     session.onMessage(fieldcast::io::HostMessage{packets, clock.now(), false});
     session.onField(fieldcast::io::FieldAnnouncement{field++, clock.now() + 16ms}, out);
-    answered += out.bytes().size() > 24 ? 1 : 0;  // more than the Start of Frame: the answers
     benchmark::DoNotOptimize(out.bytes().data());
   }
   const fieldcast::app::HostSessionFigures figures = session.figures();
-  if (figures.ownshipUpdates != field) state.SkipWithError("not every frame was applied");
-  state.SetLabel("IG Control + Entity + Rate + HAT/HOT + LOS Segment, answered in the next Start of Frame");
+  const bool withHeight = (state.range(0) & 1) != 0, withLos = (state.range(0) & 2) != 0;
+  if (figures.ownshipUpdates != field || (withHeight && figures.hatHotAnswered != field) ||
+      (withLos && figures.losRequests != field)) {
+    state.SkipWithError("not every frame was applied and answered");
+  }
+  state.SetLabel(std::string("IG Control + Entity + Rate") + (withHeight ? " + HAT/HOT" : "") +
+                 (withLos ? (level ? " + LOS 2 km level" : " + LOS to the ground") : ""));
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
 }
 BENCHMARK(BM_HostFrameDecodeApplyAnswer)->Arg(0)->Arg(1)->Arg(3)->Arg(7);
