@@ -104,6 +104,10 @@ namespace hidlimits {
 constexpr std::uint32_t kMaxReportSizeBits = 256;  ///< one element
 constexpr std::uint32_t kMaxReportCount = 12288;   ///< elements per main item (HID_MAX_USAGES)
 constexpr std::uint32_t kMaxUsagesPerItem = 12288;
+/// Usages of all fields together. Linux bounds each field only, so a 2 KB descriptor of one-bit
+/// array items can name millions; no real device comes near this, and it keeps field indices in
+/// 16 bits.
+constexpr std::uint32_t kMaxUsagesPerDescriptor = 16384;
 constexpr std::uint32_t kMaxReportBytes = 16384;  ///< one report, ID included (HID_MAX_BUFFER_SIZE)
 constexpr std::uint32_t kMaxGlobalStack = 16;     ///< Push depth
 constexpr std::uint32_t kMaxCollectionDepth = 64;

@@ -107,13 +107,19 @@ HidInputTranslator::HidInputTranslator(HidReportDescriptor descriptor) : mDecode
   const HidReportDescriptor& d = mDecoder.descriptor();
   // Hash lookups while building: a hostile descriptor may declare tens of thousands of usages.
   std::unordered_map<Usage, int> index;
+  std::vector<int> listedInReport;  // per control: 1 + the report whose array list has it last
   for (const HidField& f : d.fields) {
     if (f.type != HidReportType::Input || f.isConstant()) continue;
     for (const Usage u : f.usages) {
       if (u == 0) continue;
       const auto [it, added] = index.emplace(u, static_cast<int>(mControls.size()));
+      if (added) listedInReport.push_back(0);
       // Array selections of each report, for releasing what a report no longer selects.
-      if (!f.isVariable()) mArrayControls[f.reportId].push_back(it->second);
+      int& listed = listedInReport[static_cast<std::size_t>(it->second)];
+      if (!f.isVariable() && listed != f.reportId + 1) {
+        mArrayControls[f.reportId].push_back(it->second);
+        listed = f.reportId + 1;
+      }
       if (!added) continue;
       ControlInfo c;
       c.usage = u;

@@ -324,6 +324,11 @@ class Parser {
     f.unit = g.unit;
     f.unitExponent = g.unitExponent;
     f.application = currentApplication();
+    const std::size_t usageCount = f.isVariable() ? f.count : mLocals.usages.size();
+    if (mUsageTotal + usageCount > hidlimits::kMaxUsagesPerDescriptor) {
+      fail("the descriptor declares more than " + std::to_string(hidlimits::kMaxUsagesPerDescriptor) + " usages");
+    }
+    mUsageTotal += usageCount;
     if (f.isVariable()) {
       // One usage per element; a short list repeats its last usage (HID 1.11 §6.2.2.8).
       f.usages.reserve(f.count);
@@ -348,6 +353,7 @@ class Parser {
   std::span<const std::uint8_t> mBytes;
   std::size_t mItemOffset = 0;
   std::size_t mFirstUnnumberedMain = kNone;
+  std::size_t mUsageTotal = 0;  // over all fields so far
   Globals mGlobals;
   std::vector<Globals> mStack;
   Locals mLocals;

@@ -337,6 +337,28 @@ TEST(HidDescriptor, MalformedDescriptorsAreRejectedWithAReason) {
   }
 }
 
+// One-byte array items, each choosing from 12,288 keys (Usage Minimum 0 .. Maximum 0x2FFF): the
+// largest item Linux accepts. `items` of them in one report.
+std::vector<std::uint8_t> wideArrayItems(int items) {
+  std::vector<std::uint8_t> d{0x05, 0x07, 0x15, 0x00, 0x26, 0xff, 0x2f, 0x75, 0x08, 0x95, 0x01};
+  for (int i = 0; i < items; ++i) d.insert(d.end(), {0x19, 0x00, 0x2a, 0xff, 0x2f, 0x81, 0x00});
+  return d;
+}
+
+TEST(HidDescriptor, UsagesOfTheWholeDescriptorAreBounded) {
+  // One such item parses (the kernel's own limit); two would name 24,576 usages in 22 bytes, and
+  // a 2 KB descriptor of them millions, so the whole descriptor is bounded too.
+  const HidReportDescriptor one = parseHidReportDescriptor(wideArrayItems(1));
+  ASSERT_EQ(one.fields.size(), 1u);
+  EXPECT_EQ(one.fields[0].usages.size(), 12288u);
+  try {
+    (void)parseHidReportDescriptor(wideArrayItems(2));
+    ADD_FAILURE() << "24,576 usages accepted";
+  } catch (const HidDescriptorError& e) {
+    EXPECT_NE(std::string(e.what()).find("more than 16384 usages"), std::string::npos) << e.what();
+  }
+}
+
 TEST(HidDescriptor, DescriptorsWithoutInputFieldsParseAsTheKernelReadsThem) {
   // Whether a device has inputs is the consumer's question, not the parser's: the kernel accepts
   // these (an unknown main tag is skipped; output-only devices exist), so the parser does too.
