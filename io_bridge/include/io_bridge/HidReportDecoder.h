@@ -93,9 +93,24 @@ class HidInputTranslator {
 
   HidReportDecoder mDecoder;
   std::vector<ControlInfo> mControls;
-  std::vector<std::pair<Usage, int>> mSorted;  // usage → control index, for binary search
-  std::vector<std::int32_t> mLast;             // last emitted value per control
-  std::vector<bool> mSeen;                     // control reported at least once
+  // Usage → control index: open addressing in a power-of-two table at most half full (usage 0,
+  // never a control, marks a free slot). Built once with no allocation per usage, since a
+  // descriptor may declare thousands; lookups on the input thread never allocate.
+  class UsageIndex {
+   public:
+    void reserve(std::size_t usages);  ///< room for this many distinct usages; empties the index
+    /// The index stored for `usage`, or `index` stored for it when it has none yet.
+    std::pair<int, bool> insert(Usage usage, int index);
+    int find(Usage usage) const noexcept;  ///< −1 when absent
+
+   private:
+    std::size_t home(Usage usage) const noexcept;
+    std::vector<std::pair<Usage, int>> mSlots;
+    int mShift = 32;
+  };
+  UsageIndex mIndex;
+  std::vector<std::int32_t> mLast;  // last emitted value per control
+  std::vector<bool> mSeen;          // control reported at least once
   std::vector<std::uint8_t> mTouched;
   std::array<std::vector<int>, 256> mArrayControls;  // per report ID: controls selected through arrays
 };

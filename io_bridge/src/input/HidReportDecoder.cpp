@@ -3,7 +3,7 @@
 #include <io_bridge/HidReportDecoder.h>
 
 #include <algorithm>
-#include <unordered_map>
+#include <bit>
 
 namespace fieldcast::io {
 
@@ -105,19 +105,20 @@ HidDecodeResult HidReportDecoder::decode(std::span<const std::uint8_t> report) n
 
 HidInputTranslator::HidInputTranslator(HidReportDescriptor descriptor) : mDecoder(std::move(descriptor)) {
   const HidReportDescriptor& d = mDecoder.descriptor();
-  // Hash lookups while building: a hostile descriptor may declare tens of thousands of usages.
-  std::unordered_map<Usage, int> index;
+  std::size_t usages = 0;
+  for (const HidField& f : d.fields) usages += f.usages.size();
+  mIndex.reserve(usages);
   std::vector<int> listedInReport;  // per control: 1 + the report whose array list has it last
   for (const HidField& f : d.fields) {
     if (f.type != HidReportType::Input || f.isConstant()) continue;
     for (const Usage u : f.usages) {
       if (u == 0) continue;
-      const auto [it, added] = index.emplace(u, static_cast<int>(mControls.size()));
+      const auto [control, added] = mIndex.insert(u, static_cast<int>(mControls.size()));
       if (added) listedInReport.push_back(0);
       // Array selections of each report, for releasing what a report no longer selects.
-      int& listed = listedInReport[static_cast<std::size_t>(it->second)];
+      int& listed = listedInReport[static_cast<std::size_t>(control)];
       if (!f.isVariable() && listed != f.reportId + 1) {
-        mArrayControls[f.reportId].push_back(it->second);
+        mArrayControls[f.reportId].push_back(control);
         listed = f.reportId + 1;
       }
       if (!added) continue;
@@ -142,16 +143,39 @@ HidInputTranslator::HidInputTranslator(HidReportDescriptor descriptor) : mDecode
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
   }
-  for (std::size_t i = 0; i < mControls.size(); ++i) mSorted.emplace_back(mControls[i].usage, static_cast<int>(i));
-  std::sort(mSorted.begin(), mSorted.end());
   mLast.assign(mControls.size(), 0);
   mSeen.assign(mControls.size(), false);
   mTouched.assign(mControls.size(), 0);
 }
 
-int HidInputTranslator::controlIndex(Usage usage) const noexcept {
-  const auto it = std::lower_bound(mSorted.begin(), mSorted.end(), std::pair<Usage, int>{usage, -1});
-  return it != mSorted.end() && it->first == usage ? it->second : -1;
+int HidInputTranslator::controlIndex(Usage usage) const noexcept { return mIndex.find(usage); }
+
+void HidInputTranslator::UsageIndex::reserve(std::size_t usages) {
+  const std::size_t slots = std::bit_ceil(std::max<std::size_t>(2 * usages, 8));
+  mShift = 32 - std::countr_zero(slots);
+  mSlots.assign(slots, {0, -1});
+}
+
+std::size_t HidInputTranslator::UsageIndex::home(Usage usage) const noexcept {
+  return (usage * 0x9E3779B1u) >> mShift;  // Fibonacci hashing: the top bits of the product
+}
+
+std::pair<int, bool> HidInputTranslator::UsageIndex::insert(Usage usage, int index) {
+  for (std::size_t i = home(usage);; i = (i + 1) & (mSlots.size() - 1)) {
+    if (mSlots[i].first == usage) return {mSlots[i].second, false};
+    if (mSlots[i].first == 0) {
+      mSlots[i] = {usage, index};
+      return {index, true};
+    }
+  }
+}
+
+int HidInputTranslator::UsageIndex::find(Usage usage) const noexcept {
+  if (mSlots.empty() || usage == 0) return -1;
+  for (std::size_t i = home(usage);; i = (i + 1) & (mSlots.size() - 1)) {
+    if (mSlots[i].first == usage) return mSlots[i].second;
+    if (mSlots[i].first == 0) return -1;
+  }
 }
 
 std::int32_t HidInputTranslator::normalise(const HidValue& v) const noexcept {
