@@ -18,6 +18,9 @@ constexpr double kSecondsPerTick = 10e-6;  // CIGI timestamps count 10 µs ticks
 // How long a height answer waits for the full-resolution tiles under it before the best resident
 // level answers: the loader reads a tile in about a millisecond, so this is only for a busy disk.
 constexpr Nanoseconds kHeightWait = std::chrono::milliseconds(100);
+// Periodic requests kept per kind (HAT/HOT, LOS): each costs a query every n-th field on the
+// link's thread, so a host cannot make that unbounded.
+constexpr std::size_t kMaxPeriodicRequests = 256;
 
 // The terrain surface the renderer draws at full resolution: bilinear between level-0 voxel centres.
 double heightOfTerrain(const core::TileCache& terrain, double x, double y) { return terrain.heightAtM(x, y, 0); }
@@ -80,6 +83,9 @@ void HostSession::onMessage(const io::HostMessage& message) {
     if (control.igMode == cigi::IgMode::ResetStandby) {
       mEntities.clear();  // a reset forgets the scene's entities; the ownship holds its last pose
       mOtherEntities.store(0, std::memory_order_relaxed);
+      mPeriodicHeights.clear();  // and the host's periodic requests
+      mPeriodicLos.clear();
+      mPeriodicRequests.store(0, std::memory_order_relaxed);
     }
   }
   if (control.extrapolationEnabled != mSmoothing) {
@@ -96,8 +102,10 @@ void HostSession::onMessage(const io::HostMessage& message) {
   const bool operate = control.igMode == cigi::IgMode::Operate;
 
   // The ownship's Entity Control and Rate Control may come in either order: collect, then apply.
+  // Requests are answered after both, so that one relative to an entity sees the message's update.
   const cigi::EntityControl* ownship = nullptr;
   const cigi::RateControl* ownshipRates = nullptr;
+  std::vector<const cigi::HostPacket*> requests;
   for (const cigi::HostPacket& packet : message.packets) {
     if (const auto* entity = std::get_if<cigi::EntityControl>(&packet)) {
       if (!operate) continue;  // CIGI: entity updates are ignored outside operate mode
@@ -110,8 +118,10 @@ void HostSession::onMessage(const io::HostMessage& message) {
       }
     } else if (const auto* rates = std::get_if<cigi::RateControl>(&packet)) {
       if (rates->entityId == 0 && !rates->applyToArticulatedPart) ownshipRates = rates;
-    } else if (const auto* request = std::get_if<cigi::HatHotRequest>(&packet)) {
-      answer(*request, message.arrival);
+    } else if (std::holds_alternative<cigi::HatHotRequest>(packet) ||
+               std::holds_alternative<cigi::LosSegmentRequest>(packet) ||
+               std::holds_alternative<cigi::LosVectorRequest>(packet)) {
+      requests.push_back(&packet);
     } else if (const auto* atmosphere = std::get_if<cigi::AtmosphereControl>(&packet)) {
       // Not an entity update: applies in every mode. CIGI's 0 is no visibility, the renderer's 0
       // no haze: hence the 1 m floor.
@@ -123,14 +133,25 @@ void HostSession::onMessage(const io::HostMessage& message) {
       if (operate) applyViewControl(*view);  // a view update: ignored outside operate, as entity updates are
     } else if (const auto* definition = std::get_if<cigi::ViewDefinition>(&packet)) {
       if (operate) applyViewDefinition(*definition);
-    } else if (const auto* segment = std::get_if<cigi::LosSegmentRequest>(&packet)) {
-      answer(*segment, message.arrival);
-    } else if (const auto* vector = std::get_if<cigi::LosVectorRequest>(&packet)) {
-      answer(*vector, message.arrival);
     }
   }
   mOtherEntities.store(mEntities.size(), std::memory_order_relaxed);
   if (ownship != nullptr) applyOwnship(*ownship, ownshipRates, hostTimeS, message.arrival, control.hostFrameNumber);
+  for (const cigi::HostPacket* packet : requests) {
+    if (const auto* request = std::get_if<cigi::HatHotRequest>(packet)) {
+      mHatHotRequests.fetch_add(1, std::memory_order_relaxed);
+      track(mPeriodicHeights, request->hatHotId, *request, request->updatePeriod);
+      answer(*request, message.arrival);
+    } else if (const auto* segment = std::get_if<cigi::LosSegmentRequest>(packet)) {
+      mLosRequests.fetch_add(1, std::memory_order_relaxed);
+      track(mPeriodicLos, segment->losId, LosRequest{*segment}, segment->updatePeriod);
+      answer(*segment, message.arrival);
+    } else if (const auto* vector = std::get_if<cigi::LosVectorRequest>(packet)) {
+      mLosRequests.fetch_add(1, std::memory_order_relaxed);
+      track(mPeriodicLos, vector->losId, LosRequest{*vector}, vector->updatePeriod);
+      answer(*vector, message.arrival);
+    }
+  }
 }
 
 bool HostSession::addressesThisView(std::uint16_t viewId, std::uint8_t groupId) const noexcept {
@@ -221,8 +242,45 @@ void HostSession::applyOwnship(const cigi::EntityControl& entity, const cigi::Ra
   mOwnshipUpdates.fetch_add(1, std::memory_order_relaxed);
 }
 
+template <class Request>
+void HostSession::track(std::map<std::uint16_t, Periodic<Request>>& table, std::uint16_t id, const Request& request,
+                        std::uint8_t updatePeriod) {
+  const auto it = table.find(id);
+  if (updatePeriod == 0) {
+    if (it != table.end()) table.erase(it);  // the same ID, answered once: the periodic request ends
+  } else if (it != table.end()) {
+    it->second = {request, updatePeriod + 1};  // the request's own answer goes with the next field
+  } else if (table.size() < kMaxPeriodicRequests) {
+    table.emplace(id, Periodic<Request>{request, updatePeriod + 1});
+  } else {
+    if (mPeriodicRefused.fetch_add(1, std::memory_order_relaxed) == 0) {
+      spdlog::warn("host: more than {} periodic requests of one kind; further ones are answered once",
+                   kMaxPeriodicRequests);
+    }
+  }
+  mPeriodicRequests.store(mPeriodicHeights.size() + mPeriodicLos.size(), std::memory_order_relaxed);
+}
+
+void HostSession::answerPeriodic(TimePoint now) {
+  for (auto& [id, periodic] : mPeriodicHeights) {
+    if (--periodic.fieldsLeft > 0) continue;
+    periodic.fieldsLeft = periodic.request.updatePeriod;
+    answer(periodic.request, now);
+    mPeriodicAnswers.fetch_add(1, std::memory_order_relaxed);
+  }
+  for (auto& [id, periodic] : mPeriodicLos) {
+    if (--periodic.fieldsLeft > 0) continue;
+    std::visit(
+        [&](const auto& request) {
+          periodic.fieldsLeft = request.updatePeriod;
+          answer(request, now);
+        },
+        periodic.request);
+    mPeriodicAnswers.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
 void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) {
-  mHatHotRequests.fetch_add(1, std::memory_order_relaxed);
   PendingHeight pending{request, std::nullopt, arrival + kHeightWait, {}};
   std::optional<glm::dvec3>& point = pending.pointM;
   point = placePoint(request.coordinateSystem, request.entityId, request.latitudeDegOrXM, request.longitudeDegOrYM,
@@ -257,7 +315,6 @@ std::optional<glm::dvec3> HostSession::placePoint(cigi::CoordinateSystem system,
 }
 
 void HostSession::answer(const cigi::LosSegmentRequest& request, TimePoint arrival) {
-  mLosRequests.fetch_add(1, std::memory_order_relaxed);
   PendingLos pending;
   pending.losId = request.losId;
   pending.extended = request.requestType == cigi::LosRequestType::Extended;
@@ -281,7 +338,6 @@ void HostSession::answer(const cigi::LosSegmentRequest& request, TimePoint arriv
 }
 
 void HostSession::answer(const cigi::LosVectorRequest& request, TimePoint arrival) {
-  mLosRequests.fetch_add(1, std::memory_order_relaxed);
   PendingLos pending;
   pending.losId = request.losId;
   pending.extended = request.requestType == cigi::LosRequestType::Extended;
@@ -440,6 +496,7 @@ bool HostSession::onField(const io::FieldAnnouncement& field, cigi::IgMessageBui
   if (mDatabases != nullptr) {
     if (std::optional<OpenDatabase> loaded = mDatabases->switchIfLoaded()) switchTo(std::move(*loaded));
   }
+  answerPeriodic(now);
   answerWaitingHeights(now);
   answerWaitingLos(now);
   cigi::StartOfFrame sof;
@@ -494,6 +551,9 @@ HostSessionFigures HostSession::figures() const noexcept {
   f.viewControlsIgnored = mViewControlsIgnored.load(std::memory_order_relaxed);
   f.viewDefinitions = mViewDefinitions.load(std::memory_order_relaxed);
   f.viewDefinitionsIgnored = mViewDefinitionsIgnored.load(std::memory_order_relaxed);
+  f.periodicRequests = mPeriodicRequests.load(std::memory_order_relaxed);
+  f.periodicAnswers = mPeriodicAnswers.load(std::memory_order_relaxed);
+  f.periodicRefused = mPeriodicRefused.load(std::memory_order_relaxed);
   return f;
 }
 

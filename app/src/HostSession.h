@@ -32,6 +32,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <variant>
 #include <vector>
 
 namespace fieldcast::app {
@@ -48,8 +49,11 @@ struct HostSessionFigures {
   std::uint64_t hatHotRequests = 0;
   std::uint64_t hatHotAnswered = 0;  ///< valid answers (inside the database)
   std::uint64_t losRequests = 0;
-  std::uint64_t losHits = 0;        ///< LOS answers that met the terrain
-  std::uint64_t otherEntities = 0;  ///< entities other than the ownship, active now
+  std::uint64_t losHits = 0;           ///< LOS answers that met the terrain
+  std::uint64_t periodicRequests = 0;  ///< HAT/HOT and LOS requests with an update period, active now
+  std::uint64_t periodicAnswers = 0;   ///< answers those requests gave after their first
+  std::uint64_t periodicRefused = 0;   ///< periodic requests answered once only: the table was full
+  std::uint64_t otherEntities = 0;     ///< entities other than the ownship, active now
   std::uint64_t modeChanges = 0;
   std::uint32_t lastHostFrame = 0;
   std::uint64_t viewControls = 0;            ///< View Controls addressed to this IG's view and applied
@@ -130,6 +134,20 @@ class HostSession final : public io::HostHandler {
   };
   void answer(const io::cigi::LosSegmentRequest& request, TimePoint arrival);
   void answer(const io::cigi::LosVectorRequest& request, TimePoint arrival);
+  // A request with an update period n > 0 is answered again every n-th field, placed anew each
+  // time (an entity-relative point follows its entity), until the host sends its ID again with
+  // period 0 or resets the IG. LOS Segment and Vector requests share one ID space, as their
+  // responses do.
+  template <class Request>
+  struct Periodic {
+    Request request;
+    int fieldsLeft = 0;
+  };
+  using LosRequest = std::variant<io::cigi::LosSegmentRequest, io::cigi::LosVectorRequest>;
+  template <class Request>
+  void track(std::map<std::uint16_t, Periodic<Request>>& table, std::uint16_t id, const Request& request,
+             std::uint8_t updatePeriod);
+  void answerPeriodic(TimePoint now);
   void queueLos(PendingLos pending);
   void answerWaitingLos(TimePoint now);
   void respond(const PendingLos& pending);
@@ -166,10 +184,12 @@ class HostSession final : public io::HostHandler {
   std::vector<PendingLos> mLosWaiting;
   std::vector<io::cigi::LosResponse> mLosDue;
   std::vector<io::cigi::LosExtendedResponse> mLosExtendedDue;
+  std::map<std::uint16_t, Periodic<io::cigi::HatHotRequest>> mPeriodicHeights;
+  std::map<std::uint16_t, Periodic<LosRequest>> mPeriodicLos;
 
   std::atomic<std::uint64_t> mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0}, mLosRequests{0}, mLosHits{0},
       mOtherEntities{0}, mModeChanges{0}, mViewControls{0}, mViewControlsIgnored{0}, mViewDefinitions{0},
-      mViewDefinitionsIgnored{0};
+      mViewDefinitionsIgnored{0}, mPeriodicRequests{0}, mPeriodicAnswers{0}, mPeriodicRefused{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
   std::atomic<double> mHazeRangeM{0.0};
 };

@@ -217,6 +217,95 @@ TEST_F(HostSessionTest, HeightAnswersAreTheLevelZeroSurface) {
   EXPECT_TRUE(only<cigi::HatHotResponse>(field(2, mClock.now())).empty());
 }
 
+// A request with an update period n is answered at once and then every n-th field, until the
+// host sends its ID with period 0 (answered once more, then never) or resets the IG.
+TEST_F(HostSessionTest, PeriodicHeightRequestsAreAnsweredEveryNthFieldUntilCancelled) {
+  const glm::dvec3 point{211.3, 187.9, 900.0};
+  cigi::HatHotRequest periodic = heightRequest(5, cigi::HatHotRequestType::HeightOfTerrain, point);
+  periodic.updatePeriod = 3;
+  send({periodic, heightRequest(6, cigi::HatHotRequestType::HeightOfTerrain, point)});  // 6: once
+  std::vector<std::uint64_t> answeredAt;
+  for (std::uint64_t n = 1; n <= 10; ++n) {
+    for (const cigi::HatHotResponse& a : only<cigi::HatHotResponse>(field(n, mClock.now()))) {
+      EXPECT_NEAR(a.heightM, level0(point.x, point.y), 1e-6);
+      if (a.hatHotId == 5) answeredAt.push_back(n);
+    }
+  }
+  EXPECT_EQ(answeredAt, (std::vector<std::uint64_t>{1, 4, 7, 10}));
+  EXPECT_EQ(mSession.figures().periodicRequests, 1u);
+  EXPECT_EQ(mSession.figures().periodicAnswers, 3u);
+
+  periodic.updatePeriod = 0;  // the same ID, once: the periodic request ends
+  send({periodic});
+  EXPECT_EQ(only<cigi::HatHotResponse>(field(11, mClock.now())).size(), 1u);
+  for (std::uint64_t n = 12; n <= 16; ++n) EXPECT_TRUE(only<cigi::HatHotResponse>(field(n, mClock.now())).empty());
+  EXPECT_EQ(mSession.figures().periodicRequests, 0u);
+
+  periodic.updatePeriod = 1;  // every field, until a reset
+  send({periodic});
+  EXPECT_EQ(only<cigi::HatHotResponse>(field(17, mClock.now())).size(), 1u);
+  EXPECT_EQ(only<cigi::HatHotResponse>(field(18, mClock.now())).size(), 1u);
+  send({}, 0.0, cigi::IgMode::ResetStandby);
+  EXPECT_TRUE(only<cigi::HatHotResponse>(field(19, mClock.now())).empty());
+  EXPECT_EQ(mSession.figures().periodicRequests, 0u);
+}
+
+// Each periodic request costs a query every n-th field on the link's thread: a host cannot keep
+// more than 256 of a kind; the next are answered once and counted.
+TEST_F(HostSessionTest, PeriodicRequestsAreBounded) {
+  std::vector<cigi::HostPacket> requests;
+  for (std::uint16_t id = 0; id < 300; ++id) {
+    cigi::HatHotRequest r = heightRequest(id, cigi::HatHotRequestType::HeightOfTerrain, {100.0 + id * 0.5, 90.0, 0.0});
+    r.updatePeriod = 1;
+    requests.push_back(r);
+  }
+  send(requests);
+  EXPECT_EQ(only<cigi::HatHotResponse>(field(1, mClock.now())).size(), 300u);  // each request's own answer
+  EXPECT_EQ(only<cigi::HatHotResponse>(field(2, mClock.now())).size(), 256u);
+  EXPECT_EQ(only<cigi::HatHotResponse>(field(3, mClock.now())).size(), 256u);
+  EXPECT_EQ(mSession.figures().periodicRequests, 256u);
+  EXPECT_EQ(mSession.figures().periodicRefused, 44u);
+}
+
+// A periodic request relative to the ownship is placed anew for every answer: its height above
+// the terrain follows the ownship as the host moves it, as a flight model's radar altimeter would.
+TEST_F(HostSessionTest, PeriodicRequestsRelativeToTheOwnshipFollowIt) {
+  const glm::dvec3 low{150.0, 250.0, level0(150.0, 250.0) + 50.0};
+  const glm::dvec3 high{180.0, 250.0, level0(180.0, 250.0) + 120.0};
+  cigi::HatHotRequest altimeter;
+  altimeter.hatHotId = 9;
+  altimeter.requestType = cigi::HatHotRequestType::HeightAboveTerrain;
+  altimeter.coordinateSystem = cigi::CoordinateSystem::Entity;
+  altimeter.entityId = 0;
+  altimeter.updatePeriod = 1;
+  cigi::LosVectorRequest down;  // straight down from the ownship, every other field
+  down.losId = 4;
+  down.sourceCoordinateSystem = cigi::CoordinateSystem::Entity;
+  down.entityId = 0;
+  down.elevationDeg = -90.0f;
+  down.maxRangeM = 1000.0f;
+  down.updatePeriod = 2;
+  send({entityAt(0, low), altimeter, down}, 1.0);
+  auto packets = field(1, mClock.now());
+  ASSERT_EQ(only<cigi::HatHotResponse>(packets).size(), 1u);
+  EXPECT_NEAR(only<cigi::HatHotResponse>(packets)[0].heightM, 50.0, 0.01);
+  ASSERT_EQ(only<cigi::LosResponse>(packets).size(), 1u);
+  EXPECT_NEAR(only<cigi::LosResponse>(packets)[0].rangeM, 50.0, 0.05);
+
+  // The host's next frame (no request in it): the periodic requests answer for the new place.
+  mClock.advance(std::chrono::milliseconds(16));
+  send({entityAt(0, high)}, 1.016);
+  packets = field(2, mClock.now());
+  ASSERT_EQ(only<cigi::HatHotResponse>(packets).size(), 1u);
+  EXPECT_NEAR(only<cigi::HatHotResponse>(packets)[0].heightM, 120.0, 0.01);
+  EXPECT_TRUE(only<cigi::LosResponse>(packets).empty());  // every other field
+  packets = field(3, mClock.now());
+  ASSERT_EQ(only<cigi::LosResponse>(packets).size(), 1u);
+  EXPECT_NEAR(only<cigi::LosResponse>(packets)[0].rangeM, 120.0, 0.05);
+  EXPECT_EQ(mSession.figures().hatHotRequests, 1u);  // requests received, not answers given
+  EXPECT_EQ(mSession.figures().losRequests, 1u);
+}
+
 TEST_F(HostSessionTest, ExtendedHeightAnswerCarriesTheNormalOfASlope) {
   // The steepest of a few candidate spots, so the normal has a meaningful azimuth.
   glm::dvec3 point{0.0, 0.0, 800.0};
