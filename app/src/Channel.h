@@ -102,6 +102,8 @@ class Channel {
   /// the configured one. The next frame renders it; the warp maps each frame's window to the
   /// output, so the fields follow with that frame.
   void setDisplay(const Intrinsics& display) noexcept { mDisplay.store(display); }
+  /// Mirrors the fields from the next one on (CIGI View Definition's mirror mode). Any thread.
+  void setMirror(warp::Mirror mirror) noexcept { mWarper->setMirror(mirror); }
   /// Starts the render thread.
   void startRendering();
   /// Renders from `terrain` from the next frame on (a database switch; any thread). The terrain

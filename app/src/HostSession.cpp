@@ -196,23 +196,28 @@ void HostSession::applyViewDefinition(const cigi::ViewDefinition& definition) {
   take(definition.topEnabled, definition.topDeg, angles.topRad);
   take(definition.bottomEnabled, definition.bottomDeg, angles.bottomRad);
   // A window around the view axis, under 80° from it on every side: what the caster's columns
-  // and the frame's margins are made for. Mirroring and orthographic views are not rendered.
+  // and the frame's margins are made for. Orthographic views are not rendered.
   const double maxRad = radians(80.0);
   const bool aroundTheAxis = angles.leftRad < 0.0 && angles.rightRad > 0.0 && angles.bottomRad < 0.0 &&
                              angles.topRad > 0.0 && -angles.leftRad < maxRad && angles.rightRad < maxRad &&
                              -angles.bottomRad < maxRad && angles.topRad < maxRad;  // false for NaN too
-  const bool supported =
-      definition.mirrorMode == cigi::MirrorMode::None && definition.projectionType == cigi::ProjectionType::Perspective;
+  const bool supported = definition.projectionType == cigi::ProjectionType::Perspective;
   if (!aroundTheAxis || !supported) {
     if (mViewDefinitionsIgnored.fetch_add(1, std::memory_order_relaxed) == 0) {
       spdlog::warn("host: View Definition ignored: {}",
                    supported ? "the view axis must lie inside the window, each side under 80° from it"
-                             : "mirrored and orthographic views are not rendered");
+                             : "orthographic views are not rendered");
     }
     return;
   }
   mFrustum = angles;
   mView.applyDisplay(Intrinsics::fromFrustum(mView.display.widthPx, mView.display.heightPx, angles));
+  // The mirror mode has no enable: every View Definition sets it.
+  if (mView.applyMirror) {
+    constexpr warp::Mirror kMirrors[] = {warp::Mirror::None, warp::Mirror::Horizontal, warp::Mirror::Vertical,
+                                         warp::Mirror::Both};
+    mView.applyMirror(kMirrors[static_cast<unsigned>(definition.mirrorMode) & 3u]);
+  }
   mViewDefinitions.fetch_add(1, std::memory_order_relaxed);
 }
 

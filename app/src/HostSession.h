@@ -22,6 +22,7 @@
 #include <ig_core/TileCache.h>
 #include <io_bridge/HostLink.h>
 #include <motion/HostMotion.h>
+#include <prp_warp/PostProcess.h>
 
 #include <glm/vec2.hpp>
 
@@ -70,6 +71,7 @@ struct HostView {
   std::function<void(const ViewOffset&)> apply;  ///< moves the channel's eye (called on the link thread)
   Intrinsics display;                            ///< the configured display window, where View Definitions start from
   std::function<void(const Intrinsics&)> applyDisplay;  ///< changes its frustum (called on the link thread)
+  std::function<void(warp::Mirror)> applyMirror;        ///< mirrors its fields (called on the link thread)
 };
 
 /// The renderer's haze range (haze covers 1 − exp(−r/R) at range r) for a meteorological

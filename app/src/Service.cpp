@@ -318,7 +318,8 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
     p.hostSession->setView(HostView{config.host.viewId, config.host.viewGroup, config.view,
                                     [&p](const ViewOffset& offset) { p.channel->setViewOffset(offset); },
                                     p.channel->settings().view.display,
-                                    [&p](const Intrinsics& display) { p.channel->setDisplay(display); }});
+                                    [&p](const Intrinsics& display) { p.channel->setDisplay(display); },
+                                    [&p](warp::Mirror mirror) { p.channel->setMirror(mirror); }});
   }
 
   const std::pair<const char*, const std::string*> gpioLines[] = {{"sync", &config.input.sync},

@@ -103,7 +103,9 @@ std::string describe(const ServiceConfig& c) {
   s.precision(3);
   s << c.sourcePath << ": output " << c.output.widthPx << "x" << c.output.heightPx << ' '
     << (c.output.scan == ScanMode::Interlaced ? "interlaced" : "progressive") << ' ' << c.output.fieldRate.hz()
-    << " Hz " << toString(c.output.pixelFormat) << "; render " << c.render.widthPx << "x" << c.render.heightPx
+    << " Hz " << toString(c.output.pixelFormat);
+  constexpr const char* kMirrors[] = {"", " mirrored left-right", " mirrored top-bottom", " mirrored both ways"};
+  s << kMirrors[static_cast<int>(c.warp.warper.mirror)] << "; render " << c.render.widthPx << "x" << c.render.heightPx
     << " fov " << c.render.hfovDeg << " deg; terrain "
     << (c.terrain.database.empty() ? "builtin" : c.terrain.database.string());
   return s.str();

@@ -569,13 +569,16 @@ TEST_F(HostSessionTest, ViewControlMovesTheChannelsEyeOnTheOwnship) {
 
 // View Definition addressed to this IG's view changes the display window's frustum: the enabled
 // half-angles replace the current ones (the configured window's, then the host's), the window's
-// size stays. A window the caster does not render (the view axis outside it, a side at 80° or
-// more, mirrored, orthographic) is ignored and counted; another view's changes nothing.
+// size stays, and its mirror mode (which has no enable) mirrors the fields. A window the caster
+// does not render (the view axis outside it, a side at 80° or more, orthographic) is ignored and
+// counted; another view's changes nothing.
 TEST_F(HostSessionTest, ViewDefinitionChangesTheDisplayFrustum) {
   const Intrinsics configured = Intrinsics::fromHorizontalFov(64, 48, radians(60.0));
   std::vector<Intrinsics> applied;
+  std::vector<warp::Mirror> mirrors;
   mSession.setView(HostView{3, 0, ViewOffset{}, [](const ViewOffset&) {}, configured,
-                            [&](const Intrinsics& display) { applied.push_back(display); }});
+                            [&](const Intrinsics& display) { applied.push_back(display); },
+                            [&](warp::Mirror mirror) { mirrors.push_back(mirror); }});
   cigi::ViewDefinition definition;
   definition.viewId = 3;
   definition.leftEnabled = definition.rightEnabled = true;
@@ -613,18 +616,30 @@ TEST_F(HostSessionTest, ViewDefinitionChangesTheDisplayFrustum) {
   cigi::ViewDefinition wide = definition;
   wide.rightEnabled = true;
   wide.rightDeg = 85.0f;
-  cigi::ViewDefinition mirrored = definition;
-  mirrored.mirrorMode = cigi::MirrorMode::Horizontal;
+  cigi::ViewDefinition orthographic = definition;
+  orthographic.projectionType = cigi::ProjectionType::Orthographic;
   cigi::ViewDefinition notANumber = definition;
   notANumber.topDeg = std::numeric_limits<float>::quiet_NaN();
-  send({offAxis, wide, mirrored, notANumber}, 1.2);
+  send({offAxis, wide, orthographic, notANumber}, 1.2);
   EXPECT_EQ(applied.size(), 2u);
   EXPECT_EQ(mSession.figures().viewDefinitionsIgnored, 4u);
   cigi::ViewDefinition another = definition;
   another.viewId = 4;
+  another.mirrorMode = cigi::MirrorMode::Vertical;
   send({another}, 1.3);
   EXPECT_EQ(applied.size(), 2u);
   EXPECT_EQ(mSession.figures().viewDefinitionsIgnored, 4u);
+
+  // Mirror modes, each definition's own.
+  EXPECT_EQ(mirrors, (std::vector<warp::Mirror>{warp::Mirror::None, warp::Mirror::None}));
+  for (const auto& [mode, mirror] : {std::pair{cigi::MirrorMode::Horizontal, warp::Mirror::Horizontal},
+                                     std::pair{cigi::MirrorMode::HorizontalAndVertical, warp::Mirror::Both},
+                                     std::pair{cigi::MirrorMode::None, warp::Mirror::None}}) {
+    definition.mirrorMode = mode;
+    send({definition}, 1.4);
+    EXPECT_EQ(mirrors.back(), mirror);
+  }
+  EXPECT_EQ(mirrors.size(), 5u);
 }
 
 // The render loop renders each frame with the display window it reads before the frame: a

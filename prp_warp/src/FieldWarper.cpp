@@ -10,7 +10,8 @@ namespace fieldcast::warp {
 FieldWarper::FieldWarper(const FieldWarperConfig& config)
     : mConfig(config),
       mWarp(makeWarp(config.warp, config.rasterWidthPx, config.rasterHeightPx)),
-      mAutoGain(config.autoGain) {
+      mAutoGain(config.autoGain),
+      mMirror(config.mirror) {
   if (config.outputFormat == PixelFormat::Uyvy422 && config.rasterWidthPx % 2 != 0) {
     throw std::invalid_argument("field warper: UYVY 4:2:2 output needs an even width, got " +
                                 std::to_string(config.rasterWidthPx));
@@ -93,8 +94,15 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
       !reshape(mWork, mConfig.rasterWidthPx, rows, workFormat, mWorkReserved))
     return black(FieldStatus::BadFrame);
 
-  // Warp to the pose at the field's own display time
-  const WarpResult r = mWarp->warp(frame, flickerFiltered(frame), pose, spec.parity, mWork);
+  // Warp to the pose at the field's own display time. Mirrored top to bottom, raster line y shows
+  // line H−1−y: of an even raster's other field, so that field's rows are warped (at this
+  // field's pose) and then reversed.
+  const Mirror mirror = mMirror.load(std::memory_order_relaxed);
+  FieldParity sampled = spec.parity;
+  if (mirrorsRows(mirror) && spec.parity != FieldParity::Progressive && mConfig.rasterHeightPx % 2 == 0) {
+    sampled = spec.parity == FieldParity::Top ? FieldParity::Bottom : FieldParity::Top;
+  }
+  const WarpResult r = mWarp->warp(frame, flickerFiltered(frame), pose, sampled, mWork);
   if (r.status != WarpStatus::Ok) return black(FieldStatus::BadFrame);
   if (r.fellBack) {
     mCounters.fitFallbacks.fetch_add(1, std::memory_order_relaxed);
@@ -105,6 +113,7 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
     mCounters.fieldsWithViolations.fetch_add(1, std::memory_order_relaxed);
   }
   out.marginViolations = r.marginViolations;
+  if (mirror != Mirror::None) mirrorInPlace(mWork, mirror);
 
   // Gain over the time since the previous field, then the output format
   const Nanoseconds elapsed =

@@ -135,6 +135,24 @@ bool convertPixels(const Image& src, Image& dst) noexcept {
   return true;
 }
 
+void mirrorInPlace(Image& image, Mirror mirror) noexcept {
+  const int w = image.widthPx(), h = image.heightPx();
+  const std::size_t pixelBytes = image.format() == PixelFormat::Rgb8 ? 3 : 1;
+  if (mirrorsColumns(mirror)) {
+    for (int y = 0; y < h; ++y) {
+      std::uint8_t* row = image.row(y);
+      for (int l = 0, r = w - 1; l < r; ++l, --r) {
+        std::swap_ranges(row + l * pixelBytes, row + (l + 1) * pixelBytes, row + r * pixelBytes);
+      }
+    }
+  }
+  if (mirrorsRows(mirror)) {
+    for (int top = 0, bottom = h - 1; top < bottom; ++top, --bottom) {
+      std::swap_ranges(image.row(top), image.row(top) + image.strideBytes(), image.row(bottom));
+    }
+  }
+}
+
 void fillBlack(Image& image) noexcept {
   if (image.format() != PixelFormat::Uyvy422) {
     std::fill(image.bytes().begin(), image.bytes().end(), std::uint8_t{0});

@@ -11,6 +11,11 @@ PrpSettings readPrpSettings(ConfigReader& t) {
                             {"range3d", WarpKind::Range3d}});
   s.warper.flickerFilter = t.boolean("flicker_filter", s.warper.flickerFilter);
   s.warper.autoGain.enabled = t.boolean("auto_gain", s.warper.autoGain.enabled);
+  s.warper.mirror = t.choice("mirror", s.warper.mirror,
+                             {{"none", Mirror::None},
+                              {"horizontal", Mirror::Horizontal},
+                              {"vertical", Mirror::Vertical},
+                              {"both", Mirror::Both}});
   // Converted only when given, so the default stays PrpSettings' own to the nanosecond.
   if (t.has("lead_ms")) s.lead = fromSeconds(t.number("lead_ms", toSeconds(s.lead) * 1e3, 0.5, 100.0) * 1e-3);
   t.finish();

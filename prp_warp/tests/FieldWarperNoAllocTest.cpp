@@ -47,6 +47,7 @@ TEST_P(ProduceWithoutAllocating, EveryParityAndFormat) {
     cfg.outputFormat = format;
     cfg.flickerFilter = true;
     cfg.autoGain.enabled = true;
+    cfg.mirror = Mirror::Both;
     cfg.maxFrameWidthPx = 256;
     cfg.maxFrameHeightPx = 256;
     FieldWarper warper(cfg);

@@ -172,6 +172,16 @@ TEST(AppConfig, SetValuesAreLocatedOnTheCommandLine) {
       << r.output;
 }
 
+TEST(AppConfig, MirrorIsOneOfFourWords) {
+  const std::string shipped = "--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml";
+  const auto horizontal = run(shipped + " --set warp.mirror=horizontal");
+  EXPECT_EQ(horizontal.exitCode, 0) << horizontal.output;
+  EXPECT_NE(horizontal.output.find("uyvy422 mirrored left-right;"), std::string::npos) << horizontal.output;
+  const auto sideways = run(shipped + " --set warp.mirror=sideways");
+  EXPECT_EQ(sideways.exitCode, 1);
+  EXPECT_NE(sideways.output.find("warp.mirror"), std::string::npos) << sideways.output;
+}
+
 TEST(AppConfig, MalformedSetIsAnError) {
   const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml --set novalue");
   EXPECT_EQ(r.exitCode, 1);

@@ -28,6 +28,7 @@ struct FieldWarperConfig {
   int maxFrameHeightPx = 768;
   bool flickerFilter = false;
   AutoGainConfig autoGain;
+  Mirror mirror = Mirror::None;  ///< how the fields are mirrored at start (setMirror changes it)
 };
 
 /// Which field to make.
@@ -76,6 +77,9 @@ class FieldWarper {
   const FieldWarperConfig& config() const noexcept { return mConfig; }
   const Warp& warp() const noexcept { return *mWarp; }
   const FieldWarperCounters& counters() const noexcept { return mCounters; }
+  /// Mirrors the fields from the next one on. Any thread.
+  void setMirror(Mirror mirror) noexcept { mMirror.store(mirror, std::memory_order_relaxed); }
+  Mirror mirror() const noexcept { return mMirror.load(std::memory_order_relaxed); }
   /// The gain the AGC applied to the last field (1 when off).
   double gain() const noexcept { return mAutoGain.gain(); }
 
@@ -96,6 +100,7 @@ class FieldWarper {
   TimePoint mLastDisplayTime{};
   bool mHaveLast = false;
   FieldWarperCounters mCounters;
+  std::atomic<Mirror> mMirror;
 };
 
 }  // namespace fieldcast::warp

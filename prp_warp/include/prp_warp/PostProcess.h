@@ -58,6 +58,20 @@ bool flickerFilter(const Image& src, Image& dst) noexcept;
 /// averaged over each pixel pair). Returns false when the shapes or formats do not fit. RT-safe.
 bool convertPixels(const Image& src, Image& dst) noexcept;
 
+/// How the picture is mirrored on its display: a rear-view mirror, a rear-projection screen (CIGI
+/// View Definition's mirror modes).
+enum class Mirror : std::uint8_t {
+  None,
+  Horizontal,  ///< left and right swapped
+  Vertical,    ///< top and bottom swapped
+  Both,
+};
+constexpr bool mirrorsColumns(Mirror m) noexcept { return m == Mirror::Horizontal || m == Mirror::Both; }
+constexpr bool mirrorsRows(Mirror m) noexcept { return m == Mirror::Vertical || m == Mirror::Both; }
+
+/// Reverses the columns and/or the rows of `image` (Grey8 or Rgb8) in place. RT-safe.
+void mirrorInPlace(Image& image, Mirror mirror) noexcept;
+
 /// Fills `image` with black in its format (UYVY black is Y 16, Cb = Cr = 128). RT-safe.
 void fillBlack(Image& image) noexcept;
 
