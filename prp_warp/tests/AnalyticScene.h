@@ -111,6 +111,15 @@ inline Frame renderFrame(const Pose& pose, int displayW, int displayH, MarginPx 
 }
 
 /// The true field: the rows of `parity` of the raster seen from `pose`, in the frame's format.
+/// A small oblique frame of the scene (160×120 display, 16/12 px margins, 60° wide, 30° heading,
+/// 15° down from 150 m; no supersampling), rendered once: for tests of the field path that need
+/// a picture with terrain and sky, not a particular one.
+inline const Frame& obliqueFrame() {
+  static const Frame f = renderFrame(Pose{{0.0, 0.0, 150.0}, radians(30.0), radians(-15.0), 0.0}, 160, 120,
+                                     MarginPx{16, 12}, radians(60.0), PixelFormat::Rgb8, 1, true);
+  return f;
+}
+
 inline Image renderTruthField(const Frame& frame, const Pose& pose, int rasterW, int rasterH, FieldParity parity,
                               int ss = 2) {
   const OutputGeometry g = OutputGeometry::of(frame, rasterW, rasterH);

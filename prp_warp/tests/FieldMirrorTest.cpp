@@ -11,13 +11,9 @@
 namespace fieldcast::warp {
 namespace {
 
-constexpr int kW = 160, kH = 120;
+constexpr int kW = 160, kH = 120;  // test::obliqueFrame()'s display window
 
-const Frame& scene() {
-  static const Frame f = test::renderFrame(Pose{{0.0, 0.0, 150.0}, radians(30.0), radians(-15.0), 0.0}, kW, kH,
-                                           MarginPx{16, 12}, radians(60.0), PixelFormat::Rgb8, 1, true);
-  return f;
-}
+const Frame& scene() { return test::obliqueFrame(); }
 
 // The field of `parity` of the scene, warped to the frame's own pose, mirrored so.
 Image fieldOf(FieldParity parity, Mirror mirror, int rasterHeightPx = kH) {

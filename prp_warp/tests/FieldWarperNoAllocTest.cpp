@@ -28,13 +28,9 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 namespace fieldcast::warp {
 namespace {
 
-constexpr int kW = 160, kH = 120;
+constexpr int kW = 160, kH = 120;  // test::obliqueFrame()'s display window
 
-const Frame& scene() {
-  static const Frame f = test::renderFrame(Pose{{0.0, 0.0, 150.0}, radians(30.0), radians(-15.0), 0.0}, kW, kH,
-                                           MarginPx{16, 12}, radians(60.0), PixelFormat::Rgb8, 1, true);
-  return f;
-}
+const Frame& scene() { return test::obliqueFrame(); }
 
 class ProduceWithoutAllocating : public ::testing::TestWithParam<WarpKind> {};
 
