@@ -513,7 +513,12 @@ TEST_F(HostSessionTest, ViewControlMovesTheChannelsEyeOnTheOwnship) {
   ViewOffset configured;
   configured.pitchRad = radians(-10.0);
   ViewMotion eye(mOwnship, configured);
-  mSession.setView(HostView{3, 9, configured, [&](const ViewOffset& offset) { eye.setOffset(offset); }});
+  HostView view;
+  view.viewId = 3;
+  view.groupId = 9;
+  view.offset = configured;
+  view.apply = [&](const ViewOffset& offset) { eye.setOffset(offset); };
+  mSession.setView(view);
   const glm::dvec3 ownshipM{200.0, 300.0, 600.0};
   send({entityAt(0, ownshipM, 45.0f)}, 1.0);
 
