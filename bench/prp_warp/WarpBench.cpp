@@ -69,6 +69,22 @@ void BM_FastKernel(benchmark::State& state) {
 }
 BENCHMARK(BM_FastKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
+/// The depth-mesh resampling alone, through the map the mesh warp solved for the field.
+void BM_MeshKernel(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  Image out(s.rasterW, fieldRowCount(FieldParity::Bottom, s.rasterH), PixelFormat::Rgb8);
+  MeshWarp mesh(s.rasterW, s.rasterH);
+  mesh.warp(s.frame, s.fieldPose, FieldParity::Bottom, out);
+  RowScratch scratch(s.rasterW);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        resampleMeshFast(s.frame.image, mesh.lastMap(), FieldParity::Bottom, s.rasterH, out, scratch));
+    benchmark::ClobberMemory();
+  }
+  label(state, s);
+}
+BENCHMARK(BM_MeshKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
 void BM_ScalarReference(benchmark::State& state) {
   const Setup& s = setup(static_cast<int>(state.range(0)));
   Image out(s.rasterW, fieldRowCount(FieldParity::Bottom, s.rasterH), PixelFormat::Rgb8);
@@ -157,8 +173,9 @@ void BM_Warp(benchmark::State& state) {
   state.SetLabel(std::string(toString(kind)) + " " + std::to_string(s.rasterW) + " wide");
 }
 BENCHMARK(BM_Warp)
-    ->ArgsProduct({{static_cast<int>(WarpKind::Hold), static_cast<int>(WarpKind::Quadratic),
-                    static_cast<int>(WarpKind::Homography), static_cast<int>(WarpKind::Range3d)},
+    ->ArgsProduct({{static_cast<int>(WarpKind::Hold), static_cast<int>(WarpKind::Rotation),
+                    static_cast<int>(WarpKind::Quadratic), static_cast<int>(WarpKind::Homography),
+                    static_cast<int>(WarpKind::Mesh), static_cast<int>(WarpKind::Range3d)},
                    {0, 1}})
     ->Unit(benchmark::kMicrosecond);
 

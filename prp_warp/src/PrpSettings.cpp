@@ -6,8 +6,10 @@ PrpSettings readPrpSettings(ConfigReader& t) {
   PrpSettings s;
   s.warper.warp = t.choice("kind", s.warper.warp,
                            {{"hold", WarpKind::Hold},
+                            {"rotation", WarpKind::Rotation},
                             {"quadratic", WarpKind::Quadratic},
                             {"homography", WarpKind::Homography},
+                            {"mesh", WarpKind::Mesh},
                             {"range3d", WarpKind::Range3d}});
   s.warper.flickerFilter = t.boolean("flicker_filter", s.warper.flickerFilter);
   s.warper.autoGain.enabled = t.boolean("auto_gain", s.warper.autoGain.enabled);

@@ -227,8 +227,10 @@ double sampleBilinearReference(const Image& src, double x, double y, int c) noex
   return top * (1.0 - fy) + bottom * fy;
 }
 
-std::uint32_t resampleQuadraticReference(const Image& src, const QuadraticMap& map, FieldParity parity,
-                                         int rasterHeightPx, Image& dst) noexcept {
+/// The reference loop shared by every map: `map(rasterPx)` per pixel centre, double precision.
+template <typename Map>
+std::uint32_t resampleReference(const Image& src, const Map& map, FieldParity parity, int rasterHeightPx,
+                                Image& dst) noexcept {
   if (!resampleShapesValid(src, parity, rasterHeightPx, dst)) return 0;
   const int w = src.widthPx(), h = src.heightPx(), ch = channelsOf(src.format());
   std::uint32_t violations = 0;
@@ -245,6 +247,16 @@ std::uint32_t resampleQuadraticReference(const Image& src, const QuadraticMap& m
     }
   }
   return violations;
+}
+
+std::uint32_t resampleQuadraticReference(const Image& src, const QuadraticMap& map, FieldParity parity,
+                                         int rasterHeightPx, Image& dst) noexcept {
+  return resampleReference(src, map, parity, rasterHeightPx, dst);
+}
+
+std::uint32_t resampleMeshReference(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx,
+                                    Image& dst) noexcept {
+  return resampleReference(src, map, parity, rasterHeightPx, dst);
 }
 
 std::uint32_t sampleRow(const Image& src, const float* framePxX, const float* framePxY, int n, std::uint8_t* dstRow,
@@ -297,6 +309,68 @@ std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldP
       const double inv = w > 0.0 ? 1.0 / w : Homography::kNan;
       xs[i] = static_cast<float>((h[0] * u + nx0) * inv);
       ys[i] = static_cast<float>((h[3] * u + ny0) * inv);
+    }
+    return sampleRow(src, xs, ys, n, out, scratch);
+  });
+}
+
+std::uint32_t resampleMeshFast(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx, Image& dst,
+                               RowScratch& scratch) noexcept {
+  if (!resampleShapesValid(src, parity, rasterHeightPx, dst) || scratch.capacityPx() < dst.widthPx()) return 0;
+  if (map.columns() < 2 || map.rows() < 2) return 0;
+  float* xs = scratch.x();
+  float* ys = scratch.y();
+  return forEachStrip(dst, [&](int first, int n, int r, std::uint8_t* out) noexcept {
+    const double v = rasterRow(parity, r) + 0.5;
+    const int l = map.cellRow(v);
+    const double t = (v - map.nodeYPx(l)) / (map.nodeYPx(l + 1) - map.nodeYPx(l));
+    const auto tf = static_cast<float>(t);
+    // In a refined cell: the sub-row and the position within it
+    const int j = std::clamp(static_cast<int>(t * MeshMap::kSubdivision), 0, MeshMap::kSubdivision - 1);
+    const auto ts = static_cast<float>(t * MeshMap::kSubdivision - j);
+    // The map along this row at node column k: the cell row's vertical blend
+    auto blendX = [&](int k) noexcept { return map.frameX(k, l) + tf * (map.frameX(k, l + 1) - map.frameX(k, l)); };
+    auto blendY = [&](int k) noexcept { return map.frameY(k, l) + tf * (map.frameY(k, l + 1) - map.frameY(k, l)); };
+    // Pixels [i, end) of the strip from one linear function of u: (ax, ay) at raster u = leftPx,
+    // (bx, by) at rightPx
+    int i = 0;
+    auto emit = [&](int end, double leftPx, double rightPx, float ax, float ay, float bx, float by) noexcept {
+      const auto inverseWidth = static_cast<float>(1.0 / (rightPx - leftPx));
+      const float dx = (bx - ax) * inverseWidth, dy = (by - ay) * inverseWidth;
+      const auto u0 = static_cast<float>(first + 0.5 - leftPx);  // u − left of pixel i = 0
+      for (; i < end; ++i) {
+        const float du = u0 + static_cast<float>(i);
+        xs[i] = ax + dx * du;
+        ys[i] = ay + dy * du;
+      }
+    };
+    // Walk the cells the strip crosses; an unrefined cell's right node is the next one's left
+    int k = map.cellColumn(first + 0.5);
+    float leftX = blendX(k), leftY = blendY(k);
+    while (i < n) {
+      const int left = map.nodeXPx(k), right = map.nodeXPx(k + 1);
+      const float rightX = blendX(k + 1), rightY = blendY(k + 1);
+      // Pixel centres before the next node belong to this cell (the last cell takes the rest)
+      const int end = k + 2 == map.columns() ? n : std::min(n, right - first);
+      if (!map.refined(k, l)) {
+        emit(end, left, right, leftX, leftY, rightX, rightY);
+      } else {
+        for (int s = 0; s < MeshMap::kSubdivision && i < end; ++s) {
+          const double subLeft = map.subNodePx(k, l, s, j).x, subRight = map.subNodePx(k, l, s + 1, j).x;
+          auto sub = [&](float top, float bottom) noexcept { return top + ts * (bottom - top); };
+          const float ax = sub(map.subX(k, l, s, j), map.subX(k, l, s, j + 1));
+          const float ay = sub(map.subY(k, l, s, j), map.subY(k, l, s, j + 1));
+          const float bx = sub(map.subX(k, l, s + 1, j), map.subX(k, l, s + 1, j + 1));
+          const float by = sub(map.subY(k, l, s + 1, j), map.subY(k, l, s + 1, j + 1));
+          // Centres before the next sub-node: u + ½ < subRight
+          const int subEnd =
+              s + 1 == MeshMap::kSubdivision ? end : std::min(end, static_cast<int>(std::ceil(subRight - 0.5)) - first);
+          emit(std::max(subEnd, i), subLeft, subRight, ax, ay, bx, by);
+        }
+      }
+      leftX = rightX;
+      leftY = rightY;
+      ++k;
     }
     return sampleRow(src, xs, ys, n, out, scratch);
   });

@@ -8,7 +8,8 @@
 namespace fieldcast::warp {
 
 std::optional<WarpKind> warpKindFromString(std::string_view name) noexcept {
-  for (WarpKind k : {WarpKind::Hold, WarpKind::Quadratic, WarpKind::Homography, WarpKind::Range3d}) {
+  for (WarpKind k : {WarpKind::Hold, WarpKind::Quadratic, WarpKind::Homography, WarpKind::Range3d, WarpKind::Rotation,
+                     WarpKind::Mesh}) {
     if (toString(k) == name) return k;
   }
   return std::nullopt;
@@ -40,6 +41,8 @@ std::unique_ptr<Warp> makeWarp(WarpKind kind, int rasterWidthPx, int rasterHeigh
     case WarpKind::Quadratic: return std::make_unique<QuadraticWarp>(rasterWidthPx, rasterHeightPx);
     case WarpKind::Homography: return std::make_unique<HomographyWarp>(rasterWidthPx, rasterHeightPx);
     case WarpKind::Range3d: return std::make_unique<Range3dWarp>(rasterWidthPx, rasterHeightPx);
+    case WarpKind::Rotation: return std::make_unique<RotationWarp>(rasterWidthPx, rasterHeightPx);
+    case WarpKind::Mesh: return std::make_unique<MeshWarp>(rasterWidthPx, rasterHeightPx);
   }
   throw std::invalid_argument("warp: unknown kind");
 }

@@ -76,8 +76,8 @@ TEST_P(ProduceWithoutAllocating, EveryParityAndFormat) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinds, ProduceWithoutAllocating,
-                         ::testing::Values(WarpKind::Hold, WarpKind::Quadratic, WarpKind::Homography,
-                                           WarpKind::Range3d),
+                         ::testing::Values(WarpKind::Hold, WarpKind::Rotation, WarpKind::Quadratic,
+                                           WarpKind::Homography, WarpKind::Mesh, WarpKind::Range3d),
                          [](const auto& p) { return std::string(toString(p.param)); });
 
 TEST(FieldWarper, NoFrameGivesABlackFieldAndCountsIt) {

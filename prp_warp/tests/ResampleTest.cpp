@@ -116,6 +116,52 @@ TEST(Resample, HomographyKernelMatchesPerPixelReference) {
   EXPECT_EQ(v, vRef);
 }
 
+/// A mesh over a 300×200 raster into a 360×250 frame: a smooth zoom and shift with a different
+/// jitter at every node (so neighbouring cells differ, as at terrain relief), some of it
+/// outside the frame.
+MeshMap someMesh(int spacingPx, unsigned seed) {
+  MeshMap mesh(300, 200, spacingPx);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-3.0, 3.0);
+  for (int l = 0; l < mesh.rows(); ++l)
+    for (int k = 0; k < mesh.columns(); ++k) {
+      mesh.frameX(k, l) = static_cast<float>(-10.0 + 1.2 * mesh.nodeXPx(k) + jitter(rng));
+      mesh.frameY(k, l) = static_cast<float>(5.0 + 1.15 * mesh.nodeYPx(l) + 0.05 * mesh.nodeXPx(k) + jitter(rng));
+    }
+  return mesh;
+}
+
+TEST_P(FastVersusReference, MeshWithinOneGreyLevelAndSameViolations) {
+  const auto [format, parity] = GetParam();
+  const Image src = noiseImage(360, 250, format, 9);
+  RowScratch scratch(300);
+  // 16 px (the warp's default), 7 px (cells that do not divide the raster, nor the 128 px strips)
+  for (int spacing : {16, 7}) {
+    const MeshMap mesh = someMesh(spacing, 3);
+    Image fast(300, fieldRowCount(parity, 200), format), ref = fast;
+    const std::uint32_t vFast = resampleMeshFast(src, mesh, parity, 200, fast, scratch);
+    const std::uint32_t vRef = resampleMeshReference(src, mesh, parity, 200, ref);
+    EXPECT_LE(maxAbsDiff(fast, ref), 1) << spacing;
+    EXPECT_EQ(vFast, vRef) << spacing;
+    EXPECT_GT(vRef, 0u) << "the mesh reaches past the frame's left edge";
+  }
+}
+
+TEST(MeshMap, IsBilinearBetweenNodesAndExactAtThem) {
+  const MeshMap mesh = someMesh(16, 5);
+  // At a node: the node's value
+  EXPECT_NEAR(mesh({32.0, 48.0}).x, mesh.frameX(2, 3), 1e-9);
+  EXPECT_NEAR(mesh({32.0, 48.0}).y, mesh.frameY(2, 3), 1e-9);
+  // The last node column sits on the raster's edge, not past it
+  EXPECT_EQ(mesh.nodeXPx(mesh.columns() - 1), 300);
+  EXPECT_EQ(mesh.nodeYPx(mesh.rows() - 1), 200);
+  // Mid-cell: the mean of the four corners
+  const double mid = 0.25 * (mesh.frameX(2, 3) + mesh.frameX(3, 3) + mesh.frameX(2, 4) + mesh.frameX(3, 4));
+  EXPECT_NEAR(mesh({40.0, 56.0}).x, mid, 1e-5);
+  // A quarter along a cell's top edge
+  EXPECT_NEAR(mesh({36.0, 48.0}).y, 0.75 * mesh.frameY(2, 3) + 0.25 * mesh.frameY(3, 3), 1e-5);
+}
+
 TEST(Resample, RejectsMismatchedShapes) {
   const Image src = noiseImage(50, 40, PixelFormat::Grey8, 5);
   EXPECT_TRUE(resampleShapesValid(src, FieldParity::Top, 11, Image(20, 6, PixelFormat::Grey8)));

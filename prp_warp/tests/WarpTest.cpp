@@ -65,8 +65,8 @@ TEST_P(EveryWarp, RejectsBadFramesAndOutputsWithoutTouchingThem) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinds, EveryWarp,
-                         ::testing::Values(WarpKind::Hold, WarpKind::Quadratic, WarpKind::Homography,
-                                           WarpKind::Range3d),
+                         ::testing::Values(WarpKind::Hold, WarpKind::Rotation, WarpKind::Quadratic,
+                                           WarpKind::Homography, WarpKind::Mesh, WarpKind::Range3d),
                          [](const auto& p) { return std::string(toString(p.param)); });
 
 TEST(FieldRows, EachParityCarriesItsOwnRasterRowsForBothFieldOrders) {
@@ -136,8 +136,104 @@ TEST(Range3dWarp, MapFollowsTheTrueGeometryForATranslation) {
   EXPECT_FALSE(warp.sourcePx({10.5, 0.5}).has_value());  // a top-field row: not in the last field
 }
 
+TEST(MeshWarp, WithoutARangeImageFallsBackToTheQuadratic) {
+  Frame f = scene();
+  f.rangeM.clear();
+  MeshWarp warp(kW, kH);
+  Image out(kW, kH, PixelFormat::Rgb8);
+  Pose moved = kPose;
+  moved.positionM.y += 5.0;
+  const WarpResult r = warp.warp(f, moved, FieldParity::Progressive, out);
+  EXPECT_EQ(r.status, WarpStatus::Ok);
+  EXPECT_TRUE(r.fellBack);
+  EXPECT_EQ(r.fallbackReason, FallbackReason::NoRange);
+  QuadraticWarp quad(kW, kH);
+  Image expected(kW, kH, PixelFormat::Rgb8);
+  quad.warp(f, moved, FieldParity::Progressive, expected);
+  EXPECT_EQ(out, expected);
+}
+
+/// The worst distance between the mesh warp's map and the truth over raster points every 5 px
+/// (every row: the map is defined on the whole raster), below raster row `fromRow`.
+double worstMapError(const MeshWarp& warp, const Pose& fieldPose, int fromRow) {
+  const OutputGeometry g = OutputGeometry::of(scene(), kW, kH);
+  double worst = 0.0;
+  for (int y = fromRow; y < kH; y += 5)
+    for (int x = 2; x < kW - 2; x += 5) {
+      const glm::dvec2 p{x + 0.5, y + 0.5};
+      const auto got = warp.sourcePx(p);
+      const auto truth = test::trueSourcePx(scene(), fieldPose, g, p);
+      if (!got || !truth) return std::numeric_limits<double>::infinity();
+      worst = std::max(worst, glm::length(*got - *truth));
+    }
+  return worst;
+}
+
+// A translation big enough that the ground below zooms by ~1.25 (a Newton step, not the
+// rotation-only step, is what converges there), the horizon in the top cell row.
+const Pose kTranslated{kPose.positionM + glm::dvec3{20.0, 60.0, -40.0}, kPose.headingRad, kPose.pitchRad, 0.0};
+
+TEST(MeshWarp, NodesLandExactlyAndTheMapFollowsTheTrueGeometryForATranslation) {
+  MeshWarp warp(kW, kH);
+  Image out(kW, kH / 2, PixelFormat::Rgb8);
+  ASSERT_EQ(warp.warp(scene(), kTranslated, FieldParity::Bottom, out).status, WarpStatus::Ok);
+  EXPECT_EQ(warp.lastUnsolvedNodes(), 0);
+  EXPECT_EQ(warp.lastMap().refinedCells(), 0);  // refinement is off by default
+  // At the nodes the map is the truth, to the solver's tolerance (plus the range image's
+  // interpolation between pixels)
+  const OutputGeometry g = OutputGeometry::of(scene(), kW, kH);
+  const MeshMap& mesh = warp.lastMap();
+  double worstNode = 0.0;
+  for (int l = 0; l < mesh.rows(); ++l)
+    for (int k = 0; k < mesh.columns(); ++k) {
+      const glm::dvec2 q{static_cast<double>(mesh.nodeXPx(k)), static_cast<double>(mesh.nodeYPx(l))};
+      const auto truth = test::trueSourcePx(scene(), kTranslated, g, q);
+      ASSERT_TRUE(truth);
+      worstNode = std::max(worstNode, glm::length(glm::dvec2{mesh.frameX(k, l), mesh.frameY(k, l)} - *truth));
+    }
+  EXPECT_LT(worstNode, 0.06);
+  // Between the nodes, below the cell row that holds the horizon: bilinear is close
+  EXPECT_LT(worstMapError(warp, kTranslated, 16), 0.3);
+  // In that row the parallax falls off as 1/range towards the horizon: bilinear misses by a pixel
+  EXPECT_GT(worstMapError(warp, kTranslated, 0), 0.8);
+}
+
+TEST(MeshWarp, RefiningTheCellsBilinearMissesFollowsTheHorizon) {
+  MeshWarp warp(kW, kH, ResampleKernel::Fast, MeshOptions{16, 0.25});
+  Image out(kW, kH / 2, PixelFormat::Rgb8);
+  ASSERT_EQ(warp.warp(scene(), kTranslated, FieldParity::Bottom, out).status, WarpStatus::Ok);
+  const int cells = (warp.lastMap().columns() - 1) * (warp.lastMap().rows() - 1);
+  EXPECT_GT(warp.lastMap().refinedCells(), 0);
+  EXPECT_LT(warp.lastMap().refinedCells(), cells / 4);  // only where it is needed
+  EXPECT_LT(worstMapError(warp, kTranslated, 0), 0.3);
+  // The fast kernel follows the refined map like the reference
+  MeshWarp reference(kW, kH, ResampleKernel::Reference, MeshOptions{16, 0.25});
+  Image expected(kW, kH / 2, PixelFormat::Rgb8);
+  reference.warp(scene(), kTranslated, FieldParity::Bottom, expected);
+  EXPECT_LE(maxAbsDiff(out, expected), 1);
+}
+
+TEST(RotationWarp, IsExactForATurnAndBlindToATranslation) {
+  RotationWarp warp(kW, kH);
+  const OutputGeometry g = OutputGeometry::of(scene(), kW, kH);
+  Image out(kW, kH, PixelFormat::Rgb8);
+  Pose turned = kPose;
+  turned.headingRad += radians(4.0);
+  turned.rollRad = radians(10.0);
+  ASSERT_EQ(warp.warp(scene(), turned, FieldParity::Progressive, out).status, WarpStatus::Ok);
+  const glm::dvec2 p{80.5, 70.5};
+  EXPECT_NEAR(glm::length(*warp.sourcePx(p) - *test::trueSourcePx(scene(), turned, g, p)), 0.0, 1e-6);
+  // A move sideways: the ground shifts in the truth, not in the rotation-only map
+  Pose moved = kPose;
+  moved.positionM.x += 20.0;
+  warp.warp(scene(), moved, FieldParity::Progressive, out);
+  EXPECT_NEAR(glm::length(*warp.sourcePx(p) - g.framePxOf(p)), 0.0, 1e-6);
+  EXPECT_GT(glm::length(*test::trueSourcePx(scene(), moved, g, p) - g.framePxOf(p)), 3.0);
+}
+
 TEST(WarpKind, NamesRoundTrip) {
-  for (WarpKind k : {WarpKind::Hold, WarpKind::Quadratic, WarpKind::Homography, WarpKind::Range3d}) {
+  for (WarpKind k : {WarpKind::Hold, WarpKind::Rotation, WarpKind::Quadratic, WarpKind::Homography, WarpKind::Mesh,
+                     WarpKind::Range3d}) {
     EXPECT_EQ(warpKindFromString(toString(k)), k);
   }
   EXPECT_FALSE(warpKindFromString("bicubic").has_value());

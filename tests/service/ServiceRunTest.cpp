@@ -209,6 +209,24 @@ TEST_F(ServiceRun, WarmsUpBeforeTheFirstFieldAndReportsTheStartUp) {
   EXPECT_NE(r.output.find("start-up: "), std::string::npos) << r.output;
 }
 
+TEST_F(ServiceRun, TheMeshWarpGetsItsRangeImageAndShowsTheTerrain) {
+  // warp.kind = "mesh" must turn the renderer's range image on: without it every field would
+  // fall back to the quadratic (reason no_range_image).
+  const RunResult r = run("--config " + config("[warp]\nkind = \"mesh\"\n") + " --duration 2");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json s = summary();
+  EXPECT_GT(s.at("fields_emitted").get<int>(), 100) << s.dump(2);
+  EXPECT_EQ(s.at("warp_fallbacks_by_reason").at("no_range_image").get<int>(), 0) << s.dump(2);
+  EXPECT_EQ(s.at("fields_black").get<int>(), 0) << s.dump(2);
+  const std::vector<std::string> sampled = lumaFrames(10);
+  ASSERT_GE(sampled.size(), 5u);
+  for (std::size_t i = 0; i < sampled.size(); ++i) {
+    const auto [mean, deviation] = lumaStats(sampled[i]);
+    EXPECT_GT(mean, 30.0) << "frame " << i * 10 << " is (nearly) black";
+    EXPECT_GT(deviation, 12.0) << "frame " << i * 10 << " is flat (mean " << mean << ")";
+  }
+}
+
 TEST_F(ServiceRun, VisibilityDefaultsFromTheDatabaseAndTheKeyIsHonoured) {
   // The 1 km test terrain: three quarters of its extent is below the 3 km floor.
   const RunResult byExtent = run("--config " + config() + " --duration 0.5");

@@ -18,6 +18,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -135,6 +136,7 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
       double psnrSum = 0.0, psnrMin = 1e9, violations = 0.0;
       std::uint64_t fallbacks = 0;
       std::vector<double> errors;
+      std::vector<double> costsMs;
     };
     std::vector<Acc> acc(warps.size());
     double ageSumMs = 0.0;
@@ -162,7 +164,10 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
       const std::vector<glm::dvec2> checks = checkPixels(spec, tick.parity);
       Image out(spec.rasterWidthPx, fieldRowCount(tick.parity, spec.rasterHeightPx), current.image.format());
       for (std::size_t w = 0; w < warps.size(); ++w) {
+        const auto started = std::chrono::steady_clock::now();
         const warp::WarpResult r = warps[w]->warp(current, pose, tick.parity, out);
+        acc[w].costsMs.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
         if (r.status != warp::WarpStatus::Ok) throw std::runtime_error("warp failed on field " + std::to_string(k));
         const double p = psnrDb(out, truth.pixels);
         acc[w].psnrSum += p;
@@ -194,6 +199,7 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
       s.maxErrPx = acc[w].errors.empty() ? 0.0 : *std::max_element(acc[w].errors.begin(), acc[w].errors.end());
       s.violationsPerField = acc[w].violations / n;
       s.fallbacks = acc[w].fallbacks;
+      s.medianCostMs = percentile(acc[w].costsMs, 0.5);
       rr.warps.push_back(s);
     }
     results.push_back(std::move(rr));

@@ -33,8 +33,9 @@ struct EvaluationSpec {
 };
 
 /// The warps compared, in table order.
-inline constexpr std::array<warp::WarpKind, 4> kEvaluatedWarps{warp::WarpKind::Hold, warp::WarpKind::Quadratic,
-                                                               warp::WarpKind::Homography, warp::WarpKind::Range3d};
+inline constexpr std::array<warp::WarpKind, 6> kEvaluatedWarps{warp::WarpKind::Hold,      warp::WarpKind::Rotation,
+                                                               warp::WarpKind::Quadratic, warp::WarpKind::Homography,
+                                                               warp::WarpKind::Mesh,      warp::WarpKind::Range3d};
 
 /// Figures of one warp over one flight at one render rate.
 struct WarpScore {
@@ -46,6 +47,7 @@ struct WarpScore {
   double maxErrPx = 0.0;
   double violationsPerField = 0.0;  ///< margin violations (output pixels) per field
   std::uint64_t fallbacks = 0;      ///< fields where the warp fell back
+  double medianCostMs = 0.0;        ///< the warp's own time per field (one core), median over fields
 };
 
 /// One row group of the table.

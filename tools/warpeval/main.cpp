@@ -78,26 +78,26 @@ int run(int argc, char** argv) {
     all.insert(all.end(), results.begin(), results.end());
   }
 
-  std::printf("%-22s %6s %7s  %-10s %8s %8s %9s %8s %8s %10s %6s\n", "flight", "IG Hz", "age ms", "warp", "PSNR dB",
-              "min dB", "err px", "p95 px", "max px", "viol/fld", "fallbk");
+  std::printf("%-22s %6s %7s  %-10s %8s %8s %9s %8s %8s %10s %6s %8s\n", "flight", "IG Hz", "age ms", "warp", "PSNR dB",
+              "min dB", "err px", "p95 px", "max px", "viol/fld", "fallbk", "cost ms");
   for (const RateResult& r : all) {
     for (const auto& w : r.warps) {
-      std::printf("%-22s %6.1f %7.1f  %-10s %8.2f %8.2f %9.3f %8.3f %8.2f %10.1f %6llu\n", r.flight.c_str(),
+      std::printf("%-22s %6.1f %7.1f  %-10s %8.2f %8.2f %9.3f %8.3f %8.2f %10.1f %6llu %8.3f\n", r.flight.c_str(),
                   r.renderRateHz, r.meanFrameAgeMs, std::string(fieldcast::warp::toString(w.kind)).c_str(),
                   w.meanPsnrDb, w.minPsnrDb, w.meanErrPx, w.p95ErrPx, w.maxErrPx, w.violationsPerField,
-                  static_cast<unsigned long long>(w.fallbacks));
+                  static_cast<unsigned long long>(w.fallbacks), w.medianCostMs);
     }
   }
   if (!csvPath.empty()) {
     std::ofstream csv(csvPath);
     if (!csv) throw std::runtime_error(csvPath + ": cannot open for writing");
     csv << "flight,render_hz,mean_age_ms,warp,psnr_db,min_psnr_db,err_px,p95_err_px,max_err_px,violations_per_field,"
-           "fallbacks\n";
+           "fallbacks,median_cost_ms\n";
     for (const RateResult& r : all)
       for (const auto& w : r.warps)
         csv << r.flight << ',' << r.renderRateHz << ',' << r.meanFrameAgeMs << ',' << fieldcast::warp::toString(w.kind)
             << ',' << w.meanPsnrDb << ',' << w.minPsnrDb << ',' << w.meanErrPx << ',' << w.p95ErrPx << ',' << w.maxErrPx
-            << ',' << w.violationsPerField << ',' << w.fallbacks << '\n';
+            << ',' << w.violationsPerField << ',' << w.fallbacks << ',' << w.medianCostMs << '\n';
   }
   return 0;
 }

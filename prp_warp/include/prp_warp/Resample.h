@@ -8,6 +8,7 @@
 //    violation: it is counted and the sample is clamped to the nearest edge of the frame;
 //  - the source and the field image have the same pixel format (Grey8 or Rgb8).
 
+#include <prp_warp/MeshMap.h>
 #include <prp_warp/WarpMaps.h>
 
 #include <fieldcast/Field.h>
@@ -61,6 +62,17 @@ std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, F
 /// Homography resampling (one division per pixel), same sampling as the fast kernel. RT-safe.
 std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldParity parity, int rasterHeightPx,
                                  Image& dst, RowScratch& scratch) noexcept;
+
+/// Depth-mesh reference: evaluates the bilinear cell map at every pixel and interpolates in
+/// double precision. Returns the margin violations. RT-safe.
+std::uint32_t resampleMeshReference(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx,
+                                    Image& dst) noexcept;
+
+/// Depth-mesh fast kernel: per cell, one linear function of u along the row (blended once from
+/// the cell's four nodes), then the shared fixed-point sampling. Matches the reference within
+/// one grey level. Returns the margin violations. RT-safe (scratch must be wide enough).
+std::uint32_t resampleMeshFast(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx, Image& dst,
+                               RowScratch& scratch) noexcept;
 
 /// Samples `src` at the given frame pixel coordinates for one row of `n` pixels into `dstRow`
 /// (fixed-point bilinear, edge clamp). Returns the margin violations. The shared last stage of

@@ -1,7 +1,7 @@
 #pragma once
-// The common interface of the field warps (DESIGN.md §3): frame hold, quadratic, homography
-// and per-pixel 3D warp all turn (frame, pose at the field's time) into the rows of one field,
-// so their quality and cost can be compared on the same flight.
+// The common interface of the field warps (DESIGN.md §3): frame hold, rotation-only
+// reprojection, quadratic, homography, depth mesh and per-pixel 3D warp all turn (frame, pose at the field's time) into
+// the rows of one field, so their quality and cost can be compared on the same flight.
 
 #include <fieldcast/Field.h>
 #include <fieldcast/Frame.h>
@@ -23,15 +23,19 @@ enum class WarpKind : std::uint8_t {
   Quadratic,   ///< least-squares quadratic through the control points (the design's warp)
   Homography,  ///< least-squares perspective homography through the control points
   Range3d,     ///< per-pixel 3D warp of the range image (forward splat, depth test, hole fill)
+  Rotation,    ///< the rotation-only homography, every point at infinity (VR's asynchronous timewarp)
+  Mesh,        ///< depth mesh: a grid of raster nodes reprojected exactly through the range image, bilinear between
 };
 
-/// Name as written in configuration ("hold", "quadratic", "homography", "range3d").
+/// Name as written in configuration ("hold", "quadratic", "homography", "range3d", "rotation", "mesh").
 constexpr std::string_view toString(WarpKind kind) noexcept {
   switch (kind) {
     case WarpKind::Hold: return "hold";
     case WarpKind::Quadratic: return "quadratic";
     case WarpKind::Homography: return "homography";
     case WarpKind::Range3d: return "range3d";
+    case WarpKind::Rotation: return "rotation";
+    case WarpKind::Mesh: return "mesh";
   }
   return "?";
 }
@@ -46,13 +50,14 @@ enum class WarpStatus : std::uint8_t {
   BadOutput,  ///< the output image has the wrong shape or format for the field
 };
 
-/// Why a warp used its fallback (the rotation-only homography, or the quadratic for a 3D warp).
+/// Why a warp used its fallback (the rotation-only homography, or the quadratic for a warp that
+/// needs the range image).
 enum class FallbackReason : std::uint8_t {
   None,
   FewPoints,   ///< too few usable control points for the fit
   AllSky,      ///< every usable control point at infinity
   Degenerate,  ///< the points' layout left the fit rank-deficient
-  NoRange,     ///< a 3D warp was given a frame without its range image
+  NoRange,     ///< a 3D or mesh warp was given a frame without its range image
 };
 
 /// What one field's warp did.
@@ -105,7 +110,7 @@ class Warp {
 };
 
 /// True when the warp reads the frame's per-pixel range, so the renderer must produce it.
-constexpr bool needsRangeImage(WarpKind kind) noexcept { return kind == WarpKind::Range3d; }
+constexpr bool needsRangeImage(WarpKind kind) noexcept { return kind == WarpKind::Range3d || kind == WarpKind::Mesh; }
 
 /// A warp of `kind` for a raster `rasterWidthPx` × `rasterHeightPx`; all its scratch is
 /// allocated here. Throws std::invalid_argument for a raster smaller than 2 × 2.

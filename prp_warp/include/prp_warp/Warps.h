@@ -1,5 +1,5 @@
 #pragma once
-// The four field warps behind the Warp interface. Each file in src/ implements one of them.
+// The six field warps behind the Warp interface. Each file in src/ implements one of them.
 
 #include <prp_warp/OutputGeometry.h>
 #include <prp_warp/Resample.h>
@@ -72,6 +72,69 @@ class HomographyWarp final : public Warp {
   RowScratch mScratch;
   Homography mMap;
   bool mHaveMap = false;
+};
+
+/// Rotation-only reprojection: the exact map for a camera that turned but did not move, every
+/// point taken at infinity. What VR runtimes call asynchronous timewarp: the baseline a reader
+/// knows. Never falls back.
+class RotationWarp final : public Warp {
+ public:
+  RotationWarp(int rasterWidthPx, int rasterHeightPx);
+  WarpKind kind() const noexcept override { return WarpKind::Rotation; }
+  std::optional<glm::dvec2> sourcePx(glm::dvec2 rasterPx) const noexcept override;
+
+ protected:
+  WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
+                    Image& out) noexcept override;
+
+ private:
+  RowScratch mScratch;
+  std::optional<Homography> mMap;
+};
+
+/// How a MeshWarp lays its nodes.
+struct MeshOptions {
+  int spacingPx = 16;          ///< raster pixels between grid nodes
+  double refineAbovePx = 0.0;  ///< refine a cell whose centre the bilinear map misses by more (raster px); 0: never
+};
+
+/// The depth-mesh warp: a grid of raster nodes (every `spacingPx`), each solved exactly for the
+/// frame pixel whose range-image point the field's camera sees there, and the frame resampled
+/// through the bilinear map between the nodes. The streaming cost of the quadratic with the
+/// parallax of the 3D warp at the nodes. Optionally, cells the bilinear map misses at their
+/// centre (the horizon, a ridge's silhouette) are refined into sub-cells with nodes of their own.
+/// Frames without a range image fall back to the quadratic.
+class MeshWarp final : public Warp {
+ public:
+  MeshWarp(int rasterWidthPx, int rasterHeightPx, ResampleKernel kernel = ResampleKernel::Fast,
+           MeshOptions options = {});
+  WarpKind kind() const noexcept override { return WarpKind::Mesh; }
+  std::optional<glm::dvec2> sourcePx(glm::dvec2 rasterPx) const noexcept override;
+  /// The node map of the last field.
+  const MeshMap& lastMap() const noexcept { return mMap; }
+  /// Nodes of the last field with no exact solution (the raster point sees a surface the frame
+  /// did not: a disocclusion behind a ridge); each took its closest candidate.
+  int lastUnsolvedNodes() const noexcept { return mUnsolvedNodes; }
+
+ protected:
+  WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
+                    Image& out) noexcept override;
+
+ private:
+  bool solveNodes(const Frame& frame, const Pose& fieldPose, const OutputGeometry& g) noexcept;
+
+  ResampleKernel mKernel;
+  MeshOptions mOptions;
+  RowScratch mScratch;
+  MeshMap mMap;
+  QuadraticWarp mFallback;
+  bool mUsedFallback = false;
+  bool mHaveMap = false;
+  int mUnsolvedNodes = 0;
+  std::uint64_t mLastFrameNumber = 0;  // the frame the map was solved for: its nodes start the next field's
+  TimePoint mLastFramePoseTime{};
+  bool mSameFrameBefore = false;           // the last field's frame was also the one before's
+  std::vector<double> mBeforeX, mBeforeY;  // the grid's nodes one field before the map's
 };
 
 /// Post-rendering 3D warping (after Mark, McMillan & Bishop 1997): every frame pixel with a range
