@@ -17,6 +17,7 @@ build_packages=(
   libtiff-dev  # GeoTIFF tags for terrain import (ig_core)
   libproj-dev  # PROJ: geographic DEMs reprojected at import, the database georeference (ig_core)
   nlohmann-json3-dev  # the JSON run summary
+  gnuplot-nox  # the plots of fieldcast-latency's report (tools/latency)
 )
 interop_packages=(
   ffmpeg

@@ -1,7 +1,8 @@
 #pragma once
-// The warp-quality evaluation (issue 5): a scripted flight in virtual time; the IG renders frames
-// at a fixed rate with one frame period of render latency; every field is made by each warp from
-// the newest frame and compared with the ground truth rendered at the field's own pose.
+// The warp-fidelity evaluation of fieldcast-latency: a scripted flight in virtual time; the IG
+// renders frames at a fixed rate with one frame period of render latency; every field is made by
+// each warp from the newest frame and compared with the ground truth rendered at the field's own
+// pose.
 
 #include <prp_warp/Warp.h>
 
@@ -13,6 +14,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,12 +32,29 @@ struct EvaluationSpec {
   int fields = 240;       ///< fields evaluated per flight and rate
   int checkColumns = 16;  ///< held-out check pixels: a grid over the raster, off the control grid
   int checkRows = 12;
+  /// Warps whose worst field (lowest PSNR) is kept with its pictures, for the report's strips.
+  std::vector<warp::WarpKind> worstFieldWarps{warp::WarpKind::Quadratic, warp::WarpKind::Mesh};
 };
 
 /// The warps compared, in table order.
 inline constexpr std::array<warp::WarpKind, 6> kEvaluatedWarps{warp::WarpKind::Hold,      warp::WarpKind::Rotation,
                                                                warp::WarpKind::Quadratic, warp::WarpKind::Homography,
                                                                warp::WarpKind::Mesh,      warp::WarpKind::Range3d};
+
+/// One field as one warp made it.
+struct FieldScore {
+  double ageMs = 0.0;      ///< display time − the source frame's pose time
+  double psnrDb = 0.0;     ///< against the truth
+  double meanErrPx = 0.0;  ///< geometric error at the field's check pixels
+};
+
+/// The field a warp did worst on (lowest PSNR), with its pictures (the field's rows only).
+struct WorstField {
+  int field = -1;  ///< index in the evaluated fields; −1 when not kept
+  FieldScore score;
+  Image truth;
+  Image warped;
+};
 
 /// Figures of one warp over one flight at one render rate.
 struct WarpScore {
@@ -48,6 +67,8 @@ struct WarpScore {
   double violationsPerField = 0.0;  ///< margin violations (output pixels) per field
   std::uint64_t fallbacks = 0;      ///< fields where the warp fell back
   double medianCostMs = 0.0;        ///< the warp's own time per field (one core), median over fields
+  std::vector<FieldScore> fields;   ///< every field, in display order
+  WorstField worst;                 ///< kept for the warps of EvaluationSpec::worstFieldWarps
 };
 
 /// One row group of the table.
@@ -64,10 +85,15 @@ struct TruthField {
   Image pixels;  ///< the field's rows, roll applied exactly
 };
 
-/// Runs the evaluation of one flight for every rate. `progress` (may be null) gets one line per
-/// rate. Throws std::runtime_error when the flight ends before the requested fields.
+/// Progress of one flight's evaluation: steps done of the total (one per truth field rendered and
+/// one per field evaluated at each rate).
+using Progress = std::function<void(int done, int total)>;
+
+/// Runs the evaluation of one flight for every rate. Throws std::runtime_error when the flight
+/// ends before the requested fields.
 std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight, core::Renderer& renderer,
-                                       const EvaluationSpec& spec, const std::vector<double>& ratesHz);
+                                       const EvaluationSpec& spec, const std::vector<double>& ratesHz,
+                                       const Progress& progress = {});
 
 /// Minimum height above the terrain (m) along the evaluated part of the flight.
 double minimumClearanceM(const motion::ScriptedTrajectory& flight, const core::TerrainView& terrain,

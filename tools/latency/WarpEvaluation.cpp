@@ -89,7 +89,13 @@ double minimumClearanceM(const motion::ScriptedTrajectory& flight, const core::T
 }
 
 std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight, core::Renderer& renderer,
-                                       const EvaluationSpec& spec, const std::vector<double>& ratesHz) {
+                                       const EvaluationSpec& spec, const std::vector<double>& ratesHz,
+                                       const Progress& progress) {
+  const int totalSteps = spec.fields * (1 + static_cast<int>(ratesHz.size()));
+  int steps = 0;
+  auto step = [&] {
+    if (progress) progress(++steps, totalSteps);
+  };
   const Intrinsics display =
       Intrinsics::fromHorizontalFov(spec.rasterWidthPx, spec.rasterHeightPx, radians(spec.hfovDeg));
   const TimePoint tFirst{fromSeconds(spec.startS)};
@@ -123,6 +129,7 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
     warp::resampleHomography(t.frame.image, warp::rotationHomography(t.frame, pose, g), tick.parity,
                              spec.rasterHeightPx, t.pixels, scratch);
     truths.push_back(std::move(t));
+    step();
   }
 
   std::vector<RateResult> results;
@@ -137,9 +144,18 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
       std::uint64_t fallbacks = 0;
       std::vector<double> errors;
       std::vector<double> costsMs;
+      std::vector<FieldScore> fields;
+      WorstField worst;
+      bool keepWorst = false;
     };
     std::vector<Acc> acc(warps.size());
+    for (std::size_t w = 0; w < warps.size(); ++w) {
+      acc[w].keepWorst = std::find(spec.worstFieldWarps.begin(), spec.worstFieldWarps.end(), kEvaluatedWarps[w]) !=
+                         spec.worstFieldWarps.end();
+    }
     double ageSumMs = 0.0;
+    // One output image per parity, touched before the first timed warp (page faults are not the warp's)
+    std::array<Image, 3> outputs;
 
     Frame current;
     std::int64_t currentIndex = -1;
@@ -153,7 +169,8 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
             renderer.render(core::ViewRequest{flight.poseAt(start), start, display, static_cast<std::uint64_t>(j)});
         currentIndex = j;
       }
-      ageSumMs += toSeconds(tick.displayTime - current.poseTime) * 1e3;
+      const double ageMs = toSeconds(tick.displayTime - current.poseTime) * 1e3;
+      ageSumMs += ageMs;
 
       const Pose& pose = fieldPoses[k];
       const TruthField& truth = truths[k];
@@ -162,7 +179,9 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
       const warp::Homography toTruth = warp::rotationHomography(truth.frame, pose, gTruth);
       const warp::OutputGeometry gSource = warp::OutputGeometry::of(current, spec.rasterWidthPx, spec.rasterHeightPx);
       const std::vector<glm::dvec2> checks = checkPixels(spec, tick.parity);
-      Image out(spec.rasterWidthPx, fieldRowCount(tick.parity, spec.rasterHeightPx), current.image.format());
+      Image& out = outputs[static_cast<std::size_t>(tick.parity)];
+      if (out.empty())
+        out.resize(spec.rasterWidthPx, fieldRowCount(tick.parity, spec.rasterHeightPx), current.image.format());
       for (std::size_t w = 0; w < warps.size(); ++w) {
         const auto started = std::chrono::steady_clock::now();
         const warp::WarpResult r = warps[w]->warp(current, pose, tick.parity, out);
@@ -174,12 +193,27 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
         acc[w].psnrMin = std::min(acc[w].psnrMin, p);
         acc[w].violations += r.marginViolations;
         acc[w].fallbacks += r.fellBack ? 1 : 0;
+        double fieldErrSum = 0.0;
+        int fieldErrCount = 0;
         for (const glm::dvec2& c : checks) {
           const auto want = trueSourcePx(truth, pose, gSource, toTruth, current, c);
           const auto got = warps[w]->sourcePx(c);
-          if (want && got) acc[w].errors.push_back(glm::length(*got - *want));
+          if (!want || !got) continue;
+          const double e = glm::length(*got - *want);
+          acc[w].errors.push_back(e);
+          fieldErrSum += e;
+          ++fieldErrCount;
+        }
+        const FieldScore score{ageMs, p, fieldErrCount > 0 ? fieldErrSum / fieldErrCount : 0.0};
+        acc[w].fields.push_back(score);
+        if (acc[w].keepWorst && (acc[w].worst.field < 0 || p < acc[w].worst.score.psnrDb)) {
+          acc[w].worst.field = static_cast<int>(k);
+          acc[w].worst.score = score;
+          acc[w].worst.truth = truth.pixels;
+          acc[w].worst.warped = out;
         }
       }
+      step();
     }
 
     RateResult rr;
@@ -200,6 +234,8 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
       s.violationsPerField = acc[w].violations / n;
       s.fallbacks = acc[w].fallbacks;
       s.medianCostMs = percentile(acc[w].costsMs, 0.5);
+      s.fields = std::move(acc[w].fields);
+      s.worst = std::move(acc[w].worst);
       rr.warps.push_back(s);
     }
     results.push_back(std::move(rr));
