@@ -144,20 +144,6 @@ TEST(FieldLoop, AFieldThatCannotBeMadeIsCountedAndTheScheduleGoesOn) {
   EXPECT_EQ(rig.seen->numbers[1], 3u);  // no burst of late fields
 }
 
-TEST(FieldLoop, StickLatencyIsFromTheEventToTheFirstFieldThatReflectsIt) {
-  Rig rig;
-  PendingInput pending{0};
-  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics, &pending);
-  const warp::FieldTick first = rig.fieldClock->next();
-  pending.store((first.displayTime - 25ms).time_since_epoch().count());
-  loop.emit(first);
-  loop.emit(rig.fieldClock->next());  // nothing new: no second sample
-  rig.hub->stop();
-  const ServiceFigures f = rig.metrics.figures(rig.clock.now());
-  EXPECT_EQ(f.stickLatency.count, 1u);
-  EXPECT_NEAR(f.stickLatency.maxS, 0.025, 0.001);
-}
-
 TEST(FieldLoop, RunStopsAtTheLastFieldAsked) {
   Rig rig;
   FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);

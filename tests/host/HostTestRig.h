@@ -192,7 +192,7 @@ class TestHost {
     ownship.latitudeDegOrXM = where->latitudeDeg;
     ownship.longitudeDegOrYM = where->longitudeDeg;
     ownship.altitudeMOrZM = where->altitudeM;
-    ownship.yawDeg = static_cast<float>(s.pose.headingRad * 180.0 / std::numbers::pi);
+    ownship.yawDeg = static_cast<float>(s.pose.headingRad * 180.0 / std::numbers::pi + mTurnDeg.load());
     ownship.extrapolationEnabled = true;
     mMessage.add(ownship);
     cigi::RateControl rates;  // world frame: north, east, down
@@ -230,6 +230,8 @@ class TestHost {
   void requestDatabase(std::int8_t number) { mDatabase = number; }
   /// From the next frame on, the ownship stays where the flight starts, still.
   void holdStill() { mStill = true; }
+  /// From the next frame on, the ownship's heading is turned by this much (a step, no rate).
+  void turnBy(double degrees) { mTurnDeg = degrees; }
   /// From the next frame on, every frame carries this View Control.
   void sendView(const cigi::ViewControl& view) { mView = view; }
   /// From the next frame on, every frame carries this View Definition.
@@ -273,6 +275,7 @@ class TestHost {
   std::uint64_t mSent = 0;
   std::int8_t mDatabase = 0;
   bool mStill = false;
+  std::atomic<double> mTurnDeg{0.0};
   std::optional<cigi::ViewControl> mView;
   std::optional<cigi::ViewDefinition> mDefinition;
   std::atomic<bool> mStop{false};

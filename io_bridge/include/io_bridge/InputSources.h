@@ -7,6 +7,10 @@
 //   usb:class:255[:detach][:descriptor=F]    the first device with an interface of that class (panels
 //                                            not bound to usbhid); F gives the report descriptor
 //                                            when the interface has no HID descriptor
+//   hidsocket:<path>:descriptor=F            a HID device bridged over a UNIX SOCK_SEQPACKET socket at
+//                                            path: one input report per message, report descriptor
+//                                            from F (a device server, a bridge from another bus, a
+//                                            test rig); read by the hidraw source's own loop
 //   replay:<file>[:realtime]                 a recording played back
 
 #include <io_bridge/InputSource.h>

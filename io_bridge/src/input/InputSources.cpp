@@ -7,11 +7,55 @@
 #include <io_bridge/UsbHidSource.h>
 #include <io_bridge/UsbHotplug.h>
 
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 
 namespace fieldcast::io {
 
 namespace {
+
+// "hidsocket:PATH:descriptor=F" (see InputSources.h).
+struct HidSocketSpec {
+  std::string path;
+  std::vector<std::uint8_t> descriptor;
+};
+
+HidSocketSpec parseHidSocketSpec(const std::string& spec) {
+  const std::string rest = spec.substr(10);
+  const auto d = rest.find(":descriptor=");
+  if (d == std::string::npos || d == 0) {
+    throw std::runtime_error("input source \"" + spec + "\": expected hidsocket:<socket path>:descriptor=<file>");
+  }
+  HidSocketSpec s{rest.substr(0, d), readHidDescriptorFile(rest.substr(d + 12))};
+  (void)parseHidReportDescriptor(s.descriptor);  // refuse a bad file now, with its reason
+  sockaddr_un address{};
+  if (s.path.size() >= sizeof address.sun_path) {
+    throw std::runtime_error("input source \"" + spec + "\": the socket path is longer than " +
+                             std::to_string(sizeof address.sun_path - 1) + " bytes");
+  }
+  return s;
+}
+
+/// Connects to the device server's socket; throws naming the path and the reason (the stick
+/// input retries with backoff, as for an unplugged device).
+int connectHidSocket(const std::string& path) {
+  const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd < 0) throw std::runtime_error(path + ": socket: " + std::strerror(errno));
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::memcpy(address.sun_path, path.data(), path.size());
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+    const int error = errno;
+    ::close(fd);
+    throw std::runtime_error(path + ": cannot connect to the HID socket: " + std::strerror(error));
+  }
+  return fd;
+}
 
 struct UsbSpec {
   UsbDeviceSelector selector;
@@ -63,6 +107,10 @@ StickInput::SourceFactory makeSourceFactory(const std::string& spec, Clock& cloc
   if (spec.rfind("hidraw:", 0) == 0) {
     const std::string path = after(7);
     return [path] { return std::make_unique<HidrawSource>(path); };
+  }
+  if (spec.rfind("hidsocket:", 0) == 0) {
+    const HidSocketSpec hid = parseHidSocketSpec(spec);
+    return [hid] { return std::make_unique<HidrawSource>(connectHidSocket(hid.path), hid.descriptor, hid.path); };
   }
   if (spec.rfind("usb:", 0) == 0) {
     const UsbSpec usb = parseUsbSpec(spec);

@@ -14,7 +14,10 @@
 #include <gtest/gtest.h>
 
 #include <sys/socket.h>
+#include <sys/un.h>
 #include <unistd.h>
+
+#include <cstring>
 
 #include <cstdlib>
 #include <deque>
@@ -283,6 +286,50 @@ TEST(InputSources, NamesAreCheckedAtOnceAndDevicesWhenOpened) {
   EXPECT_TRUE(std::equal(std::begin(testdata::kTcaYokeBoeing), std::end(testdata::kTcaYokeBoeing),
                          readHidDescriptorFile(data + "tca_yoke_boeing.hex").begin()));
   EXPECT_NO_THROW((void)makeSourceFactory("replay:" + data + "saitek_roll.rec:realtime", clock)());
+}
+
+TEST(InputSources, AHidSocketIsReadLikeHidrawAndRetriedLikeAnUnpluggedDevice) {
+  VirtualClock clock;
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("hidsocket_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string descriptor = (dir / "asus.bin").string();
+  std::ofstream(descriptor, std::ios::binary)
+      .write(reinterpret_cast<const char*>(testdata::kAsusGamepad), sizeof testdata::kAsusGamepad);
+  const std::string path = (dir / "stick.sock").string();
+  const std::string spec = "hidsocket:" + path + ":descriptor=" + descriptor;
+  // The name is checked at once; the device (the server) only when opened
+  EXPECT_THROW((void)makeSourceFactory("hidsocket:" + path, clock), std::runtime_error);
+  auto factory = makeSourceFactory(spec, clock);
+  try {
+    (void)factory();
+    ADD_FAILURE() << "connected to a socket nobody listens on";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  // The device server: a listening SOCK_SEQPACKET socket, one report per message
+  const int server = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::strncpy(address.sun_path, path.c_str(), sizeof address.sun_path - 1);
+  ASSERT_EQ(::bind(server, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+  ASSERT_EQ(::listen(server, 1), 0);
+  std::unique_ptr<InputSource> source = factory();
+  const int device = ::accept(server, nullptr, nullptr);
+  ASSERT_GE(device, 0);
+  EXPECT_EQ(source->description().transport, InputTransport::Hidraw);
+  const std::uint8_t report[] = {0x01, 0x00, 0x80, 0xff, 0x80, 0x80, 0x80, 0x00, 0x00};  // X full right
+  ASSERT_EQ(::write(device, report, sizeof report), static_cast<ssize_t>(sizeof report));
+  std::vector<InputEvent> out;
+  EXPECT_EQ(source->read(out, 100ms), ReadResult::Events);
+  std::map<Usage, std::int32_t> seen;
+  for (const InputEvent& e : out)
+    if (e.type == InputEventType::Value) seen[e.usage] = e.value;
+  EXPECT_EQ(seen[kX], 255);
+  ::close(device);  // the server goes away: the stick input's reconnect takes over
+  out.clear();
+  EXPECT_EQ(source->read(out, 100ms), ReadResult::Lost);
+  ::close(server);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(RealBackends, LibusbRefusesAnAbsentDeviceWithTheReason) {
