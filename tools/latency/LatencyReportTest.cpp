@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -38,12 +39,16 @@ FlightResults flightWithErrors(const std::vector<std::pair<double, double>>& rat
 }
 
 TEST(NeededRate, IsTheSlowestRateFromWhichEveryFasterOneStaysUnderTheLimit) {
-  EXPECT_EQ(neededRateHz(flightWithErrors({{5, 2.0}, {10, 0.9}, {30, 0.3}}), warp::WarpKind::Quadratic, 1.0), 10.0);
-  EXPECT_EQ(neededRateHz(flightWithErrors({{5, 0.5}, {10, 0.4}}), warp::WarpKind::Quadratic, 1.0), 5.0);
+  constexpr auto kExact = FieldPoses::Exact;
+  constexpr auto kQuadratic = warp::WarpKind::Quadratic;
+  EXPECT_EQ(neededRateHz(flightWithErrors({{5, 2.0}, {10, 0.9}, {30, 0.3}}), kExact, kQuadratic, 1.0), 10.0);
+  EXPECT_EQ(neededRateHz(flightWithErrors({{5, 0.5}, {10, 0.4}}), kExact, kQuadratic, 1.0), 5.0);
   // A rate that dips under the limit below one that does not is not enough
-  EXPECT_EQ(neededRateHz(flightWithErrors({{5, 0.9}, {10, 1.2}, {30, 0.3}}), warp::WarpKind::Quadratic, 1.0), 30.0);
-  EXPECT_FALSE(neededRateHz(flightWithErrors({{5, 3.0}, {60, 1.5}}), warp::WarpKind::Quadratic, 1.0).has_value());
-  EXPECT_FALSE(neededRateHz(flightWithErrors({{5, 0.1}}), warp::WarpKind::Hold, 1.0).has_value());  // not evaluated
+  EXPECT_EQ(neededRateHz(flightWithErrors({{5, 0.9}, {10, 1.2}, {30, 0.3}}), kExact, kQuadratic, 1.0), 30.0);
+  EXPECT_FALSE(neededRateHz(flightWithErrors({{5, 3.0}, {60, 1.5}}), kExact, kQuadratic, 1.0).has_value());
+  // Not evaluated: a warp, or field poses, the run did not have
+  EXPECT_FALSE(neededRateHz(flightWithErrors({{5, 0.1}}), kExact, warp::WarpKind::Hold, 1.0).has_value());
+  EXPECT_FALSE(neededRateHz(flightWithErrors({{5, 0.1}}), FieldPoses::HostPredicted, kQuadratic, 1.0).has_value());
 }
 
 std::vector<std::string> splitCsv(const std::string& line) {
@@ -82,33 +87,43 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
                           "worst_eval_turn30_quadratic.png", "worst_eval_lowpass250_mesh.png"})
     EXPECT_TRUE(isPng(dir / png)) << png;
 
-  // Every row of the table: three flights × two rates × six warps, every figure finite
+  // Every row of the table: three flights × two rates × two kinds of field pose × six warps,
+  // every figure finite
   std::ifstream csv(dir / "warps.csv");
   std::string line;
   std::getline(csv, line);
   const std::vector<std::string> header = splitCsv(line);
-  ASSERT_EQ(header.at(0), "flight");
+  auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t flightCol = column("flight"), rateCol = column("render_hz"), posesCol = column("poses"),
+                    warpCol = column("warp"), psnrCol = column("psnr_db"), errCol = column("err_px");
   int rows = 0;
-  std::map<std::string, std::map<std::string, double>> turnPsnr, turnError;  // rate → warp → figure
+  // (poses, rate) → warp → figure, on the turn
+  std::map<std::string, std::map<std::string, double>> turnPsnr, turnError;
   while (std::getline(csv, line)) {
     const std::vector<std::string> cells = splitCsv(line);
     ASSERT_EQ(cells.size(), header.size()) << line;
     for (std::size_t i = 0; i < cells.size(); ++i) {
-      if (i == 0 || i == 3) continue;  // flight and warp names
+      if (i == flightCol || i == posesCol || i == warpCol) continue;  // names
       EXPECT_TRUE(std::isfinite(std::stod(cells[i]))) << header[i] << " in " << line;
     }
-    if (cells[0] == "eval_turn30") {
-      turnPsnr[cells[1]][cells[3]] = std::stod(cells[4]);
-      turnError[cells[1]][cells[3]] = std::stod(cells[6]);
+    if (cells[flightCol] == "eval_turn30") {
+      const std::string key = cells[posesCol] + " " + cells[rateCol];
+      turnPsnr[key][cells[warpCol]] = std::stod(cells[psnrCol]);
+      turnError[key][cells[warpCol]] = std::stod(cells[errCol]);
     }
     ++rows;
   }
-  EXPECT_EQ(rows, 3 * 2 * 6);
-  ASSERT_EQ(turnPsnr.size(), 2u);
-  for (const auto& [rate, psnr] : turnPsnr) {
-    // In the banked turn a held frame lacks the whole bank; the quadratic follows it
-    EXPECT_GT(psnr.at("quadratic"), psnr.at("hold") + 10.0) << rate << " Hz";
-    EXPECT_LT(turnError[rate].at("quadratic"), 0.1 * turnError[rate].at("hold")) << rate << " Hz";
+  EXPECT_EQ(rows, 3 * 2 * 2 * 6);
+  ASSERT_EQ(turnPsnr.size(), 4u);
+  for (const auto& [key, psnr] : turnPsnr) {
+    // In the banked turn a held frame lacks the whole bank; the quadratic follows it, with the
+    // exact pose and with the pose predicted from the host's samples
+    EXPECT_GT(psnr.at("quadratic"), psnr.at("hold") + 10.0) << key;
+    EXPECT_LT(turnError[key].at("quadratic"), 0.1 * turnError[key].at("hold")) << key;
   }
 
   // The report names its command and carries its finding and its plots
@@ -117,6 +132,7 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
   EXPECT_NE(md.find("## The IG rate each warp needs"), std::string::npos);
   EXPECT_NE(md.find("| eval_lowpass250 |"), std::string::npos);
   EXPECT_NE(md.find("![PSNR against IG rate"), std::string::npos);
+  EXPECT_NE(md.find("## Pose prediction from a host"), std::string::npos);
   EXPECT_EQ(md.find("could not be drawn"), std::string::npos);
   if (!HasFailure()) {
     fs::remove_all(dir);

@@ -53,13 +53,28 @@ const WarpScore* scoreOf(const RateResult& r, warp::WarpKind kind) {
   return nullptr;
 }
 
-/// The rate whose figures stand for a flight in the cost plot: 10 Hz when evaluated, else the
-/// slowest.
-const RateResult& referenceRate(const FlightResults& f) {
+/// The exact-pose result whose figures stand for a flight in the cost plot: 10 Hz when
+/// evaluated, else the slowest rate. Null when the run had no exact poses.
+const RateResult* referenceRate(const FlightResults& f) {
+  const RateResult* slowest = nullptr;
+  for (const RateResult& r : f.rates) {
+    if (r.poses != FieldPoses::Exact) continue;
+    if (std::abs(r.renderRateHz - 10.0) < 1e-9) return &r;
+    if (slowest == nullptr || r.renderRateHz < slowest->renderRateHz) slowest = &r;
+  }
+  return slowest;
+}
+
+/// The slowest rate's result with exact poses (the worst-field strips come from it).
+const RateResult* slowestExact(const FlightResults& f) {
+  const RateResult* slowest = nullptr;
   for (const RateResult& r : f.rates)
-    if (std::abs(r.renderRateHz - 10.0) < 1e-9) return r;
-  return *std::min_element(f.rates.begin(), f.rates.end(),
-                           [](const RateResult& a, const RateResult& b) { return a.renderRateHz < b.renderRateHz; });
+    if (r.poses == FieldPoses::Exact && (slowest == nullptr || r.renderRateHz < slowest->renderRateHz)) slowest = &r;
+  return slowest;
+}
+
+bool evaluated(const ReportInput& in, FieldPoses poses) {
+  return std::find(in.spec.fieldPoses.begin(), in.spec.fieldPoses.end(), poses) != in.spec.fieldPoses.end();
 }
 
 double median(std::vector<double> v) {
@@ -79,29 +94,32 @@ double runCostMs(const ReportInput& in, warp::WarpKind kind) {
 
 void writeCsvFiles(const fs::path& dir, const ReportInput& in) {
   std::ofstream warps = openOut(dir / "warps.csv");
-  warps << "flight,render_hz,mean_age_ms,warp,psnr_db,min_psnr_db,err_px,p95_err_px,max_err_px,violations_per_field,"
-           "fallbacks,median_cost_ms\n";
+  warps << "flight,render_hz,poses,mean_age_ms,warp,psnr_db,min_psnr_db,err_px,p95_err_px,max_err_px,"
+           "violations_per_field,fallbacks,median_cost_ms\n";
   std::ofstream fields = openOut(dir / "fields.csv");
-  fields << "flight,render_hz,field,warp,age_ms,psnr_db,err_px\n";
+  fields << "flight,render_hz,poses,field,warp,age_ms,psnr_db,err_px\n";
   for (const FlightResults& f : in.flights)
     for (const RateResult& r : f.rates)
       for (const WarpScore& w : r.warps) {
-        warps << f.flight << ',' << r.renderRateHz << ',' << r.meanFrameAgeMs << ',' << name(w.kind) << ','
-              << w.meanPsnrDb << ',' << w.minPsnrDb << ',' << w.meanErrPx << ',' << w.p95ErrPx << ',' << w.maxErrPx
-              << ',' << w.violationsPerField << ',' << w.fallbacks << ',' << w.medianCostMs << '\n';
+        warps << f.flight << ',' << r.renderRateHz << ',' << toString(r.poses) << ',' << r.meanFrameAgeMs << ','
+              << name(w.kind) << ',' << w.meanPsnrDb << ',' << w.minPsnrDb << ',' << w.meanErrPx << ',' << w.p95ErrPx
+              << ',' << w.maxErrPx << ',' << w.violationsPerField << ',' << w.fallbacks << ',' << w.medianCostMs
+              << '\n';
         for (std::size_t k = 0; k < w.fields.size(); ++k) {
           const FieldScore& s = w.fields[k];
-          fields << f.flight << ',' << r.renderRateHz << ',' << k << ',' << name(w.kind) << ',' << s.ageMs << ','
-                 << s.psnrDb << ',' << s.meanErrPx << '\n';
+          fields << f.flight << ',' << r.renderRateHz << ',' << toString(r.poses) << ',' << k << ',' << name(w.kind)
+                 << ',' << s.ageMs << ',' << s.psnrDb << ',' << s.meanErrPx << '\n';
         }
       }
   std::ofstream needed = openOut(dir / "needed_rate.csv");
-  needed << "flight,warp,needed_hz\n";
+  needed << "flight,poses,warp,needed_hz\n";
   for (const FlightResults& f : in.flights)
-    for (warp::WarpKind kind : kEvaluatedWarps) {
-      const auto hz = neededRateHz(f, kind, 1.0);
-      needed << f.flight << ',' << name(kind) << ',' << (hz ? fixed(*hz, 1) : std::string("none")) << '\n';
-    }
+    for (FieldPoses poses : in.spec.fieldPoses)
+      for (warp::WarpKind kind : kEvaluatedWarps) {
+        const auto hz = neededRateHz(f, poses, kind, 1.0);
+        needed << f.flight << ',' << toString(poses) << ',' << name(kind) << ','
+               << (hz ? fixed(*hz, 1) : std::string("none")) << '\n';
+      }
 }
 
 /// gnuplot data: one block (two blank lines apart) per flight and warp, in flight-major order.
@@ -111,12 +129,13 @@ void writePlotData(const fs::path& dir, const ReportInput& in) {
   std::ofstream cost = openOut(dir / "cost.dat");
   rates << "# render_hz mean_age_ms psnr_db err_px p95_err_px median_cost_ms\n";
   fields << "# age_ms err_px psnr_db\n";
-  cost << "# median_cost_ms err_px psnr_db warp  (one block per flight, at 10 Hz or the slowest rate)\n";
+  cost << "# median_cost_ms err_px psnr_db warp  (one block per flight, exact poses, at 10 Hz or the slowest rate)\n";
+  rates << "# exact field poses only\n";
   for (const FlightResults& f : in.flights) {
     for (warp::WarpKind kind : kEvaluatedWarps) {
       for (const RateResult& r : f.rates) {
         const WarpScore* w = scoreOf(r, kind);
-        if (w == nullptr) continue;
+        if (w == nullptr || r.poses != FieldPoses::Exact) continue;
         rates << r.renderRateHz << ' ' << r.meanFrameAgeMs << ' ' << w->meanPsnrDb << ' ' << w->meanErrPx << ' '
               << w->p95ErrPx << ' ' << w->medianCostMs << '\n';
         for (const FieldScore& s : w->fields) fields << s.ageMs << ' ' << s.meanErrPx << ' ' << s.psnrDb << '\n';
@@ -124,10 +143,10 @@ void writePlotData(const fs::path& dir, const ReportInput& in) {
       rates << "\n\n";
       fields << "\n\n";
     }
-    const RateResult& r = referenceRate(f);
-    for (warp::WarpKind kind : kEvaluatedWarps)
-      if (const WarpScore* w = scoreOf(r, kind))
-        cost << w->medianCostMs << ' ' << w->meanErrPx << ' ' << w->meanPsnrDb << ' ' << name(kind) << '\n';
+    if (const RateResult* r = referenceRate(f))
+      for (warp::WarpKind kind : kEvaluatedWarps)
+        if (const WarpScore* w = scoreOf(*r, kind))
+          cost << w->medianCostMs << ' ' << w->meanErrPx << ' ' << w->meanPsnrDb << ' ' << name(kind) << '\n';
     cost << "\n\n";
   }
 }
@@ -218,9 +237,10 @@ void writeMarkdown(const fs::path& dir, const ReportInput& in, const std::option
      << " fields per flight from t = " << fixed(spec.startS, 1)
      << " s. At each IG rate R the IG starts a frame every 1/R s for the flight's pose at that "
         "instant and finishes it one period later (render latency = one frame period); every field "
-        "is made by each warp from the newest finished frame, for the flight's exact pose at the "
-        "field's display time, and compared with the truth: the same renderer's frame rendered at "
-        "that pose. PSNR is over the field's pixels; the geometric error is the distance, in frame "
+        "is made by each warp from the newest finished frame, to the field's pose (the flight's "
+        "exact pose at the field's display time, or the one predicted from host samples: *poses* "
+        "below), and compared with the truth: the same renderer's frame rendered at the exact "
+        "pose. PSNR is over the field's pixels; the geometric error is the distance, in frame "
         "pixels, between where the warp sampled and where the truth's surface point lies in the "
         "source frame, at "
      << spec.checkColumns * spec.checkRows
@@ -232,18 +252,46 @@ void writeMarkdown(const fs::path& dir, const ReportInput& in, const std::option
      << "The slowest evaluated IG rate from which every faster one keeps the mean geometric error "
         "under 1 px (from `needed_rate.csv`; evaluated rates: ";
   for (std::size_t i = 0; i < in.ratesHz.size(); ++i) md << (i ? ", " : "") << fixed(in.ratesHz[i], 0);
-  md << " Hz).\n\n| flight |";
+  md << " Hz). *exact*: each field warped to the flight's own pose at its display time (the warps "
+        "alone); *host*: to the pose the service's predictor makes from host samples (below).\n\n"
+        "| flight | poses |";
   for (warp::WarpKind kind : kEvaluatedWarps) md << ' ' << name(kind) << " |";
-  md << "\n| --- |";
+  md << "\n| --- | --- |";
   for (std::size_t i = 0; i < kEvaluatedWarps.size(); ++i) md << " ---: |";
   md << '\n';
   for (const FlightResults& f : in.flights) {
-    md << "| " << f.flight << " |";
-    for (warp::WarpKind kind : kEvaluatedWarps) {
-      const auto hz = neededRateHz(f, kind, 1.0);
-      md << ' ' << (hz ? fixed(*hz, 0) + " Hz" : "> " + fixed(in.ratesHz.back(), 0) + " Hz") << " |";
+    for (FieldPoses poses : in.spec.fieldPoses) {
+      md << "| " << f.flight << " | " << toString(poses) << " |";
+      for (warp::WarpKind kind : kEvaluatedWarps) {
+        const auto hz = neededRateHz(f, poses, kind, 1.0);
+        md << ' ' << (hz ? fixed(*hz, 0) + " Hz" : "> " + fixed(in.ratesHz.back(), 0) + " Hz") << " |";
+      }
+      md << '\n';
     }
-    md << '\n';
+  }
+
+  if (evaluated(in, FieldPoses::HostPredicted)) {
+    const HostFeed& h = spec.host;
+    md << "\n## Pose prediction from a host\n\n"
+       << "The flight sampled by a CIGI host at " << fixed(h.rateHz, 0)
+       << " Hz (Entity Control with Rate Control's rates), each datagram delayed by " << fixed(h.baseDelayMs, 1)
+       << " ms plus a uniform random " << fixed(h.jitterMs, 1) << " ms (seed " << h.seed
+       << "), received in arrival order by the service's own predictor "
+       << "(`motion::HostMotion`: host clock estimate, Hermite interpolation, extrapolation from the "
+          "newest sample's rates), asked for each field's pose "
+       << fixed(h.fieldLeadMs, 1)
+       << " ms before its display time with the samples that had arrived by then. Error of those poses "
+          "against the flight's own (every rate's fields have the same poses):\n\n"
+          "| flight | position mean m | position max m | attitude mean ° | attitude max ° |\n"
+          "| --- | ---: | ---: | ---: | ---: |\n";
+    for (const FlightResults& f : in.flights)
+      for (const RateResult& r : f.rates)
+        if (r.poses == FieldPoses::HostPredicted) {
+          md << "| " << f.flight << " | " << fixed(r.meanPoseError.positionM, 3) << " | "
+             << fixed(r.maxPoseError.positionM, 3) << " | " << fixed(r.meanPoseError.angleDeg, 4) << " | "
+             << fixed(r.maxPoseError.angleDeg, 4) << " |\n";
+          break;
+        }
   }
 
   // Cost
@@ -265,10 +313,12 @@ void writeMarkdown(const fs::path& dir, const ReportInput& in, const std::option
        << "![Geometric error against frame age, every field](error_vs_age.png)\n\n"
        << "![Cost against fidelity per warp](cost_vs_fidelity.png)\n\n";
   }
-  md << "## The worst field of each flight\n\nAt the slowest IG rate, the field with the lowest PSNR: "
-        "truth | warped | difference × 4.\n\n";
+  md << "## The worst field of each flight\n\nAt the slowest IG rate with exact poses, the field with the "
+        "lowest PSNR: truth | warped | difference × 4.\n\n";
   for (const FlightResults& f : in.flights) {
-    const RateResult& slowest = f.rates.front();
+    const RateResult* slowestPtr = slowestExact(f);
+    if (slowestPtr == nullptr) continue;
+    const RateResult& slowest = *slowestPtr;
     for (const WarpScore& w : slowest.warps) {
       if (w.worst.field < 0) continue;
       const std::string file = "worst_" + oneWord(f.flight) + "_" + name(w.kind) + ".png";
@@ -283,30 +333,33 @@ void writeMarkdown(const fs::path& dir, const ReportInput& in, const std::option
   md << "## Every flight, IG rate and warp\n\n";
   for (const FlightResults& f : in.flights) {
     md << "### " << f.flight << " (minimum terrain clearance " << fixed(f.clearanceM, 0) << " m)\n\n"
-       << "| IG Hz | age ms | warp | PSNR dB | min dB | err px | p95 px | max px | viol/field | fallbacks | cost ms |\n"
-       << "| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+       << "| IG Hz | poses | age ms | warp | PSNR dB | min dB | err px | p95 px | max px | viol/field | fallbacks | "
+          "cost "
+          "ms |\n"
+       << "| ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     for (const RateResult& r : f.rates)
       for (const WarpScore& w : r.warps)
-        md << "| " << fixed(r.renderRateHz, 0) << " | " << fixed(r.meanFrameAgeMs, 1) << " | " << name(w.kind) << " | "
-           << fixed(w.meanPsnrDb, 2) << " | " << fixed(w.minPsnrDb, 2) << " | " << fixed(w.meanErrPx, 3) << " | "
-           << fixed(w.p95ErrPx, 3) << " | " << fixed(w.maxErrPx, 2) << " | " << fixed(w.violationsPerField, 1) << " | "
-           << w.fallbacks << " | " << fixed(w.medianCostMs, 3) << " |\n";
+        md << "| " << fixed(r.renderRateHz, 0) << " | " << toString(r.poses) << " | " << fixed(r.meanFrameAgeMs, 1)
+           << " | " << name(w.kind) << " | " << fixed(w.meanPsnrDb, 2) << " | " << fixed(w.minPsnrDb, 2) << " | "
+           << fixed(w.meanErrPx, 3) << " | " << fixed(w.p95ErrPx, 3) << " | " << fixed(w.maxErrPx, 2) << " | "
+           << fixed(w.violationsPerField, 1) << " | " << w.fallbacks << " | " << fixed(w.medianCostMs, 3) << " |\n";
     md << '\n';
   }
   md << "## Files\n\n"
-     << "- `warps.csv`: the table above, one row per flight, IG rate and warp.\n"
-     << "- `fields.csv`: every field: frame age, PSNR and mean geometric error per warp.\n"
+     << "- `warps.csv`: the table above, one row per flight, IG rate, field poses and warp.\n"
+     << "- `fields.csv`: every field: frame age, PSNR and mean geometric error per warp and field poses.\n"
      << "- `needed_rate.csv`: the first table.\n"
      << "- `plots/*.dat`, `plots/gnuplot.log`: what the plots are drawn from "
-        "(`tools/latency/plots.gnuplot`).\n";
+        "(`tools/latency/plots.gnuplot`; the plots show the exact poses).\n";
 }
 
 }  // namespace
 
-std::optional<double> neededRateHz(const FlightResults& flight, warp::WarpKind kind, double limitPx) {
+std::optional<double> neededRateHz(const FlightResults& flight, FieldPoses poses, warp::WarpKind kind, double limitPx) {
   std::vector<std::pair<double, double>> byRate;  // (rate, mean error)
   for (const RateResult& r : flight.rates)
-    if (const WarpScore* w = scoreOf(r, kind)) byRate.emplace_back(r.renderRateHz, w->meanErrPx);
+    if (const WarpScore* w = scoreOf(r, kind); w != nullptr && r.poses == poses)
+      byRate.emplace_back(r.renderRateHz, w->meanErrPx);
   std::sort(byRate.begin(), byRate.end());
   std::optional<double> needed;
   for (auto it = byRate.rbegin(); it != byRate.rend() && it->second < limitPx; ++it) needed = it->first;
@@ -318,8 +371,9 @@ std::optional<std::string> writeReport(const fs::path& dir, const ReportInput& i
   writeCsvFiles(dir, input);
   writePlotData(dir / "plots", input);
   for (const FlightResults& f : input.flights) {
-    if (f.rates.empty()) continue;
-    for (const WarpScore& w : f.rates.front().warps)
+    const RateResult* slowest = slowestExact(f);
+    if (slowest == nullptr) continue;
+    for (const WarpScore& w : slowest->warps)
       if (w.worst.field >= 0)
         writeStrip(dir / ("worst_" + oneWord(f.flight) + "_" + name(w.kind) + ".png"), w.worst,
                    input.spec.scan == ScanMode::Interlaced);

@@ -15,7 +15,7 @@ namespace fieldcast::tools {
 struct FlightResults {
   std::string flight;
   double clearanceM = 0.0;        ///< minimum height above the terrain along the evaluated part
-  std::vector<RateResult> rates;  ///< in the order of ReportInput::ratesHz
+  std::vector<RateResult> rates;  ///< rate-major (ReportInput::ratesHz), each rate's field poses in the spec's order
 };
 
 /// What the report is written from.
@@ -28,10 +28,10 @@ struct ReportInput {
   double elapsedS = 0.0;
 };
 
-/// The IG rate a warp needs on a flight to keep the mean geometric error under `limitPx`: the
-/// slowest evaluated rate from which every faster evaluated rate stays under it. Nothing when
-/// even the fastest rate does not.
-std::optional<double> neededRateHz(const FlightResults& flight, warp::WarpKind kind, double limitPx);
+/// The IG rate a warp needs on a flight, with field poses `poses`, to keep the mean geometric
+/// error under `limitPx`: the slowest evaluated rate from which every faster evaluated rate stays
+/// under it. Nothing when even the fastest rate does not.
+std::optional<double> neededRateHz(const FlightResults& flight, FieldPoses poses, warp::WarpKind kind, double limitPx);
 
 /// Writes the report into `dir` (created if missing): report.md, warps.csv, fields.csv,
 /// needed_rate.csv, the worst-field strips (PNG) and the plot data. Then runs gnuplot on

@@ -91,7 +91,7 @@ double minimumClearanceM(const motion::ScriptedTrajectory& flight, const core::T
 std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight, core::Renderer& renderer,
                                        const EvaluationSpec& spec, const std::vector<double>& ratesHz,
                                        const Progress& progress) {
-  const int totalSteps = spec.fields * (1 + static_cast<int>(ratesHz.size()));
+  const int totalSteps = spec.fields * (1 + static_cast<int>(ratesHz.size()));  // truth, then each rate
   int steps = 0;
   auto step = [&] {
     if (progress) progress(++steps, totalSteps);
@@ -132,13 +132,30 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
     step();
   }
 
+  // The pose each field is warped to, per FieldPoses of the spec, and how far it is from the truth
+  const std::size_t modes = spec.fieldPoses.size();
+  std::vector<std::vector<Pose>> warpPoses(modes);
+  std::vector<PoseError> meanPoseErrors(modes), maxPoseErrors(modes);
+  for (std::size_t m = 0; m < modes; ++m) {
+    warpPoses[m] = spec.fieldPoses[m] == FieldPoses::Exact ? fieldPoses : predictedFieldPoses(flight, ticks, spec.host);
+    for (std::size_t k = 0; k < ticks.size(); ++k) {
+      const PoseError e = poseError(fieldPoses[k], warpPoses[m][k]);
+      meanPoseErrors[m].positionM += e.positionM / static_cast<double>(ticks.size());
+      meanPoseErrors[m].angleDeg += e.angleDeg / static_cast<double>(ticks.size());
+      maxPoseErrors[m].positionM = std::max(maxPoseErrors[m].positionM, e.positionM);
+      maxPoseErrors[m].angleDeg = std::max(maxPoseErrors[m].angleDeg, e.angleDeg);
+    }
+  }
+
   std::vector<RateResult> results;
   for (double rateHz : ratesHz) {
     const auto periodNs = static_cast<std::int64_t>(std::llround(1e9 / rateHz));
     const TimePoint firstFrameStart = tFirst - Nanoseconds{periodNs};
-    std::vector<std::unique_ptr<warp::Warp>> warps;
-    for (warp::WarpKind kind : kEvaluatedWarps)
-      warps.push_back(warp::makeWarp(kind, spec.rasterWidthPx, spec.rasterHeightPx));
+    // Per pose mode: its own warps (they keep state from field to field) and accumulators
+    std::vector<std::vector<std::unique_ptr<warp::Warp>>> warpsByMode(modes);
+    for (auto& warps : warpsByMode)
+      for (warp::WarpKind kind : kEvaluatedWarps)
+        warps.push_back(warp::makeWarp(kind, spec.rasterWidthPx, spec.rasterHeightPx));
     struct Acc {
       double psnrSum = 0.0, psnrMin = 1e9, violations = 0.0;
       std::uint64_t fallbacks = 0;
@@ -148,11 +165,12 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
       WorstField worst;
       bool keepWorst = false;
     };
-    std::vector<Acc> acc(warps.size());
-    for (std::size_t w = 0; w < warps.size(); ++w) {
-      acc[w].keepWorst = std::find(spec.worstFieldWarps.begin(), spec.worstFieldWarps.end(), kEvaluatedWarps[w]) !=
-                         spec.worstFieldWarps.end();
-    }
+    std::vector<std::vector<Acc>> accByMode(modes, std::vector<Acc>(kEvaluatedWarps.size()));
+    for (auto& acc : accByMode)
+      for (std::size_t w = 0; w < acc.size(); ++w) {
+        acc[w].keepWorst = std::find(spec.worstFieldWarps.begin(), spec.worstFieldWarps.end(), kEvaluatedWarps[w]) !=
+                           spec.worstFieldWarps.end();
+      }
     double ageSumMs = 0.0;
     // One output image per parity, touched before the first timed warp (page faults are not the warp's)
     std::array<Image, 3> outputs;
@@ -182,63 +200,73 @@ std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight,
       Image& out = outputs[static_cast<std::size_t>(tick.parity)];
       if (out.empty())
         out.resize(spec.rasterWidthPx, fieldRowCount(tick.parity, spec.rasterHeightPx), current.image.format());
-      for (std::size_t w = 0; w < warps.size(); ++w) {
-        const auto started = std::chrono::steady_clock::now();
-        const warp::WarpResult r = warps[w]->warp(current, pose, tick.parity, out);
-        acc[w].costsMs.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
-        if (r.status != warp::WarpStatus::Ok) throw std::runtime_error("warp failed on field " + std::to_string(k));
-        const double p = psnrDb(out, truth.pixels);
-        acc[w].psnrSum += p;
-        acc[w].psnrMin = std::min(acc[w].psnrMin, p);
-        acc[w].violations += r.marginViolations;
-        acc[w].fallbacks += r.fellBack ? 1 : 0;
-        double fieldErrSum = 0.0;
-        int fieldErrCount = 0;
-        for (const glm::dvec2& c : checks) {
-          const auto want = trueSourcePx(truth, pose, gSource, toTruth, current, c);
-          const auto got = warps[w]->sourcePx(c);
-          if (!want || !got) continue;
-          const double e = glm::length(*got - *want);
-          acc[w].errors.push_back(e);
-          fieldErrSum += e;
-          ++fieldErrCount;
-        }
-        const FieldScore score{ageMs, p, fieldErrCount > 0 ? fieldErrSum / fieldErrCount : 0.0};
-        acc[w].fields.push_back(score);
-        if (acc[w].keepWorst && (acc[w].worst.field < 0 || p < acc[w].worst.score.psnrDb)) {
-          acc[w].worst.field = static_cast<int>(k);
-          acc[w].worst.score = score;
-          acc[w].worst.truth = truth.pixels;
-          acc[w].worst.warped = out;
+      for (std::size_t m = 0; m < modes; ++m) {
+        auto& warps = warpsByMode[m];
+        auto& acc = accByMode[m];
+        for (std::size_t w = 0; w < warps.size(); ++w) {
+          const auto started = std::chrono::steady_clock::now();
+          const warp::WarpResult r = warps[w]->warp(current, warpPoses[m][k], tick.parity, out);
+          acc[w].costsMs.push_back(
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
+          if (r.status != warp::WarpStatus::Ok) throw std::runtime_error("warp failed on field " + std::to_string(k));
+          const double p = psnrDb(out, truth.pixels);
+          acc[w].psnrSum += p;
+          acc[w].psnrMin = std::min(acc[w].psnrMin, p);
+          acc[w].violations += r.marginViolations;
+          acc[w].fallbacks += r.fellBack ? 1 : 0;
+          double fieldErrSum = 0.0;
+          int fieldErrCount = 0;
+          for (const glm::dvec2& c : checks) {
+            const auto want = trueSourcePx(truth, pose, gSource, toTruth, current, c);
+            const auto got = warps[w]->sourcePx(c);
+            if (!want || !got) continue;
+            const double e = glm::length(*got - *want);
+            acc[w].errors.push_back(e);
+            fieldErrSum += e;
+            ++fieldErrCount;
+          }
+          const FieldScore score{ageMs, p, fieldErrCount > 0 ? fieldErrSum / fieldErrCount : 0.0};
+          acc[w].fields.push_back(score);
+          if (acc[w].keepWorst && (acc[w].worst.field < 0 || p < acc[w].worst.score.psnrDb)) {
+            acc[w].worst.field = static_cast<int>(k);
+            acc[w].worst.score = score;
+            acc[w].worst.truth = truth.pixels;
+            acc[w].worst.warped = out;
+          }
         }
       }
       step();
     }
 
-    RateResult rr;
-    rr.flight = flight.name();
-    rr.renderRateHz = rateHz;
-    rr.meanFrameAgeMs = ageSumMs / static_cast<double>(ticks.size());
-    for (std::size_t w = 0; w < warps.size(); ++w) {
-      WarpScore s;
-      s.kind = kEvaluatedWarps[w];
-      const auto n = static_cast<double>(ticks.size());
-      s.meanPsnrDb = acc[w].psnrSum / n;
-      s.minPsnrDb = acc[w].psnrMin;
-      double sum = 0.0;
-      for (double e : acc[w].errors) sum += e;
-      s.meanErrPx = acc[w].errors.empty() ? 0.0 : sum / static_cast<double>(acc[w].errors.size());
-      s.p95ErrPx = percentile(acc[w].errors, 0.95);
-      s.maxErrPx = acc[w].errors.empty() ? 0.0 : *std::max_element(acc[w].errors.begin(), acc[w].errors.end());
-      s.violationsPerField = acc[w].violations / n;
-      s.fallbacks = acc[w].fallbacks;
-      s.medianCostMs = percentile(acc[w].costsMs, 0.5);
-      s.fields = std::move(acc[w].fields);
-      s.worst = std::move(acc[w].worst);
-      rr.warps.push_back(s);
+    for (std::size_t m = 0; m < modes; ++m) {
+      auto& acc = accByMode[m];
+      RateResult rr;
+      rr.flight = flight.name();
+      rr.renderRateHz = rateHz;
+      rr.poses = spec.fieldPoses[m];
+      rr.meanFrameAgeMs = ageSumMs / static_cast<double>(ticks.size());
+      rr.meanPoseError = meanPoseErrors[m];
+      rr.maxPoseError = maxPoseErrors[m];
+      for (std::size_t w = 0; w < acc.size(); ++w) {
+        WarpScore s;
+        s.kind = kEvaluatedWarps[w];
+        const auto n = static_cast<double>(ticks.size());
+        s.meanPsnrDb = acc[w].psnrSum / n;
+        s.minPsnrDb = acc[w].psnrMin;
+        double sum = 0.0;
+        for (double e : acc[w].errors) sum += e;
+        s.meanErrPx = acc[w].errors.empty() ? 0.0 : sum / static_cast<double>(acc[w].errors.size());
+        s.p95ErrPx = percentile(acc[w].errors, 0.95);
+        s.maxErrPx = acc[w].errors.empty() ? 0.0 : *std::max_element(acc[w].errors.begin(), acc[w].errors.end());
+        s.violationsPerField = acc[w].violations / n;
+        s.fallbacks = acc[w].fallbacks;
+        s.medianCostMs = percentile(acc[w].costsMs, 0.5);
+        s.fields = std::move(acc[w].fields);
+        s.worst = std::move(acc[w].worst);
+        rr.warps.push_back(s);
+      }
+      results.push_back(std::move(rr));
     }
-    results.push_back(std::move(rr));
   }
   return results;
 }

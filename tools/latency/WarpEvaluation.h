@@ -4,6 +4,8 @@
 // each warp from the newest frame and compared with the ground truth rendered at the field's own
 // pose.
 
+#include "PredictedPoses.h"
+
 #include <prp_warp/Warp.h>
 
 #include <ig_core/Renderer.h>
@@ -20,6 +22,15 @@
 
 namespace fieldcast::tools {
 
+/// Where each field's pose comes from.
+enum class FieldPoses : std::uint8_t {
+  Exact,          ///< the flight's own pose at the field's display time: the warps alone are judged
+  HostPredicted,  ///< predicted from host samples (HostFeed): prediction and warp together
+};
+
+/// Name in tables and files ("exact", "host").
+constexpr const char* toString(FieldPoses p) noexcept { return p == FieldPoses::Exact ? "exact" : "host"; }
+
 /// What to evaluate.
 struct EvaluationSpec {
   int rasterWidthPx = 360;  ///< output raster = display window rendered by the IG
@@ -34,6 +45,9 @@ struct EvaluationSpec {
   int checkRows = 12;
   /// Warps whose worst field (lowest PSNR) is kept with its pictures, for the report's strips.
   std::vector<warp::WarpKind> worstFieldWarps{warp::WarpKind::Quadratic, warp::WarpKind::Mesh};
+  /// The field poses evaluated, each against the same frames and truth.
+  std::vector<FieldPoses> fieldPoses{FieldPoses::Exact};
+  HostFeed host;  ///< for FieldPoses::HostPredicted
 };
 
 /// The warps compared, in table order.
@@ -75,7 +89,10 @@ struct WarpScore {
 struct RateResult {
   std::string flight;
   double renderRateHz = 0.0;
-  double meanFrameAgeMs = 0.0;   ///< display time − frame pose time, mean over fields
+  FieldPoses poses = FieldPoses::Exact;
+  double meanFrameAgeMs = 0.0;  ///< display time − frame pose time, mean over fields
+  PoseError meanPoseError;      ///< the field poses against the flight's (zero when exact)
+  PoseError maxPoseError;
   std::vector<WarpScore> warps;  ///< in kEvaluatedWarps order
 };
 
@@ -89,8 +106,9 @@ struct TruthField {
 /// one per field evaluated at each rate).
 using Progress = std::function<void(int done, int total)>;
 
-/// Runs the evaluation of one flight for every rate. Throws std::runtime_error when the flight
-/// ends before the requested fields.
+/// Runs the evaluation of one flight for every rate and every FieldPoses of the spec (results
+/// rate-major, poses in the spec's order). Throws std::runtime_error when the flight ends before
+/// the requested fields.
 std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight, core::Renderer& renderer,
                                        const EvaluationSpec& spec, const std::vector<double>& ratesHz,
                                        const Progress& progress = {});

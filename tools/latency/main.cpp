@@ -80,6 +80,8 @@ int run(int argc, char** argv) {
   std::string scan = "interlaced";
   std::string outDir = "out/latency";
   std::string plotScript = std::string(FIELDCAST_SOURCE_DIR) + "/tools/latency/plots.gnuplot";
+  bool exactOnly = false;
+  spec.fieldPoses = {fieldcast::tools::FieldPoses::Exact, fieldcast::tools::FieldPoses::HostPredicted};
   app.add_option("--out", outDir, "Report folder (created; files in it are replaced)");
   app.add_flag("--quick", quick, "A short version (seconds): 360x240, 60 fields per flight, IG at 10 and 30 Hz");
   app.add_option("--flight", flightPaths, "Flight files (config/flights/*.toml)")->check(CLI::ExistingFile);
@@ -98,6 +100,14 @@ int run(int argc, char** argv) {
   app.add_option("--seed", seed, "Built-in hills: noise seed");
   app.add_option("--threads", threads, "Render threads (0: one per core); warps always run on one");
   app.add_option("--plot-script", plotScript, "The gnuplot script that draws the plots")->check(CLI::ExistingFile);
+  app.add_flag("--exact-only", exactOnly, "Only the exact field poses (no host-predicted poses)");
+  app.add_option("--host-rate", spec.host.rateHz, "Host frames per second (predicted poses)")
+      ->check(CLI::Range(10.0, 240.0));
+  app.add_option("--host-delay-ms", spec.host.baseDelayMs, "Smallest one-way network delay")
+      ->check(CLI::Range(0.0, 100.0));
+  app.add_option("--host-jitter-ms", spec.host.jitterMs, "Uniform random delay added to each datagram")
+      ->check(CLI::Range(0.0, 100.0));
+  app.add_option("--host-seed", spec.host.seed, "Seed of the network jitter");
   CLI11_PARSE(app, argc, argv);
   if (quick) {
     // Explicit options still win over the quick defaults
@@ -107,6 +117,7 @@ int run(int argc, char** argv) {
     if (app.count("--rates") == 0) rates = {10.0, 30.0};
   }
   spec.scan = scan == "progressive" ? fieldcast::ScanMode::Progressive : fieldcast::ScanMode::Interlaced;
+  if (exactOnly) spec.fieldPoses = {fieldcast::tools::FieldPoses::Exact};
   std::sort(rates.begin(), rates.end());
   rates.erase(std::unique(rates.begin(), rates.end()), rates.end());
 
