@@ -87,7 +87,7 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
                           "worst_eval_turn30_quadratic.png", "worst_eval_lowpass250_mesh.png"})
     EXPECT_TRUE(isPng(dir / png)) << png;
 
-  // Every row of the table: three flights × two rates × two kinds of field pose × six warps,
+  // Every row of the table: four flights × two rates × two kinds of field pose × six warps,
   // every figure finite
   std::ifstream csv(dir / "warps.csv");
   std::string line;
@@ -117,7 +117,7 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
     }
     ++rows;
   }
-  EXPECT_EQ(rows, 3 * 2 * 2 * 6);
+  EXPECT_EQ(rows, 4 * 2 * 2 * 6);
   ASSERT_EQ(turnPsnr.size(), 4u);
   for (const auto& [key, psnr] : turnPsnr) {
     // In the banked turn a held frame lacks the whole bank; the quadratic follows it, with the

@@ -21,7 +21,7 @@ namespace {
 
 /// d/dt of the flight's position and (heading, pitch, roll) at `tS`, by a central difference
 /// (what a host's Rate Control carries).
-void rates(const motion::ScriptedTrajectory& flight, double tS, glm::dvec3& velocity, glm::dvec3& angular) {
+void rates(const EvaluatedFlight& flight, double tS, glm::dvec3& velocity, glm::dvec3& angular) {
   constexpr double h = 1e-3;
   const Pose a = flight.poseAtSeconds(std::max(0.0, tS - h));
   const Pose b = flight.poseAtSeconds(tS + h);
@@ -34,8 +34,8 @@ void rates(const motion::ScriptedTrajectory& flight, double tS, glm::dvec3& velo
 
 }  // namespace
 
-std::vector<Pose> predictedFieldPoses(const motion::ScriptedTrajectory& flight,
-                                      const std::vector<warp::FieldTick>& ticks, const HostFeed& feed) {
+std::vector<Pose> predictedFieldPoses(const EvaluatedFlight& flight, const std::vector<warp::FieldTick>& ticks,
+                                      const HostFeed& feed) {
   if (ticks.empty()) return {};
   const double lastS = toSeconds(ticks.back().displayTime.time_since_epoch());
   if (lastS > flight.durationS()) throw std::runtime_error("flight '" + flight.name() + "' is too short");

@@ -4,8 +4,8 @@
 // predictor (motion::HostMotion) asked for the pose at each field's display time with only the
 // samples that had arrived when the field was computed.
 
-#include <motion/ScriptedTrajectory.h>
 #include <prp_warp/FieldClock.h>
+#include "EvaluatedFlight.h"
 
 #include <fieldcast/Pose.h>
 
@@ -24,8 +24,8 @@ struct HostFeed {
 
 /// The predicted pose of every field of `ticks`. Throws std::runtime_error when the flight is
 /// too short for the samples the fields need.
-std::vector<Pose> predictedFieldPoses(const motion::ScriptedTrajectory& flight,
-                                      const std::vector<warp::FieldTick>& ticks, const HostFeed& feed);
+std::vector<Pose> predictedFieldPoses(const EvaluatedFlight& flight, const std::vector<warp::FieldTick>& ticks,
+                                      const HostFeed& feed);
 
 /// How far two poses are apart: position (m) and attitude (the angle of the rotation between the
 /// two cameras, degrees).

@@ -77,8 +77,7 @@ std::optional<glm::dvec2> trueSourcePx(const TruthField& truth, const Pose& fiel
 
 }  // namespace
 
-double minimumClearanceM(const motion::ScriptedTrajectory& flight, const core::TerrainView& terrain,
-                         const EvaluationSpec& spec) {
+double minimumClearanceM(const EvaluatedFlight& flight, const core::TerrainView& terrain, const EvaluationSpec& spec) {
   double minimum = std::numeric_limits<double>::infinity();
   const double end = spec.startS + toSeconds(spec.fieldRate.tickOffset(spec.fields));
   for (double t = std::max(0.0, spec.startS - 1.0); t <= end; t += 0.01) {
@@ -88,7 +87,7 @@ double minimumClearanceM(const motion::ScriptedTrajectory& flight, const core::T
   return minimum;
 }
 
-std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight, core::Renderer& renderer,
+std::vector<RateResult> evaluateFlight(const EvaluatedFlight& flight, core::Renderer& renderer,
                                        const EvaluationSpec& spec, const std::vector<double>& ratesHz,
                                        const Progress& progress) {
   const int totalSteps = spec.fields * (1 + static_cast<int>(ratesHz.size()));  // truth, then each rate

@@ -4,12 +4,12 @@
 // each warp from the newest frame and compared with the ground truth rendered at the field's own
 // pose.
 
+#include "EvaluatedFlight.h"
 #include "PredictedPoses.h"
 
 #include <prp_warp/Warp.h>
 
 #include <ig_core/Renderer.h>
-#include <motion/ScriptedTrajectory.h>
 
 #include <fieldcast/Field.h>
 #include <fieldcast/Time.h>
@@ -109,12 +109,11 @@ using Progress = std::function<void(int done, int total)>;
 /// Runs the evaluation of one flight for every rate and every FieldPoses of the spec (results
 /// rate-major, poses in the spec's order). Throws std::runtime_error when the flight ends before
 /// the requested fields.
-std::vector<RateResult> evaluateFlight(const motion::ScriptedTrajectory& flight, core::Renderer& renderer,
+std::vector<RateResult> evaluateFlight(const EvaluatedFlight& flight, core::Renderer& renderer,
                                        const EvaluationSpec& spec, const std::vector<double>& ratesHz,
                                        const Progress& progress = {});
 
 /// Minimum height above the terrain (m) along the evaluated part of the flight.
-double minimumClearanceM(const motion::ScriptedTrajectory& flight, const core::TerrainView& terrain,
-                         const EvaluationSpec& spec);
+double minimumClearanceM(const EvaluatedFlight& flight, const core::TerrainView& terrain, const EvaluationSpec& spec);
 
 }  // namespace fieldcast::tools

@@ -63,8 +63,8 @@ class WarpEvaluationTest : public ::testing::Test {
     spec.rasterWidthPx = 96;
     spec.rasterHeightPx = 64;
     spec.fields = 8;
-    const auto flight =
-        motion::ScriptedTrajectory::load(std::string(FIELDCAST_SOURCE_DIR) + "/config/flights/" + flightName + ".toml");
+    const EvaluatedFlight flight =
+        scriptedFlight(std::string(FIELDCAST_SOURCE_DIR) + "/config/flights/" + flightName + ".toml");
     const std::vector<RateResult> results = evaluateFlight(flight, *sRenderer, spec, {15.0});
     EXPECT_EQ(results.size(), 1u);
     Scores s;

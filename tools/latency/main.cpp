@@ -68,7 +68,9 @@ int run(int argc, char** argv) {
       "per IG rate and warp, written as a report with plots"};
   const std::string flights = std::string(FIELDCAST_SOURCE_DIR) + "/config/flights/";
   std::vector<std::string> flightPaths{flights + "eval_climb.toml", flights + "eval_turn30.toml",
-                                       flights + "eval_lowpass250.toml"};
+                                       flights + "eval_lowpass250.toml", flights + "eval_stick_aggressive.rec"};
+  std::vector<double> stickStart{1600.0, 1000.0, 150.0, 0.0};
+  double stickSpeedMps = 150.0;
   std::vector<double> rates{5.0, 10.0, 15.0, 20.0, 30.0, 60.0};
   EvaluationSpec spec;
   spec.rasterWidthPx = 720;
@@ -84,7 +86,15 @@ int run(int argc, char** argv) {
   spec.fieldPoses = {fieldcast::tools::FieldPoses::Exact, fieldcast::tools::FieldPoses::HostPredicted};
   app.add_option("--out", outDir, "Report folder (created; files in it are replaced)");
   app.add_flag("--quick", quick, "A short version (seconds): 360x240, 60 fields per flight, IG at 10 and 30 Hz");
-  app.add_option("--flight", flightPaths, "Flight files (config/flights/*.toml)")->check(CLI::ExistingFile);
+  app.add_option("--flight", flightPaths,
+                 "Flights: scripted flight files (*.toml) and stick recordings (*.rec, flown by the stick model)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--stick-start", stickStart,
+                 "Start of a stick flight: x,y (m), height above the ground (m), heading (deg)")
+      ->delimiter(',')
+      ->expected(4);
+  app.add_option("--stick-speed", stickSpeedMps, "Airspeed at the start of a stick flight, m/s")
+      ->check(CLI::Range(40.0, 300.0));
   app.add_option("--rates", rates, "IG render rates in Hz (render latency = one frame period)")
       ->delimiter(',')
       ->check(CLI::Range(1.0, 240.0));
@@ -134,9 +144,19 @@ int run(int argc, char** argv) {
                 "), the renderer at full quality with its range image";
   input.spec = spec;
   input.ratesHz = rates;
+  // A stick recording is flown by the service's generic profile and flight model over the hills
+  auto stickFlightOver = [&](const std::string& path) {
+    fieldcast::Pose start;
+    start.positionM = {stickStart[0], stickStart[1],
+                       terrain->view().heightAtM(stickStart[0], stickStart[1]) + stickStart[2]};
+    start.headingRad = fieldcast::radians(stickStart[3]);
+    return fieldcast::tools::stickFlight(path, start, stickSpeedMps, terrain->view());
+  };
   ProgressBar bar(static_cast<int>(flightPaths.size()));
   for (std::size_t i = 0; i < flightPaths.size(); ++i) {
-    const auto flight = fieldcast::motion::ScriptedTrajectory::load(flightPaths[i]);
+    const fieldcast::tools::EvaluatedFlight flight = flightPaths[i].ends_with(".rec")
+                                                         ? stickFlightOver(flightPaths[i])
+                                                         : fieldcast::tools::scriptedFlight(flightPaths[i]);
     fieldcast::tools::FlightResults results;
     results.flight = flight.name();
     results.clearanceM = fieldcast::tools::minimumClearanceM(flight, terrain->view(), spec);
