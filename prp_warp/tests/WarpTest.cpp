@@ -100,21 +100,27 @@ TEST(FieldRows, EachParityCarriesItsOwnRasterRowsForBothFieldOrders) {
   }
 }
 
-TEST(Range3dWarp, WithoutARangeImageFallsBackToTheQuadratic) {
+class RangeWarp : public ::testing::TestWithParam<WarpKind> {};
+
+TEST_P(RangeWarp, WithoutARangeImageFallsBackToTheQuadratic) {
   Frame f = scene();
   f.rangeM.clear();
-  Range3dWarp warp(kW, kH);
+  auto warp = makeWarp(GetParam(), kW, kH);
   Image out(kW, kH, PixelFormat::Rgb8);
   Pose moved = kPose;
   moved.positionM.y += 5.0;
-  const WarpResult r = warp.warp(f, moved, FieldParity::Progressive, out);
+  const WarpResult r = warp->warp(f, moved, FieldParity::Progressive, out);
   EXPECT_EQ(r.status, WarpStatus::Ok);
   EXPECT_TRUE(r.fellBack);
+  EXPECT_EQ(r.fallbackReason, FallbackReason::NoRange);
   QuadraticWarp quad(kW, kH);
   Image expected(kW, kH, PixelFormat::Rgb8);
   quad.warp(f, moved, FieldParity::Progressive, expected);
   EXPECT_EQ(out, expected);
 }
+
+INSTANTIATE_TEST_SUITE_P(Kinds, RangeWarp, ::testing::Values(WarpKind::Range3d, WarpKind::Mesh),
+                         [](const auto& p) { return std::string(toString(p.param)); });
 
 TEST(Range3dWarp, MapFollowsTheTrueGeometryForATranslation) {
   Range3dWarp warp(kW, kH);
@@ -134,23 +140,6 @@ TEST(Range3dWarp, MapFollowsTheTrueGeometryForATranslation) {
     }
   EXPECT_LT(worst, 0.6);
   EXPECT_FALSE(warp.sourcePx({10.5, 0.5}).has_value());  // a top-field row: not in the last field
-}
-
-TEST(MeshWarp, WithoutARangeImageFallsBackToTheQuadratic) {
-  Frame f = scene();
-  f.rangeM.clear();
-  MeshWarp warp(kW, kH);
-  Image out(kW, kH, PixelFormat::Rgb8);
-  Pose moved = kPose;
-  moved.positionM.y += 5.0;
-  const WarpResult r = warp.warp(f, moved, FieldParity::Progressive, out);
-  EXPECT_EQ(r.status, WarpStatus::Ok);
-  EXPECT_TRUE(r.fellBack);
-  EXPECT_EQ(r.fallbackReason, FallbackReason::NoRange);
-  QuadraticWarp quad(kW, kH);
-  Image expected(kW, kH, PixelFormat::Rgb8);
-  quad.warp(f, moved, FieldParity::Progressive, expected);
-  EXPECT_EQ(out, expected);
 }
 
 /// The worst distance between the mesh warp's map and the truth over raster points every 5 px

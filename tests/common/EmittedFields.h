@@ -10,6 +10,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,9 +24,11 @@ struct LoggedField {
   double xM = 0, yM = 0, zM = 0;
   double headingDeg = 0, pitchDeg = 0, rollDeg = 0;
   bool black = false;
+  bool hasHostSample = false;  ///< with a host: a sample had arrived (host_frame given)
 };
 
-/// Reads a field log (header line, then one field per line). Empty when the file is missing.
+/// Reads a field log (header line, then one field per line). Empty when the file is missing;
+/// throws std::runtime_error on a line without its 14 columns.
 inline std::vector<LoggedField> readFieldLog(const std::string& path) {
   std::vector<LoggedField> fields;
   std::ifstream in(path);
@@ -35,7 +38,8 @@ inline std::vector<LoggedField> readFieldLog(const std::string& path) {
     std::vector<std::string> c;
     std::stringstream cells(line);
     for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
-    if (c.size() < 12) continue;
+    if (!line.empty() && line.back() == ',') c.emplace_back();  // an empty last column
+    if (c.size() != 14) throw std::runtime_error("field log: 14 columns expected: " + line);
     LoggedField f;
     f.number = std::stoull(c[0]);
     f.displayNs = std::stoll(c[1]);
@@ -47,6 +51,7 @@ inline std::vector<LoggedField> readFieldLog(const std::string& path) {
     f.pitchDeg = std::stod(c[7]);
     f.rollDeg = std::stod(c[8]);
     f.black = c[11] == "1";
+    f.hasHostSample = !c[12].empty();
     fields.push_back(f);
   }
   return fields;

@@ -3,6 +3,7 @@
 // each field was warped to (the service's per-field record, metrics.field_log) must be the host's
 // flight at that field's display time: flight.poseAtSeconds((display − flight start) / 1 s), with
 // the flight start read from the host's --summary (a CLOCK_MONOTONIC instant, as the IG's are).
+#include "../common/EmittedFields.h"
 #include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
 #include "HostServiceConfig.h"
@@ -30,48 +31,13 @@
 namespace {
 
 namespace fs = std::filesystem;
+using fieldcast::testing::LoggedField;
 using fieldcast::testing::RunResult;
 
 constexpr double kFlightS = 20.0;
 constexpr double kFieldHz = 59.94;
 
 using fieldcast::testing::freePort;
-
-// One line of the field record (the columns this test reads).
-struct FieldLine {
-  std::uint64_t field = 0;
-  std::int64_t displayNs = 0;
-  double x = 0, y = 0, z = 0, headingDeg = 0, pitchDeg = 0, rollDeg = 0;
-  bool black = false;
-  bool hasHostSample = false;
-};
-
-std::vector<FieldLine> readFieldLog(const fs::path& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  std::vector<FieldLine> out;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cell;
-    std::stringstream s(line);
-    for (std::string c; std::getline(s, c, ',');) cell.push_back(c);
-    if (line.back() == ',') cell.emplace_back();  // an empty last column
-    if (cell.size() != 14) throw std::runtime_error("field log: 14 columns expected: " + line);
-    FieldLine f;
-    f.field = std::stoull(cell[0]);
-    f.displayNs = std::stoll(cell[1]);
-    f.x = std::stod(cell[3]);
-    f.y = std::stod(cell[4]);
-    f.z = std::stod(cell[5]);
-    f.headingDeg = std::stod(cell[6]);
-    f.pitchDeg = std::stod(cell[7]);
-    f.rollDeg = std::stod(cell[8]);
-    f.black = cell[11] == "1";
-    f.hasHostSample = !cell[12].empty();
-    out.push_back(f);
-  }
-  return out;
-}
 
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
@@ -150,11 +116,11 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
   EXPECT_EQ(s["field_log"]["dropped"].get<int>(), 0);
   EXPECT_EQ(s["field_log"]["records"], s["fields_emitted"]);
 
-  const std::vector<FieldLine> fields = readFieldLog(mDir / "out/fields.csv");
+  const std::vector<LoggedField> fields = fieldcast::testing::readFieldLog((mDir / "out/fields.csv").string());
   ASSERT_EQ(fields.size(), s["fields_emitted"].get<std::size_t>());
   // One line per field, in order; the numbers skip only the missed fields.
   ASSERT_FALSE(fields.empty());
-  EXPECT_EQ(fields.back().field + 1 - fields.front().field, fields.size() + missed);
+  EXPECT_EQ(fields.back().number + 1 - fields.front().number, fields.size() + missed);
 
   // The host's flight, loaded as the host loads it (no terrain floor: the host flies it as written).
   const fieldcast::motion::ScriptedTrajectory flight =
@@ -188,11 +154,11 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
           percentile(angleDeg, 1.0), worstAngleAtS, percentile(angleDeg, 0.95));
     }
   } early, converged;
-  for (const FieldLine& f : fields) {
+  for (const LoggedField& f : fields) {
     const double tS = static_cast<double>(f.displayNs - flightStartNs) * 1e-9;
     if (!f.hasHostSample || tS < 0.0 || tS > lastSampleS) continue;
     const fieldcast::Pose want = flight.poseAtSeconds(tS);
-    const double dx = f.x - want.positionM.x, dy = f.y - want.positionM.y, dz = f.z - want.positionM.z;
+    const double dx = f.xM - want.positionM.x, dy = f.yM - want.positionM.y, dz = f.zM - want.positionM.z;
     const double angleDeg = std::max({angleDifferenceDeg(f.headingDeg, fieldcast::degrees(want.headingRad)),
                                       angleDifferenceDeg(f.pitchDeg, fieldcast::degrees(want.pitchRad)),
                                       angleDifferenceDeg(f.rollDeg, fieldcast::degrees(want.rollRad))});
