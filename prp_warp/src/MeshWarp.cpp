@@ -26,9 +26,10 @@ namespace fieldcast::warp {
 namespace {
 
 constexpr int kMaxIterations = 8;
-constexpr double kSolvedPx = 0.02;    // residual in raster pixels that counts as exact
-constexpr double kTrustPx = 0.1;      // residual below which one Newton step is taken unchecked
-constexpr double kSmoothRange = 1.5;  // a 2 × 2 range neighbourhood within this ratio is one surface
+constexpr double kSolvedPx = 0.02;      // residual in raster pixels that counts as exact
+constexpr double kTrustPx = 0.1;        // residual below which one Newton step is taken unchecked ...
+constexpr double kTrustedStepPx = 1.0;  // ... when the step is shorter than this (frame pixels)
+constexpr double kSmoothRange = 1.5;    // a 2 × 2 range neighbourhood within this ratio is one surface
 constexpr double kMinDepth = 1e-6;
 
 /// F: frame pixel → field raster pixel through the range image.
@@ -138,7 +139,7 @@ class NodeSolver {
 
   /// The frame pixel F maps to raster point `q`, starting from `guess` (the rotation-only
   /// point when the guess is unusable).
-  Solution solve(glm::dvec2 q, glm::dvec2 guess) const noexcept {
+  Solution solve(glm::dvec2 q, glm::dvec2 guess) noexcept {
     const glm::dvec2 target = mRotation(q);
     Solution best{target, false};  // the rotation-only map when nothing better is found
     double bestResidual = std::numeric_limits<double>::infinity();
@@ -158,9 +159,10 @@ class NodeSolver {
       // The Jacobian of the last step (or node) first: it costs no evaluation, and on smooth
       // terrain it halves the residual at least
       const glm::dvec2 quick = mJacobian.solve(q - *seen);
-      if (residual < kTrustPx && finite(quick)) {
+      if (residual < kTrustPx && finite(quick) && glm::length(quick) < kTrustedStepPx) {
         // Close enough for the linearisation: the step's own error is second order in the
-        // residual, far below the solver's tolerance, so it is taken without checking
+        // residual, far below the solver's tolerance, so it is taken without checking (a step
+        // longer than a pixel for so small a residual means a Jacobian from another surface)
         best = {p + quick, true};
         return best;
       }
@@ -196,7 +198,7 @@ class NodeSolver {
  private:
   FrameToField mToField;
   Homography mRotation;
-  mutable Jacobian mJacobian;  // of the last step, carried to the next node
+  Jacobian mJacobian;  // of the last step, carried to the next node
 };
 
 }  // namespace
@@ -212,7 +214,7 @@ MeshWarp::MeshWarp(int rasterWidthPx, int rasterHeightPx, ResampleKernel kernel,
       mBeforeY(mBeforeX.size()) {}
 
 bool MeshWarp::solveNodes(const Frame& frame, const Pose& fieldPose, const OutputGeometry& g) noexcept {
-  const NodeSolver solver(frame, fieldPose, g);
+  NodeSolver solver(frame, fieldPose, g);
   mUnsolvedNodes = 0;
   mMap.clearRefinement();
   const bool sameFrame =
