@@ -3,7 +3,7 @@
 // that datagram left; in what the service emitted it finds the first field whose pose shows the
 // turn (its field log) and the first whose pixels do (its video). Cut the host path anywhere and
 // no field shows it.
-#include "../common/EmittedFields.h"
+#include "../../tools/latency/EmittedFields.h"
 #include "HostTestRig.h"
 
 namespace fieldcast::host_test {
@@ -38,8 +38,8 @@ TEST_F(HostLatency, AHostTurnShowsInTheFirstFieldMadeAfterItsDatagram) {
   const nlohmann::json s = finishService();
   ASSERT_FALSE(s.is_null());
 
-  const std::vector<fieldcast::testing::LoggedField> fields =
-      fieldcast::testing::readFieldLog((mDir / "out/fields.csv").string());
+  const std::vector<fieldcast::tools::LoggedField> fields =
+      fieldcast::tools::readFieldLog((mDir / "out/fields.csv").string());
   ASSERT_GT(fields.size(), 200u);
   // Pose: the first field emitted after the datagram whose heading left the still one
   const auto before =

@@ -3,7 +3,7 @@
 // each field was warped to (the service's per-field record, metrics.field_log) must be the host's
 // flight at that field's display time: flight.poseAtSeconds((display − flight start) / 1 s), with
 // the flight start read from the host's --summary (a CLOCK_MONOTONIC instant, as the IG's are).
-#include "../common/EmittedFields.h"
+#include "../../tools/latency/EmittedFields.h"
 #include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
 #include "HostServiceConfig.h"
@@ -31,8 +31,8 @@
 namespace {
 
 namespace fs = std::filesystem;
-using fieldcast::testing::LoggedField;
 using fieldcast::testing::RunResult;
+using fieldcast::tools::LoggedField;
 
 constexpr double kFlightS = 20.0;
 constexpr double kFieldHz = 59.94;
@@ -116,7 +116,7 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
   EXPECT_EQ(s["field_log"]["dropped"].get<int>(), 0);
   EXPECT_EQ(s["field_log"]["records"], s["fields_emitted"]);
 
-  const std::vector<LoggedField> fields = fieldcast::testing::readFieldLog((mDir / "out/fields.csv").string());
+  const std::vector<LoggedField> fields = fieldcast::tools::readFieldLog((mDir / "out/fields.csv").string());
   ASSERT_EQ(fields.size(), s["fields_emitted"].get<std::size_t>());
   // One line per field, in order; the numbers skip only the missed fields.
   ASSERT_FALSE(fields.empty());

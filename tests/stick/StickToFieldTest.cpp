@@ -5,20 +5,16 @@
 // the service emitted, the first field whose pose shows the roll (its field log) and the first
 // whose pixels do (its Y4M video). Cut the input path anywhere and no field shows it.
 #include "../../io_bridge/tests/input/RealDescriptors.h"
-#include "../common/EmittedFields.h"
+#include "../../tools/latency/EmittedFields.h"
+#include "../../tools/latency/HidSocketStick.h"
 #include "../common/RunFieldcast.h"
 
 #include <gtest/gtest.h>
 
-#include <poll.h>
-#include <sys/socket.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -30,7 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-using fieldcast::testing::LoggedField;
+using fieldcast::tools::LoggedField;
 
 constexpr int kWidth = 320, kHeight = 240;
 constexpr double kFieldPeriodMs = 1000.0 * 1001.0 / 60000.0;
@@ -42,79 +38,6 @@ constexpr std::uint8_t kFullRight[] = {0x01, 0x00, 0x80, 0xff, 0x80, 0x80, 0x80,
 
 double msBetween(std::int64_t fromNs, std::int64_t toNs) { return static_cast<double>(toNs - fromNs) * 1e-6; }
 
-std::int64_t monotonicNs() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-/// The device server: a listening SOCK_SEQPACKET socket that sends the stick's state every 10 ms
-/// to whoever connects; `throwRight()` changes the state and notes when.
-class StickServer {
- public:
-  explicit StickServer(const std::string& path) {
-    mListen = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
-    sockaddr_un address{};
-    address.sun_family = AF_UNIX;
-    std::strncpy(address.sun_path, path.c_str(), sizeof address.sun_path - 1);
-    mListening =
-        ::bind(mListen, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0 && ::listen(mListen, 1) == 0;
-    if (mListening) mThread = std::thread([this] { serve(); });
-  }
-  ~StickServer() {
-    mStop = true;
-    if (mThread.joinable()) mThread.join();
-    ::close(mListen);
-  }
-  bool listening() const { return mListening; }
-  bool connected() const { return mConnected.load(); }
-  /// Full right from the next report on; returns the instant (CLOCK_MONOTONIC ns) of its write,
-  /// 0 when no report could be written within a second.
-  std::int64_t throwRight() {
-    mRight = true;
-    for (int i = 0; i < 1000 && mThrownNs.load() == 0; ++i) std::this_thread::sleep_for(1ms);
-    return mThrownNs.load();
-  }
-
- private:
-  void serve() {
-    // The service may open the stick more than once (it opens it at start-up to describe it,
-    // then its input thread opens it for good): serve whichever connection is the newest.
-    int device = -1;
-    while (!mStop) {
-      pollfd p{mListen, POLLIN, 0};
-      if (::poll(&p, 1, device < 0 ? 50 : 0) > 0) {
-        const int next = ::accept4(mListen, nullptr, nullptr, SOCK_CLOEXEC);
-        if (next >= 0) {
-          if (device >= 0) ::close(device);
-          device = next;
-          mConnected = true;
-        }
-      }
-      if (device < 0) continue;
-      const bool right = mRight.load();
-      const std::uint8_t* report = right ? kFullRight : kCentred;
-      // The instant is taken just before the report leaves, so the measured latency includes
-      // the whole path from the device's write
-      const std::int64_t now = monotonicNs();
-      if (::send(device, report, sizeof kCentred, MSG_NOSIGNAL) < 0) {
-        ::close(device);
-        device = -1;
-        continue;
-      }
-      if (right && mThrownNs.load() == 0) mThrownNs = now;
-      std::this_thread::sleep_for(10ms);
-    }
-    if (device >= 0) ::close(device);
-  }
-
-  int mListen = -1;
-  bool mListening = false;
-  std::thread mThread;
-  std::atomic<bool> mStop{false}, mConnected{false}, mRight{false};
-  std::atomic<std::int64_t> mThrownNs{0};
-};
-
 TEST(StickToField, AThrownStickShowsInTheFirstFieldsMadeAfterIt) {
   const fs::path dir = fs::temp_directory_path() / ("fieldcast_stick_e2e_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -124,8 +47,8 @@ TEST(StickToField, AThrownStickShowsInTheFirstFieldsMadeAfterIt) {
       .write(reinterpret_cast<const char*>(fieldcast::io::testdata::kAsusGamepad),
              sizeof fieldcast::io::testdata::kAsusGamepad);
   const std::string socketPath = (dir / "stick.sock").string();
-  StickServer server(socketPath);
-  ASSERT_TRUE(server.listening()) << socketPath;
+  fieldcast::tools::HidSocketStick stick(socketPath, kCentred);
+  ASSERT_TRUE(stick.listening()) << socketPath;
 
   // A 1 km built-in terrain; the stick flight starts level at 300 m heading north-east.
   const fs::path config = dir / "fieldcast.toml";
@@ -146,17 +69,17 @@ TEST(StickToField, AThrownStickShowsInTheFirstFieldsMadeAfterIt) {
   // Once a second of fields has gone out with the stick centred, throw it
   const std::string logPath = (dir / "out/fields.csv").string();
   const auto deadline = std::chrono::steady_clock::now() + 60s;
-  while (fieldcast::testing::readFieldLog(logPath).size() < 60 && std::chrono::steady_clock::now() < deadline &&
+  while (fieldcast::tools::readFieldLog(logPath).size() < 60 && std::chrono::steady_clock::now() < deadline &&
          service.wait_for(0s) != std::future_status::ready) {
     std::this_thread::sleep_for(20ms);
   }
-  ASSERT_TRUE(server.connected()) << "the service never connected to the stick";
-  const std::int64_t thrownNs = server.throwRight();
+  ASSERT_TRUE(stick.connected()) << "the service never connected to the stick";
+  const std::int64_t thrownNs = stick.set(kFullRight);
   const fieldcast::testing::RunResult run = service.get();
   ASSERT_EQ(run.exitCode, 0) << run.output;
   ASSERT_NE(thrownNs, 0) << "the stick was not connected when it was thrown\n" << run.output;
 
-  const std::vector<LoggedField> fields = fieldcast::testing::readFieldLog(logPath);
+  const std::vector<LoggedField> fields = fieldcast::tools::readFieldLog(logPath);
   ASSERT_GT(fields.size(), 200u) << run.output;
   // Pose: the first field made after the throw whose roll has left level flight
   const auto byPose = std::find_if(fields.begin(), fields.end(), [&](const LoggedField& f) {
@@ -173,15 +96,15 @@ TEST(StickToField, AThrownStickShowsInTheFirstFieldsMadeAfterIt) {
   // than any pair did in the last second of centred flight. A roll at 86°/s turns the picture
   // by 1.4° a field; forward flight at 80 m/s moves it far less.
   const std::vector<std::string> luma =
-      fieldcast::testing::y4mLumaFields((dir / "out/video.y4m").string(), kWidth, kHeight);
+      fieldcast::tools::y4mLumaFields((dir / "out/video.y4m").string(), kWidth, kHeight);
   const std::uint64_t poseField = byPose->number;
   ASSERT_GT(luma.size(), poseField + 10) << "the video is shorter than the field log";
   double steady = 0.0;
   for (std::uint64_t k = poseField - 60; k < poseField; ++k)
-    steady = std::max(steady, fieldcast::testing::meanAbsDifference(luma[k], luma[k - 2]));
+    steady = std::max(steady, fieldcast::tools::meanAbsDifference(luma[k], luma[k - 2]));
   std::uint64_t pixelField = poseField;
   while (pixelField < luma.size() &&
-         fieldcast::testing::meanAbsDifference(luma[pixelField], luma[pixelField - 2]) <= 1.5 * steady + 1.0) {
+         fieldcast::tools::meanAbsDifference(luma[pixelField], luma[pixelField - 2]) <= 1.5 * steady + 1.0) {
     ++pixelField;
   }
   ASSERT_LT(pixelField, poseField + 6) << "the pixels never showed the roll (steady change " << steady << ")";

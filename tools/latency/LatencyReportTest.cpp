@@ -1,6 +1,7 @@
 // fieldcast-latency as a user runs it: `--quick` writes the whole report folder, every table row
 // is finite, the plots are real PNG files, and the report says what it measured: the quadratic
 // beats hold on the turn. Plus the "needed rate" finding, on hand-made figures.
+#include "EmittedFields.h"
 #include "Report.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -72,18 +74,37 @@ bool isPng(const fs::path& path) {
   return in && std::string(magic, 8) == std::string("\x89PNG\r\n\x1a\n", 8) && fs::file_size(path) > 1000;
 }
 
+TEST(RollSignal, IsTheLeftSidesDownwardShiftMinusTheRightSides) {
+  // Rows of random grey, 64 wide × 120 rows; the second picture has its left quarter moved down by
+  // 3 rows and its right quarter up by 3 (a roll to the left), the middle untouched
+  constexpr int kW = 64, kRows = 120;
+  std::mt19937 rng(5);
+  std::vector<int> rowValue(kRows + 20);
+  for (int& v : rowValue) v = static_cast<int>(rng() % 200) + 20;
+  std::string a(kW * kRows, '\0'), b = a;
+  for (int y = 0; y < kRows; ++y)
+    for (int x = 0; x < kW; ++x) {
+      a[static_cast<std::size_t>(y * kW + x)] = static_cast<char>(rowValue[static_cast<std::size_t>(y + 10)]);
+      const int shift = x < kW / 4 ? 3 : (x >= kW - kW / 4 ? -3 : 0);
+      b[static_cast<std::size_t>(y * kW + x)] = static_cast<char>(rowValue[static_cast<std::size_t>(y + 10 - shift)]);
+    }
+  EXPECT_NEAR(verticalShiftRows(a, b, kW, 0, kW / 4), 3.0, 0.05);
+  EXPECT_NEAR(rollSignalRows(a, b, kW), 6.0, 0.1);
+  EXPECT_NEAR(rollSignalRows(a, a, kW), 0.0, 1e-9);
+}
+
 TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTurn) {
   const fs::path dir = fs::temp_directory_path() / ("fieldcast_latency_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const std::string command = std::string(FIELDCAST_LATENCY_BIN) + " --quick --threads 2 --out " + dir.string() +
-                              " > " + (dir.string() + ".log") + " 2>&1";
+  const std::string command = std::string(FIELDCAST_LATENCY_BIN) + " --quick --threads 2 --fieldcast " + FIELDCAST_EXE +
+                              " --out " + dir.string() + " > " + (dir.string() + ".log") + " 2>&1";
   const int status = std::system(command.c_str());
   const std::string log = readFile(dir.string() + ".log");
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << log;
 
   for (const char* file : {"report.md", "warps.csv", "fields.csv", "needed_rate.csv", "plots/rates.dat"})
     EXPECT_TRUE(fs::is_regular_file(dir / file)) << file;
-  for (const char* png : {"psnr_vs_rate.png", "error_vs_age.png", "cost_vs_fidelity.png",
+  for (const char* png : {"psnr_vs_rate.png", "error_vs_age.png", "cost_vs_fidelity.png", "e2e_latency.png",
                           "worst_eval_turn30_quadratic.png", "worst_eval_lowpass250_mesh.png"})
     EXPECT_TRUE(isPng(dir / png)) << png;
 
@@ -133,6 +154,9 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
   EXPECT_NE(md.find("| eval_lowpass250 |"), std::string::npos);
   EXPECT_NE(md.find("![PSNR against IG rate"), std::string::npos);
   EXPECT_NE(md.find("## Pose prediction from a host"), std::string::npos);
+  // The running service's stick → field latency: every throw found in the poses, most in the pixels
+  EXPECT_NE(md.find("| pose | 8 of 8 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| pixels | "), std::string::npos);
   EXPECT_EQ(md.find("could not be drawn"), std::string::npos);
   if (!HasFailure()) {
     fs::remove_all(dir);

@@ -77,6 +77,13 @@ bool evaluated(const ReportInput& in, FieldPoses poses) {
   return std::find(in.spec.fieldPoses.begin(), in.spec.fieldPoses.end(), poses) != in.spec.fieldPoses.end();
 }
 
+/// The q-quantile (nearest rank) of `v`; 0 when empty.
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)))];
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
@@ -149,6 +156,13 @@ void writePlotData(const fs::path& dir, const ReportInput& in) {
           cost << w->medianCostMs << ' ' << w->meanErrPx << ' ' << w->meanPsnrDb << ' ' << name(kind) << '\n';
     cost << "\n\n";
   }
+  std::ofstream e2e = openOut(dir / "e2e.dat");
+  e2e << "# stick → field latency, ms: block 0 the pose, block 1 the pixels\n";
+  if (in.stickToField) {
+    for (double ms : in.stickToField->toPoseMs) e2e << ms << '\n';
+    e2e << "\n\n";
+    for (double ms : in.stickToField->toPixelsMs) e2e << ms << '\n';
+  }
 }
 
 /// truth | warped | |difference| × 4, the field's rows shown at the frame's aspect, at most
@@ -199,8 +213,10 @@ std::optional<std::string> drawPlots(const fs::path& dir, const ReportInput& in,
     if (!warps.empty()) warps += ' ';
     warps += name(kind);
   }
+  const bool e2e = in.stickToField && !in.stickToField->toPoseMs.empty();
   const std::string settings = "dir='" + (dir / "plots").string() + "'; out='" + dir.string() + "'; flights='" +
-                               flights + "'; warps='" + warps + "'";
+                               flights + "'; warps='" + warps + "'; e2e=" + (e2e ? "1" : "0") +
+                               "; e2ePixels=" + (e2e && !in.stickToField->toPixelsMs.empty() ? "1" : "0");
   const fs::path log = dir / "plots" / "gnuplot.log";
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -302,6 +318,34 @@ void writeMarkdown(const fs::path& dir, const ReportInput& in, const std::option
     const double ms = runCostMs(in, kind);
     md << "| " << name(kind) << " | " << fixed(ms, 3) << " | "
        << (quadraticMs > 0.0 ? fixed(ms / quadraticMs, 2) : std::string("—")) << " |\n";
+  }
+
+  // End to end
+  md << "\n## Stick → field, end to end, in the running service\n\n";
+  if (!in.stickToField) {
+    md << "Not measured: " << in.endToEndSkipped << "\n";
+  } else if (!in.stickToField->problem.empty()) {
+    md << "Not measured: " << in.stickToField->problem << "\n";
+  } else {
+    const EndToEndResult& e = *in.stickToField;
+    md << "`fieldcast` ran as a user runs it (its own process and clock, 720 × 486 interlaced output, "
+          "Y4M and field log on), flying with a stick that is a HID device behind a UNIX socket "
+          "(`hidsocket:`, read by the hidraw source's loop). The stick was thrown "
+       << e.throws
+       << " times, alternately fully right and left after 0.35 s centred; each throw's instant is "
+          "taken on CLOCK_MONOTONIC just before its report leaves. *pose*: the first emitted field "
+          "whose roll moved; *pixels*: the first whose picture changed by more than any field "
+          "did in the 300 ms before the throw (against the field two before, same parity). Times "
+          "are to the field's emission (handed to the outputs).\n\n"
+          "| found in | throws found | p50 ms | p99 ms | max ms |\n| --- | ---: | ---: | ---: | ---: |\n";
+    auto row = [&](const char* what, const std::vector<double>& ms) {
+      md << "| " << what << " | " << ms.size() << " of " << e.throws << " | " << fixed(quantile(ms, 0.5), 1) << " | "
+         << fixed(quantile(ms, 0.99), 1) << " | "
+         << fixed(ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end()), 1) << " |\n";
+    };
+    row("pose", e.toPoseMs);
+    row("pixels", e.toPixelsMs);
+    if (!plotProblem && !e.toPoseMs.empty()) md << "\n![Stick to field latency histogram](e2e_latency.png)\n";
   }
 
   // Plots and strips

@@ -2,6 +2,7 @@
 // The report folder of fieldcast-latency: report.md with its tables, the CSV files behind them,
 // the gnuplot data and plots, and the worst field of each flight as a picture strip.
 
+#include "EndToEnd.h"
 #include "WarpEvaluation.h"
 
 #include <filesystem>
@@ -25,6 +26,8 @@ struct ReportInput {
   EvaluationSpec spec;
   std::vector<double> ratesHz;
   std::vector<FlightResults> flights;
+  std::optional<EndToEndResult> stickToField;  ///< the running service's stick → field latency, when measured
+  std::string endToEndSkipped;                 ///< why it was not, when not
   double elapsedS = 0.0;
 };
 

@@ -1,8 +1,8 @@
 #pragma once
 // What the service emitted, read back the way an outside observer would: the per-field log
 // (metrics.field_log: each field's number, display and emission instants on CLOCK_MONOTONIC,
-// and its pose) and the fields' pixels from the Y4M file. The end-to-end latency tests find the
-// first field that shows an input with these.
+// and its pose) and the fields' pixels from the Y4M file, and what the pixels say about roll.
+// The end-to-end latency measurements find the first field that shows an input with these.
 
 #include <cmath>
 #include <cstdint>
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace fieldcast::testing {
+namespace fieldcast::tools {
 
 /// One line of the field log.
 struct LoggedField {
@@ -88,4 +88,48 @@ inline double meanAbsDifference(const std::string& a, const std::string& b) {
   return a.empty() ? 0.0 : sum / static_cast<double>(a.size());
 }
 
-}  // namespace fieldcast::testing
+/// How far (in rows, sub-row) the picture in columns [fromX, toX) moved down from field `a` to
+/// field `b` (luma, `width` wide): the shift of the strip's mean-luma row profile that matches
+/// best, within ±maxShift rows.
+inline double verticalShiftRows(const std::string& a, const std::string& b, int width, int fromX, int toX,
+                                int maxShift = 24) {
+  const int rows = static_cast<int>(a.size()) / width;
+  auto profile = [&](const std::string& image) {
+    std::vector<double> p(static_cast<std::size_t>(rows), 0.0);
+    for (int y = 0; y < rows; ++y) {
+      double sum = 0.0;
+      for (int x = fromX; x < toX; ++x)
+        sum += static_cast<unsigned char>(image[static_cast<std::size_t>(y) * width + x]);
+      p[static_cast<std::size_t>(y)] = sum / (toX - fromX);
+    }
+    return p;
+  };
+  const std::vector<double> pa = profile(a), pb = profile(b);
+  auto cost = [&](int s) {
+    double sum = 0.0;
+    int n = 0;
+    for (int y = maxShift; y < rows - maxShift; ++y) {
+      const double d = pa[static_cast<std::size_t>(y)] - pb[static_cast<std::size_t>(y + s)];
+      sum += d * d;
+      ++n;
+    }
+    return n > 0 ? sum / n : 0.0;
+  };
+  int best = 0;
+  for (int s = -maxShift; s <= maxShift; ++s)
+    if (cost(s) < cost(best)) best = s;
+  if (best == -maxShift || best == maxShift) return best;
+  // A parabola through the best shift and its neighbours gives the sub-row part
+  const double cm = cost(best - 1), c0 = cost(best), cp = cost(best + 1);
+  const double curvature = cm - 2.0 * c0 + cp;
+  return best + (curvature > 0.0 ? 0.5 * (cm - cp) / curvature : 0.0);
+}
+
+/// Roll seen in the pictures: the left quarter's downward shift minus the right quarter's, in
+/// rows, from field `a` to field `b`. A roll to the right moves the left side up and the right
+/// side down; a turn or forward flight moves both sides alike.
+inline double rollSignalRows(const std::string& a, const std::string& b, int width) {
+  return verticalShiftRows(a, b, width, 0, width / 4) - verticalShiftRows(a, b, width, width - width / 4, width);
+}
+
+}  // namespace fieldcast::tools
