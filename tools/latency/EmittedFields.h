@@ -28,10 +28,16 @@ struct LoggedField {
 };
 
 /// Reads a field log (header line, then one field per line). Empty when the file is missing;
-/// throws std::runtime_error on a line without its 14 columns.
+/// a last line still being written (no newline yet) is left for the next read; throws
+/// std::runtime_error on a complete line without its 14 columns.
 inline std::vector<LoggedField> readFieldLog(const std::string& path) {
   std::vector<LoggedField> fields;
-  std::ifstream in(path);
+  std::ifstream file(path);
+  std::stringstream whole;
+  whole << file.rdbuf();
+  std::string text = whole.str();
+  text.resize(text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1);
+  std::istringstream in(text);
   std::string line;
   std::getline(in, line);  // the header
   while (std::getline(in, line)) {
