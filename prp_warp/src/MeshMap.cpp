@@ -5,6 +5,16 @@
 #include <cmath>
 
 namespace fieldcast::warp {
+namespace {
+
+/// Bilinear between four corner values at (s, t) of their cell, s and t in [0, 1].
+double bilinear(double c00, double c10, double c01, double c11, double s, double t) noexcept {
+  const double top = c00 + s * (c10 - c00);
+  const double bottom = c01 + s * (c11 - c01);
+  return top + t * (bottom - top);
+}
+
+}  // namespace
 
 MeshMap::MeshMap(int widthPx, int heightPx, int spacingPx)
     : mWidthPx(widthPx),
@@ -29,6 +39,10 @@ void MeshMap::clearRefinement() noexcept {
   mRefinedCells = 0;
 }
 
+double MeshMap::cellBlend(const std::vector<float>& c, int k, int l, double s, double t) const noexcept {
+  return bilinear(c[index(k, l)], c[index(k + 1, l)], c[index(k, l + 1)], c[index(k + 1, l + 1)], s, t);
+}
+
 glm::dvec2 MeshMap::subNodePx(int k, int l, int i, int j) const noexcept {
   const double left = nodeXPx(k), right = nodeXPx(k + 1), top = nodeYPx(l), bottom = nodeYPx(l + 1);
   return {left + (right - left) * i / kSubdivision, top + (bottom - top) * j / kSubdivision};
@@ -40,13 +54,8 @@ void MeshMap::refine(int k, int l) noexcept {
   for (int j = 0; j < kSubNodes; ++j)
     for (int i = 0; i < kSubNodes; ++i) {
       const double s = static_cast<double>(i) / kSubdivision, t = static_cast<double>(j) / kSubdivision;
-      auto blend = [&](const std::vector<float>& c) {
-        const double top = c[index(k, l)] + s * (c[index(k + 1, l)] - c[index(k, l)]);
-        const double bottom = c[index(k, l + 1)] + s * (c[index(k + 1, l + 1)] - c[index(k, l + 1)]);
-        return static_cast<float>(top + t * (bottom - top));
-      };
-      subX(k, l, i, j) = blend(mX);
-      subY(k, l, i, j) = blend(mY);
+      subX(k, l, i, j) = static_cast<float>(cellBlend(mX, k, l, s, t));
+      subY(k, l, i, j) = static_cast<float>(cellBlend(mY, k, l, s, t));
     }
 }
 
@@ -54,14 +63,7 @@ glm::dvec2 MeshMap::operator()(glm::dvec2 rasterPx) const noexcept {
   const int k = cellColumn(rasterPx.x), l = cellRow(rasterPx.y);
   double s = (rasterPx.x - nodeXPx(k)) / (nodeXPx(k + 1) - nodeXPx(k));
   double t = (rasterPx.y - nodeYPx(l)) / (nodeYPx(l + 1) - nodeYPx(l));
-  if (!refined(k, l)) {
-    auto blend = [&](const std::vector<float>& c) noexcept {
-      const double top = c[index(k, l)] + s * (c[index(k + 1, l)] - c[index(k, l)]);
-      const double bottom = c[index(k, l + 1)] + s * (c[index(k + 1, l + 1)] - c[index(k, l + 1)]);
-      return top + t * (bottom - top);
-    };
-    return {blend(mX), blend(mY)};
-  }
+  if (!refined(k, l)) return {cellBlend(mX, k, l, s, t), cellBlend(mY, k, l, s, t)};
   // The sub-cell, and the position within it
   auto subCell = [](double f) noexcept {
     if (!(f > 0.0)) return 0;  // also NaN
@@ -71,11 +73,8 @@ glm::dvec2 MeshMap::operator()(glm::dvec2 rasterPx) const noexcept {
   s = s * kSubdivision - i;
   t = t * kSubdivision - j;
   auto blend = [&](const std::vector<float>& c) noexcept {
-    const double c00 = c[subIndex(k, l, i, j)], c10 = c[subIndex(k, l, i + 1, j)];
-    const double c01 = c[subIndex(k, l, i, j + 1)], c11 = c[subIndex(k, l, i + 1, j + 1)];
-    const double top = c00 + s * (c10 - c00);
-    const double bottom = c01 + s * (c11 - c01);
-    return top + t * (bottom - top);
+    return bilinear(c[subIndex(k, l, i, j)], c[subIndex(k, l, i + 1, j)], c[subIndex(k, l, i, j + 1)],
+                    c[subIndex(k, l, i + 1, j + 1)], s, t);
   };
   return {blend(mSubX), blend(mSubY)};
 }

@@ -55,16 +55,6 @@ class FrameToField {
     return glm::dvec2{mRaster.cxPx + mRaster.fxPx * c.x / c.z, mRaster.cyPx - mRaster.fyPx * c.y / c.z};
   }
 
-  /// Starts loading the two range-image lines rangeAt(p) reads.
-  void prefetch(glm::dvec2 p) const noexcept {
-    const int w = mFrame.widthPx, h = mFrame.heightPx;
-    const double x = std::clamp(p.x - 0.5, 0.0, w - 1.0), y = std::clamp(p.y - 0.5, 0.0, h - 1.0);
-    if (!(x == x && y == y)) return;
-    const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-    __builtin_prefetch(mRange + i);
-    __builtin_prefetch(mRange + std::min(i + static_cast<std::size_t>(w), static_cast<std::size_t>(w) * h - 1));
-  }
-
  private:
   /// The range at continuous frame pixel `p` (clamped to the frame): bilinear within one surface,
   /// the nearest pixel's across a depth edge or next to the sky.
@@ -127,9 +117,6 @@ class NodeSolver {
 
   NodeSolver(const Frame& frame, const Pose& fieldPose, const OutputGeometry& g) noexcept
       : mToField(frame, fieldPose, g), mRotation(rotationHomography(frame, fieldPose, g)) {}
-
-  /// Starts loading the range image's lines around frame pixel `framePx`.
-  void prefetch(glm::dvec2 framePx) const noexcept { mToField.prefetch(framePx); }
 
   /// F(p): where the field sees the point of frame pixel p.
   std::optional<glm::dvec2> toField(glm::dvec2 framePx) const noexcept { return mToField(framePx); }
@@ -245,11 +232,6 @@ bool MeshWarp::solveNodes(const Frame& frame, const Pose& fieldPose, const Outpu
         guess = sameFrameTwice ? 2.0 * last - glm::dvec2{mBeforeX[index], mBeforeY[index]} : last;
         mBeforeX[index] = last.x;
         mBeforeY[index] = last.y;
-      }
-      // The range image is read at scattered points: fetch the lines two nodes ahead meanwhile
-      if (k + 2 < mMap.columns()) {
-        solver.prefetch(sameFrame ? glm::dvec2{mMap.frameX(k + 2, l), mMap.frameY(k + 2, l)}
-                                  : solver.rotationOnly(q + glm::dvec2{2.0 * mMap.spacingPx(), 0.0}) + parallax);
       }
       const NodeSolver::Solution node = solver.solve(q, guess);
       mUnsolvedNodes += node.solved ? 0 : 1;

@@ -76,6 +76,8 @@ class MeshMap {
            static_cast<std::size_t>(j * kSubNodes + i);
   }
   int cellOf(double coordinate, int nodes) const noexcept;
+  /// Bilinear between the four nodes of cell (k, l) in node values `c`, at (s, t) of the cell.
+  double cellBlend(const std::vector<float>& c, int k, int l, double s, double t) const noexcept;
 
   int mWidthPx = 0;
   int mHeightPx = 0;
