@@ -65,7 +65,8 @@ TEST_F(HostLatency, AHostTurnShowsInTheFirstFieldMadeAfterItsDatagram) {
     return sum / static_cast<double>(frames[k].size());
   };
   double steady = 0.0;
-  for (std::uint64_t k = poseField - 60; k < poseField; ++k) steady = std::max(steady, change(k));
+  for (std::uint64_t k = std::max<std::uint64_t>(poseField, 61) - 60; k < poseField; ++k)
+    steady = std::max(steady, change(k));
   std::uint64_t pixelField = poseField;
   while (pixelField < frames.size() && change(pixelField) <= 2.0 * steady + 2.0) ++pixelField;
   ASSERT_LT(pixelField, poseField + 3) << "the pixels never showed the turn (steady change " << steady << ")";
