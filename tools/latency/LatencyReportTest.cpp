@@ -1,6 +1,7 @@
 // fieldcast-latency as a user runs it: `--quick` writes the whole report folder, every table row
 // is finite, the plots are real PNG files, and the report says what it measured: the quadratic
-// beats hold on the turn. Plus the "needed rate" finding, on hand-made figures.
+// beats hold on the turn, and both inputs reach the emitted fields. Plus the "needed rate" finding, on hand-made
+// figures.
 #include "EmittedFields.h"
 #include "Report.h"
 
@@ -154,9 +155,12 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
   EXPECT_NE(md.find("| eval_lowpass250 |"), std::string::npos);
   EXPECT_NE(md.find("![PSNR against IG rate"), std::string::npos);
   EXPECT_NE(md.find("## Pose prediction from a host"), std::string::npos);
-  // The running service's stick → field latency: every throw found in the poses, most in the pixels
-  EXPECT_NE(md.find("| pose | 8 of 8 |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| pixels | "), std::string::npos);
+  // The running service's stick → field and host → field latency: every step found in the poses,
+  // most in the pixels
+  EXPECT_NE(md.find("| stick | pose | 8 of 8 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| stick | pixels | "), std::string::npos);
+  EXPECT_NE(md.find("| host | pose | 8 of 8 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| host | pixels | "), std::string::npos);
   EXPECT_EQ(md.find("could not be drawn"), std::string::npos);
   if (!HasFailure()) {
     fs::remove_all(dir);

@@ -156,12 +156,12 @@ void writePlotData(const fs::path& dir, const ReportInput& in) {
           cost << w->medianCostMs << ' ' << w->meanErrPx << ' ' << w->meanPsnrDb << ' ' << name(kind) << '\n';
     cost << "\n\n";
   }
-  std::ofstream e2e = openOut(dir / "e2e.dat");
-  e2e << "# stick → field latency, ms: block 0 the pose, block 1 the pixels\n";
-  if (in.stickToField) {
-    for (double ms : in.stickToField->toPoseMs) e2e << ms << '\n';
+  for (const EndToEndResult& e : in.endToEnd) {
+    std::ofstream e2e = openOut(dir / ("e2e_" + std::string(name(e.input)) + ".dat"));
+    e2e << "# " << name(e.input) << " → field latency, ms: block 0 the pose, block 1 the pixels\n";
+    for (double ms : e.toPoseMs) e2e << ms << '\n';
     e2e << "\n\n";
-    for (double ms : in.stickToField->toPixelsMs) e2e << ms << '\n';
+    for (double ms : e.toPixelsMs) e2e << ms << '\n';
   }
 }
 
@@ -213,10 +213,15 @@ std::optional<std::string> drawPlots(const fs::path& dir, const ReportInput& in,
     if (!warps.empty()) warps += ' ';
     warps += name(kind);
   }
-  const bool e2e = in.stickToField && !in.stickToField->toPoseMs.empty();
+  // The inputs measured, and those of them seen in the pixels too (gnuplot plots no empty block)
+  std::string e2e, e2ePixels;
+  for (const EndToEndResult& e : in.endToEnd) {
+    if (e.toPoseMs.empty()) continue;
+    e2e += std::string(e2e.empty() ? "" : " ") + name(e.input);
+    if (!e.toPixelsMs.empty()) e2ePixels += std::string(e2ePixels.empty() ? "" : " ") + name(e.input);
+  }
   const std::string settings = "dir='" + (dir / "plots").string() + "'; out='" + dir.string() + "'; flights='" +
-                               flights + "'; warps='" + warps + "'; e2e=" + (e2e ? "1" : "0") +
-                               "; e2ePixels=" + (e2e && !in.stickToField->toPixelsMs.empty() ? "1" : "0");
+                               flights + "'; warps='" + warps + "'; e2e='" + e2e + "'; e2ePixels='" + e2ePixels + "'";
   const fs::path log = dir / "plots" / "gnuplot.log";
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -321,31 +326,44 @@ void writeMarkdown(const fs::path& dir, const ReportInput& in, const std::option
   }
 
   // End to end
-  md << "\n## Stick → field, end to end, in the running service\n\n";
-  if (!in.stickToField) {
+  md << "\n## Input → field, end to end, in the running service\n\n";
+  if (in.endToEnd.empty()) {
     md << "Not measured: " << in.endToEndSkipped << "\n";
-  } else if (!in.stickToField->problem.empty()) {
-    md << "Not measured: " << in.stickToField->problem << "\n";
   } else {
-    const EndToEndResult& e = *in.stickToField;
     md << "`fieldcast` ran as a user runs it (its own process and clock, 720 × 486 interlaced output, "
-          "Y4M and field log on), flying with a stick that is a HID device behind a UNIX socket "
-          "(`hidsocket:`, read by the hidraw source's loop). The stick was thrown "
-       << e.throws
-       << " times, alternately fully right and left after 0.35 s centred; each throw's instant is "
-          "taken on CLOCK_MONOTONIC just before its report leaves. *pose*: the first emitted field "
-          "whose roll moved; *pixels*: the first whose picture changed by more than any field "
-          "did in the 300 ms before the throw (against the field two before, same parity). Times "
-          "are to the field's emission (handed to the outputs).\n\n"
-          "| found in | throws found | p50 ms | p99 ms | max ms |\n| --- | ---: | ---: | ---: | ---: |\n";
-    auto row = [&](const char* what, const std::vector<double>& ms) {
-      md << "| " << what << " | " << ms.size() << " of " << e.throws << " | " << fixed(quantile(ms, 0.5), 1) << " | "
-         << fixed(quantile(ms, 0.99), 1) << " | "
-         << fixed(ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end()), 1) << " |\n";
-    };
-    row("pose", e.toPoseMs);
-    row("pixels", e.toPixelsMs);
-    if (!plotProblem && !e.toPoseMs.empty()) md << "\n![Stick to field latency histogram](e2e_latency.png)\n";
+          "Y4M and field log on) on a 1 km built-in terrain, once per input:\n\n"
+          "- *stick*: a HID device behind a UNIX socket (`hidsocket:`, read by the hidraw source's loop), "
+          "thrown fully right or left (alternately) after 0.35 s centred; the instant is taken just "
+          "before its report leaves. The pose shows it when the roll moves; the pixels when the left "
+          "side's vertical shift minus the right side's does.\n"
+          "- *host*: a CIGI host on 127.0.0.1 (`[motion] source = \"host\"`) holding the ownship still "
+          "with 60 Hz host frames, its heading stepped by 10° (there and back, alternately) every "
+          "0.5 s; the instant is taken just before the first datagram with the new heading leaves. The "
+          "pose shows it when the heading moves; the pixels when the mean luma difference does.\n\n"
+          "Instants on CLOCK_MONOTONIC, to the emission of the first field that shows the step (handed "
+          "to the outputs). A pixel signal is taken against the field two before (same parity), and a "
+          "field shows the step when its signal leaves what it was in the 300 ms before by more than "
+          "one (row, grey level) and four of its standard deviations. A step not seen within 300 ms "
+          "is counted as not found.\n\n"
+          "| input | found in | steps found | p50 ms | p99 ms | max ms |\n"
+          "| --- | --- | ---: | ---: | ---: | ---: |\n";
+    for (const EndToEndResult& e : in.endToEnd) {
+      if (!e.problem.empty()) {
+        md << "| " << name(e.input) << " | not measured: " << e.problem.substr(0, e.problem.find('\n'))
+           << " | | | | |\n";
+        continue;
+      }
+      auto row = [&](const char* what, const std::vector<double>& ms) {
+        md << "| " << name(e.input) << " | " << what << " | " << ms.size() << " of " << e.steps << " | "
+           << fixed(quantile(ms, 0.5), 1) << " | " << fixed(quantile(ms, 0.99), 1) << " | "
+           << fixed(ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end()), 1) << " |\n";
+      };
+      row("pose", e.toPoseMs);
+      row("pixels", e.toPixelsMs);
+    }
+    const bool plotted = std::any_of(in.endToEnd.begin(), in.endToEnd.end(),
+                                     [](const EndToEndResult& e) { return !e.toPoseMs.empty(); });
+    if (!plotProblem && plotted) md << "\n![Input to field latency histograms](e2e_latency.png)\n";
   }
 
   // Plots and strips

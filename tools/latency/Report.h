@@ -26,8 +26,8 @@ struct ReportInput {
   EvaluationSpec spec;
   std::vector<double> ratesHz;
   std::vector<FlightResults> flights;
-  std::optional<EndToEndResult> stickToField;  ///< the running service's stick → field latency, when measured
-  std::string endToEndSkipped;                 ///< why it was not, when not
+  std::vector<EndToEndResult> endToEnd;  ///< the running service's input → field latency, per input measured
+  std::string endToEndSkipped;           ///< why it was not, when not
   double elapsedS = 0.0;
 };
 

@@ -84,7 +84,7 @@ int run(int argc, char** argv) {
   std::string plotScript = std::string(FIELDCAST_SOURCE_DIR) + "/tools/latency/plots.gnuplot";
   bool exactOnly = false;
   bool noEndToEnd = false;
-  int throws = 40;
+  int steps = 40;
   // The service: built beside this tool (build/app/fieldcast next to build/tools/latency/)
   std::string fieldcastExe =
       (fs::read_symlink("/proc/self/exe").parent_path() / "../../app/fieldcast").lexically_normal();
@@ -116,8 +116,9 @@ int run(int argc, char** argv) {
   app.add_option("--threads", threads, "Render threads (0: one per core); warps always run on one");
   app.add_option("--plot-script", plotScript, "The gnuplot script that draws the plots")->check(CLI::ExistingFile);
   app.add_flag("--exact-only", exactOnly, "Only the exact field poses (no host-predicted poses)");
-  app.add_flag("--no-e2e", noEndToEnd, "Do not run the service for the end-to-end stick → field latency");
-  app.add_option("--e2e-throws", throws, "Stick throws in the end-to-end measurement")->check(CLI::Range(1, 1000));
+  app.add_flag("--no-e2e", noEndToEnd, "Do not run the service for the end-to-end input → field latency");
+  app.add_option("--e2e-steps", steps, "Step inputs per input (stick, host) in the end-to-end measurement")
+      ->check(CLI::Range(1, 1000));
   app.add_option("--fieldcast", fieldcastExe, "The service the end-to-end measurement runs");
   app.add_option("--host-rate", spec.host.rateHz, "Host frames per second (predicted poses)")
       ->check(CLI::Range(10.0, 240.0));
@@ -133,7 +134,7 @@ int run(int argc, char** argv) {
     if (app.count("--height") == 0) spec.rasterHeightPx = 240;
     if (app.count("--fields") == 0) spec.fields = 60;
     if (app.count("--rates") == 0) rates = {10.0, 30.0};
-    if (app.count("--e2e-throws") == 0) throws = 8;
+    if (app.count("--e2e-steps") == 0) steps = 8;
   }
   spec.scan = scan == "progressive" ? fieldcast::ScanMode::Progressive : fieldcast::ScanMode::Interlaced;
   if (exactOnly) spec.fieldPoses = {fieldcast::tools::FieldPoses::Exact};
@@ -180,14 +181,18 @@ int run(int argc, char** argv) {
   } else if (!fs::is_regular_file(fieldcastExe)) {
     input.endToEndSkipped = "the service was not found at " + fieldcastExe + " (--fieldcast)";
   } else {
-    std::fprintf(stderr, "end to end: %d stick throws into %s\n", throws, fieldcastExe.c_str());
-    fieldcast::tools::EndToEndSpec e2e;
-    e2e.fieldcastExe = fieldcastExe;
-    e2e.workDir = fs::temp_directory_path() / ("fieldcast-latency-e2e-" + std::to_string(::getpid()));
-    e2e.throws = throws;
-    input.stickToField = fieldcast::tools::measureStickToField(e2e);
-    if (!input.stickToField->problem.empty()) {
-      std::fprintf(stderr, "end to end: %s\n", input.stickToField->problem.c_str());
+    for (const auto kind : {fieldcast::tools::EndToEndInput::Stick, fieldcast::tools::EndToEndInput::Host}) {
+      std::fprintf(stderr, "end to end: %d %s steps into %s\n", steps, fieldcast::tools::name(kind),
+                   fieldcastExe.c_str());
+      fieldcast::tools::EndToEndSpec e2e;
+      e2e.fieldcastExe = fieldcastExe;
+      e2e.workDir = fs::temp_directory_path() / ("fieldcast-latency-e2e-" + std::to_string(::getpid()));
+      e2e.input = kind;
+      e2e.steps = steps;
+      input.endToEnd.push_back(fieldcast::tools::measureInputToField(e2e));
+      if (!input.endToEnd.back().problem.empty()) {
+        std::fprintf(stderr, "end to end: %s\n", input.endToEnd.back().problem.c_str());
+      }
     }
   }
   input.elapsedS = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

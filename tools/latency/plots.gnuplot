@@ -1,5 +1,5 @@
 # The plots of the fieldcast-latency report, drawn from its plot data. fieldcast-latency runs
-#   gnuplot -e "dir='REPORT/plots'; out='REPORT'; flights='a b c'; warps='hold rotation …'; e2e=1; e2ePixels=1" plots.gnuplot
+#   gnuplot -e "dir='REPORT/plots'; out='REPORT'; flights='a b c'; warps='hold rotation …'; e2e='stick host'; e2ePixels='stick host'" plots.gnuplot
 # rates.dat and fields.dat hold one block per flight and warp (flight-major, warps in the order
 # of `warps`); cost.dat one block per flight.
 
@@ -60,25 +60,34 @@ do for [f = 1:nf] {
 }
 unset multiplot
 
-# Stick → field latency in the running service: histograms of the pose and the pixels
-if (e2e) {
-  set terminal pngcairo size 640, 360 font ',9' linewidth 1.3 noenhanced
+# Input → field latency in the running service: per input measured (`e2e`, e2e_INPUT.dat) a
+# panel of histograms, the pose's and (when `e2ePixels` names the input) the pixels'
+ne = words(e2e)
+if (ne > 0) {
+  set terminal pngcairo size ne * 480, 360 font ',9' linewidth 1.3 noenhanced
   set output out . '/e2e_latency.png'
+  set multiplot layout 1, ne title 'Step input → first emitted field that shows it'
   unset logscale
   set offsets 0, 0, 0, 0
-  set title 'Stick throw → first emitted field that shows it'
   set xlabel 'latency (ms)'
-  set ylabel 'throws'
+  set ylabel 'steps'
   set xrange [0:*]
   set yrange [0:*]
   set key top right
   set style fill solid 0.5 border
   binWidth = 1.0
   bin(x) = binWidth * floor(x / binWidth) + binWidth / 2
-  if (e2ePixels) {
-    plot dir . '/e2e.dat' index 0 using (bin($1)):(1.0) smooth frequency with boxes lc rgb '#1f77b4' title 'pose', \
-         '' index 1 using (bin($1)):(1.0) smooth frequency with boxes lc rgb '#d62728' fs transparent solid 0.4 title 'pixels'
-  } else {
-    plot dir . '/e2e.dat' index 0 using (bin($1)):(1.0) smooth frequency with boxes lc rgb '#1f77b4' title 'pose'
+  set boxwidth binWidth absolute
+  do for [i = 1:ne] {
+    input = word(e2e, i)
+    set title input
+    data = dir . '/e2e_' . input . '.dat'
+    if (strstrt(' ' . e2ePixels . ' ', ' ' . input . ' ') > 0) {
+      plot data index 0 using (bin($1)):(1.0) smooth frequency with boxes lc rgb '#1f77b4' title 'pose', \
+           '' index 1 using (bin($1)):(1.0) smooth frequency with boxes lc rgb '#d62728' fs transparent solid 0.4 title 'pixels'
+    } else {
+      plot data index 0 using (bin($1)):(1.0) smooth frequency with boxes lc rgb '#1f77b4' title 'pose'
+    }
   }
+  unset multiplot
 }
