@@ -5,6 +5,8 @@
 #include "EmittedFields.h"
 #include "Report.h"
 
+#include <ig_core/BuiltinTerrain.h>
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -166,6 +168,55 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
     fs::remove_all(dir);
     fs::remove(dir.string() + ".log");
   }
+}
+
+TEST(LatencyReport, EvaluatesADatabaseGivenWithDbAndRefusesFlightsOffIt) {
+  const fs::path dir = fs::temp_directory_path() / ("fieldcast_latency_db_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const fs::path database = core::ensureBuiltinDatabase(dir, {1024, 2.0, 1}, [](std::string_view, double) {});
+  // Eastward at 80 m/s, 150 m over the 2 km square's south half, looking 15° down
+  std::ofstream(dir / "east.toml") << "name = \"east\"\ncamera_pitch_deg = -15\n"
+                                   << "[[waypoint]]\nt = 0\nposition = [300, 500, 350]\n"
+                                   << "[[waypoint]]\nt = 5\nposition = [700, 500, 350]\n";
+  const std::string tool = std::string(FIELDCAST_LATENCY_BIN) + " --db " + database.string() +
+                           " --no-e2e --exact-only --threads 2 --width 160 --height 120 --fields 20 --rates 10";
+  const std::string log = dir.string() + "/run.log";
+  const int status = std::system((tool + " --flight " + (dir / "east.toml").string() + " --out " +
+                                  (dir / "report").string() + " > " + log + " 2>&1")
+                                     .c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << readFile(log);
+  const std::string md = readFile(dir / "report/report.md");
+  EXPECT_NE(md.find("Database " + database.filename().string() + ", 1024 × 1024 voxels at 2.00 m, every tile resident"),
+            std::string::npos)
+      << md;
+  // The terrain was there: over it the quadratic follows the forward flight that hold lags
+  std::ifstream csv(dir / "report/warps.csv");
+  std::string line;
+  std::getline(csv, line);
+  const std::vector<std::string> header = splitCsv(line);
+  const auto psnrCol = static_cast<std::size_t>(std::find(header.begin(), header.end(), "psnr_db") - header.begin());
+  const auto warpCol = static_cast<std::size_t>(std::find(header.begin(), header.end(), "warp") - header.begin());
+  std::map<std::string, double> psnr;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> cells = splitCsv(line);
+    ASSERT_GT(cells.size(), std::max(psnrCol, warpCol)) << line;
+    psnr[cells[warpCol]] = std::stod(cells[psnrCol]);
+  }
+  ASSERT_EQ(psnr.size(), 6u);
+  EXPECT_GT(psnr.at("quadratic"), psnr.at("hold") + 3.0);
+
+  // A flight that crosses the east edge (x 2047 m) at 0.47 s (first sampled beyond it at 0.48 s) is refused, naming
+  // where
+  std::ofstream(dir / "off.toml") << "name = \"off\"\n[[waypoint]]\nt = 0\nposition = [2000, 500, 350]\n"
+                                  << "[[waypoint]]\nt = 5\nposition = [2500, 500, 350]\n";
+  const int refused = std::system((tool + " --flight " + (dir / "off.toml").string() + " --out " +
+                                   (dir / "refused").string() + " > " + log + " 2>&1")
+                                      .c_str());
+  EXPECT_TRUE(WIFEXITED(refused) && WEXITSTATUS(refused) != 0);
+  EXPECT_NE(readFile(log).find("flight 'off' is at (2048.0, 500.0) at 0.48 s, outside the terrain's x -1.0 … 2047.0"),
+            std::string::npos)
+      << readFile(log);
+  if (!HasFailure()) fs::remove_all(dir);
 }
 
 }  // namespace

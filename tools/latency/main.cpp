@@ -4,6 +4,7 @@
 // report.md (tables, the command that made them), CSV files, gnuplot plots and the worst fields.
 // See tools/latency/README.md.
 #include "Report.h"
+#include "ResidentTerrain.h"
 #include "WarpEvaluation.h"
 
 #include <ig_core/SyntheticTerrain.h>
@@ -76,6 +77,8 @@ int run(int argc, char** argv) {
   spec.rasterWidthPx = 720;
   spec.rasterHeightPx = 486;
   int terrainSize = 2048;
+  std::string databasePath;
+  int databaseBudgetMb = 4096;
   unsigned seed = 1;
   int threads = 0;
   bool quick = false;
@@ -113,6 +116,11 @@ int run(int argc, char** argv) {
   app.add_option("--terrain-size", terrainSize, "Built-in hills: voxels per side (2 m spacing)")
       ->check(CLI::Range(256, 8192));
   app.add_option("--seed", seed, "Built-in hills: noise seed");
+  app.add_option("--db", databasePath,
+                 "A terrain database (fieldcast-db build) instead of the built-in hills, loaded whole; the "
+                 "flights (--flight) must be placed over it");
+  app.add_option("--db-budget-mb", databaseBudgetMb, "Memory for the --db database's tiles, MB")
+      ->check(CLI::Range(16, 1 << 20));
   app.add_option("--threads", threads, "Render threads (0: one per core); warps always run on one");
   app.add_option("--plot-script", plotScript, "The gnuplot script that draws the plots")->check(CLI::ExistingFile);
   app.add_flag("--exact-only", exactOnly, "Only the exact field poses (no host-predicted poses)");
@@ -142,25 +150,37 @@ int run(int argc, char** argv) {
   rates.erase(std::unique(rates.begin(), rates.end()), rates.end());
 
   const auto started = std::chrono::steady_clock::now();
-  const auto terrain =
-      fieldcast::core::makeSyntheticTerrain({fieldcast::core::SyntheticKind::Hills, terrainSize, 2.0, 6, seed});
+  // The terrain: the built-in hills in memory, or a database loaded whole
+  std::unique_ptr<fieldcast::core::MemoryTerrain> hills;
+  std::unique_ptr<fieldcast::core::TileCache> database;
+  std::string scene;
+  if (databasePath.empty()) {
+    hills = fieldcast::core::makeSyntheticTerrain({fieldcast::core::SyntheticKind::Hills, terrainSize, 2.0, 6, seed});
+    scene = "Built-in hills, " + std::to_string(terrainSize) + "² voxels at 2 m (seed " + std::to_string(seed) + ")";
+  } else {
+    std::fprintf(stderr, "loading %s whole (--db-budget-mb %d)\n", databasePath.c_str(), databaseBudgetMb);
+    database = fieldcast::tools::openResidentDatabase(databasePath, std::size_t(databaseBudgetMb) << 20);
+    const fieldcast::core::TerrainGeometry& g = database->geometry();
+    scene = "Database " + fs::path(databasePath).filename().string() + ", " + std::to_string(g.widthVox) + " × " +
+            std::to_string(g.heightVox) + " voxels at " + std::to_string(g.spacingM).substr(0, 4) +
+            " m, every tile resident";
+  }
+  const fieldcast::core::TerrainView& terrain = databasePath.empty() ? hills->view() : database->view();
   fieldcast::core::RenderSettings settings;
   settings.rangeImage = true;  // the depth-mesh and 3D warps and the geometric truth need it
-  fieldcast::core::Renderer renderer(terrain->view(), settings, threads);
+  fieldcast::core::Renderer renderer(terrain, settings, threads);
 
   fieldcast::tools::ReportInput input;
   input.command = commandLine(argc, argv);
-  input.scene = "Built-in hills, " + std::to_string(terrainSize) + "² voxels at 2 m (seed " + std::to_string(seed) +
-                "), the renderer at full quality with its range image";
+  input.scene = scene + ", the renderer at full quality with its range image";
   input.spec = spec;
   input.ratesHz = rates;
   // A stick recording is flown by the service's generic profile and flight model over the hills
   auto stickFlightOver = [&](const std::string& path) {
     fieldcast::Pose start;
-    start.positionM = {stickStart[0], stickStart[1],
-                       terrain->view().heightAtM(stickStart[0], stickStart[1]) + stickStart[2]};
+    start.positionM = {stickStart[0], stickStart[1], terrain.heightAtM(stickStart[0], stickStart[1]) + stickStart[2]};
     start.headingRad = fieldcast::radians(stickStart[3]);
-    return fieldcast::tools::stickFlight(path, start, stickSpeedMps, terrain->view());
+    return fieldcast::tools::stickFlight(path, start, stickSpeedMps, terrain);
   };
   ProgressBar bar(static_cast<int>(flightPaths.size()));
   for (std::size_t i = 0; i < flightPaths.size(); ++i) {
@@ -169,7 +189,10 @@ int run(int argc, char** argv) {
                                                          : fieldcast::tools::scriptedFlight(flightPaths[i]);
     fieldcast::tools::FlightResults results;
     results.flight = flight.name();
-    results.clearanceM = fieldcast::tools::minimumClearanceM(flight, terrain->view(), spec);
+    if (const auto outside = fieldcast::tools::whereFlightLeavesTerrain(flight, terrain.geometry(), spec)) {
+      throw std::runtime_error(*outside + (databasePath.empty() ? " (--terrain-size)" : " (--flight)"));
+    }
+    results.clearanceM = fieldcast::tools::minimumClearanceM(flight, terrain, spec);
     results.rates = fieldcast::tools::evaluateFlight(flight, renderer, spec, rates, [&](int done, int total) {
       bar.update(static_cast<int>(i), flight.name(), done, total);
     });
