@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 namespace {
@@ -32,12 +33,14 @@ void repairChecksums(std::vector<std::byte>& file) {
       std::memcpy(e + 16, &sum, 8);
     }
   }
-  // Version 2: the checksum covers the georeference after the index too.
-  std::uint32_t version = 0, georeferenceBytes = 0;
+  // Version 2: the checksum covers the georeference after the index too; version 3 the stick table.
+  std::uint32_t version = 0, georeferenceBytes = 0, stickTableBytes = 0;
   std::memcpy(&version, file.data() + 8, 4);
   if (version >= 2) std::memcpy(&georeferenceBytes, file.data() + 112, 4);
+  if (version >= 3) std::memcpy(&stickTableBytes, file.data() + 116, 4);
   const std::uint64_t covered =
-      std::min<std::uint64_t>(entries * kTileIndexEntryBytes + georeferenceBytes, file.size() - kDatabaseHeaderBytes);
+      std::min<std::uint64_t>(entries * kTileIndexEntryBytes + std::uint64_t{georeferenceBytes} + stickTableBytes,
+                              file.size() - kDatabaseHeaderBytes);
   const std::uint64_t indexSum = XXH3_64bits(file.data() + kDatabaseHeaderBytes, covered);
   std::memcpy(file.data() + 96, &indexSum, 8);
   const std::uint64_t headerSum = XXH3_64bits(file.data(), 120);
@@ -57,15 +60,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::vector<TileIndexEntry> index =
         parseTileIndex(bytes.subspan(kDatabaseHeaderBytes, indexBytes), layout, "fuzz");
     (void)parseGeoreference(bytes.subspan(kDatabaseHeaderBytes + indexBytes, layout.georeferenceBytes), "fuzz");
+    std::optional<StickTable> sticks;
+    if (layout.stickTableBytes > 0) {
+      sticks = StickTable::parse(
+          bytes.subspan(kDatabaseHeaderBytes + indexBytes + layout.georeferenceBytes, layout.stickTableBytes));
+    }
     TileBuffers tile;
     for (std::size_t k = 0; k < std::min<std::size_t>(index.size(), 4); ++k) {
       try {
         decodeTile(bytes.subspan(index[k].offset, index[k].compressedBytes), index[k], layout.geometry.tileShift,
-                   layout.voxelColour, tile, "fuzz tile");
+                   layout.voxelColour, tile, "fuzz tile", tileSticks(layout, sticks ? &*sticks : nullptr));
+        if (sticks) {
+          // What a renderer reads of a stick voxel: its colours at the tile's level
+          for (const std::uint32_t id : tile.stickId)
+            if (id != 0) (void)sticks->colourBelowTop(id, 1, 3.5);
+        }
       } catch (const TerrainDatabaseError&) {
       }
     }
   } catch (const TerrainDatabaseError&) {
+  } catch (const StickTableError&) {
   }
   return 0;
 }

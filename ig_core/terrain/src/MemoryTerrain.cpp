@@ -1,5 +1,7 @@
 // The binary pyramid of DESIGN.md §2: each level halves the one below with a 2×2 box filter
 // (heights and colours), and a conservative max mip bounds the surface for empty-space skipping.
+// Sticks keep their height up the pyramid: a coarse voxel over a stick takes the tallest stick's
+// top and id (a lone tree stays a tree far away instead of a bump a quarter its height).
 #include <ig_core/MemoryTerrain.h>
 
 #include <algorithm>
@@ -44,21 +46,25 @@ std::vector<std::uint16_t> dilate3x3(const std::vector<std::uint16_t>& raw, int 
 }  // namespace
 
 std::vector<PyramidLevel> buildPyramid(const TerrainGeometry& geometry, std::span<const std::uint16_t> heightQ,
-                                       std::span<const std::uint32_t> colourRgba) {
+                                       std::span<const std::uint32_t> colourRgba,
+                                       std::span<const std::uint32_t> stickId) {
   const auto count = static_cast<std::size_t>(geometry.widthVox) * static_cast<std::size_t>(geometry.heightVox);
-  if (heightQ.size() != count || colourRgba.size() != count) {
+  if (heightQ.size() != count || colourRgba.size() != count || (!stickId.empty() && stickId.size() != count)) {
     throw std::invalid_argument("buildPyramid: expected " + std::to_string(count) + " voxels, got " +
-                                std::to_string(heightQ.size()) + " heights and " + std::to_string(colourRgba.size()) +
-                                " colours");
+                                std::to_string(heightQ.size()) + " heights, " + std::to_string(colourRgba.size()) +
+                                " colours and " + std::to_string(stickId.size()) + " stick ids");
   }
+  const bool sticks = !stickId.empty();
   std::vector<PyramidLevel> levels(static_cast<std::size_t>(geometry.levels));
   std::vector<std::uint16_t> raw(heightQ.begin(), heightQ.end());  // raw maxima of the level below
   levels[0] = PyramidLevel{geometry.widthVox,
                            geometry.heightVox,
                            std::vector<std::uint16_t>(heightQ.begin(), heightQ.end()),
                            {},
-                           std::vector<std::uint32_t>(colourRgba.begin(), colourRgba.end())};
+                           std::vector<std::uint32_t>(colourRgba.begin(), colourRgba.end()),
+                           {}};
   levels[0].maxHeightQ = dilate3x3(raw, geometry.widthVox, geometry.heightVox);
+  if (sticks) levels[0].stickId.assign(stickId.begin(), stickId.end());
 
   for (int level = 1; level < geometry.levels; ++level) {
     const PyramidLevel& below = levels[static_cast<std::size_t>(level - 1)];
@@ -68,6 +74,7 @@ std::vector<PyramidLevel> buildPyramid(const TerrainGeometry& geometry, std::spa
     const auto size = static_cast<std::size_t>(out.widthVox) * static_cast<std::size_t>(out.heightVox);
     out.heightQ.resize(size);
     out.colourRgba.resize(size);
+    if (sticks) out.stickId.assign(size, 0u);
     std::vector<std::uint16_t> rawUp(size);
     for (int j = 0; j < out.heightVox; ++j) {
       const int j0 = 2 * j;
@@ -85,6 +92,16 @@ std::vector<PyramidLevel> buildPyramid(const TerrainGeometry& geometry, std::spa
         out.colourRgba[o] = averageRgba(below.colourRgba[idx(i0, j0)], below.colourRgba[idx(i1, j0)],
                                         below.colourRgba[idx(i0, j1)], below.colourRgba[idx(i1, j1)]);
         rawUp[o] = std::max({raw[idx(i0, j0)], raw[idx(i1, j0)], raw[idx(i0, j1)], raw[idx(i1, j1)]});
+        if (sticks) {
+          // The tallest stick below, if any: its top and id (never lower than the filtered height)
+          for (const std::size_t child : {idx(i0, j0), idx(i1, j0), idx(i0, j1), idx(i1, j1)}) {
+            const std::uint32_t id = below.stickId[child];
+            if (id != 0 && (out.stickId[o] == 0 || below.heightQ[child] > out.heightQ[o])) {
+              out.stickId[o] = id;
+              out.heightQ[o] = std::max(out.heightQ[o], below.heightQ[child]);
+            }
+          }
+        }
       }
     }
     out.maxHeightQ = dilate3x3(rawUp, out.widthVox, out.heightVox);
@@ -94,7 +111,8 @@ std::vector<PyramidLevel> buildPyramid(const TerrainGeometry& geometry, std::spa
 }
 
 void cutTile(const PyramidLevel& level, int tileShift, int tx, int ty, std::span<std::uint16_t> heightQ,
-             std::span<std::uint16_t> maxHeightQ, std::span<std::uint32_t> colourRgba) {
+             std::span<std::uint16_t> maxHeightQ, std::span<std::uint32_t> colourRgba,
+             std::span<std::uint32_t> stickId) {
   const int size = 1 << tileShift;
   for (int y = 0; y < size; ++y) {
     const int j = std::min((ty << tileShift) + y, level.heightVox - 1);
@@ -105,15 +123,25 @@ void cutTile(const PyramidLevel& level, int tileShift, int tx, int ty, std::span
       heightQ[dst] = level.heightQ[src];
       maxHeightQ[dst] = level.maxHeightQ[src];
       colourRgba[dst] = level.colourRgba[src];
+      if (!stickId.empty()) stickId[dst] = level.stickId.empty() ? 0u : level.stickId[src];
     }
   }
 }
 
 MemoryTerrain::MemoryTerrain(TerrainGeometry geometry, std::span<const std::uint16_t> heightQ,
-                             std::span<const std::uint32_t> colourRgba) {
+                             std::span<const std::uint32_t> colourRgba, std::span<const std::uint32_t> stickId,
+                             std::shared_ptr<const StickTable> sticks) {
   if (geometry.levels <= 0) geometry.levels = geometry.maxLevels();
-  mView = std::make_unique<TerrainView>(geometry);
-  const std::vector<PyramidLevel> pyramid = buildPyramid(geometry, heightQ, colourRgba);
+  if (!stickId.empty()) {
+    const std::uint32_t entries = sticks ? sticks->size() : 0;
+    const auto bad = std::find_if(stickId.begin(), stickId.end(), [&](std::uint32_t id) { return id > entries; });
+    if (bad != stickId.end()) {
+      throw std::invalid_argument("MemoryTerrain: stick id " + std::to_string(*bad) + " with " +
+                                  std::to_string(entries) + " table entries");
+    }
+  }
+  mView = std::make_unique<TerrainView>(geometry, std::move(sticks));
+  const std::vector<PyramidLevel> pyramid = buildPyramid(geometry, heightQ, colourRgba, stickId);
   const auto tileVoxels = static_cast<std::size_t>(geometry.tileSizeVox()) * geometry.tileSizeVox();
   for (int level = 0; level < geometry.levels; ++level) {
     for (int ty = 0; ty < geometry.tilesY(level); ++ty) {
@@ -122,9 +150,14 @@ MemoryTerrain::MemoryTerrain(TerrainGeometry geometry, std::span<const std::uint
         owned->heightQ.resize(tileVoxels);
         owned->maxHeightQ.resize(tileVoxels);
         owned->colourRgba.resize(tileVoxels);
+        owned->stickId.resize(stickId.empty() ? 0 : tileVoxels);
         cutTile(pyramid[static_cast<std::size_t>(level)], geometry.tileShift, tx, ty, owned->heightQ, owned->maxHeightQ,
-                owned->colourRgba);
-        owned->tile = TerrainTile{owned->heightQ.data(), owned->maxHeightQ.data(), owned->colourRgba.data()};
+                owned->colourRgba, owned->stickId);
+        if (std::all_of(owned->stickId.begin(), owned->stickId.end(), [](std::uint32_t id) { return id == 0; })) {
+          owned->stickId.clear();  // a tile without sticks says so with a null array
+        }
+        owned->tile = TerrainTile{owned->heightQ.data(), owned->maxHeightQ.data(), owned->colourRgba.data(),
+                                  owned->stickId.empty() ? nullptr : owned->stickId.data()};
         mView->publish(level, tx, ty, &owned->tile);
         mTiles.push_back(std::move(owned));
       }

@@ -53,8 +53,15 @@ BuildReport writeTerrainDatabase(const TerrainGrid& grid, const std::filesystem:
                                 std::to_string(g.heightVox) + " or tile shift " + std::to_string(options.tileShift) +
                                 " out of range");
   }
+  const std::uint32_t stickEntries = grid.sticks ? grid.sticks->size() : 0;
+  for (const std::uint32_t id : grid.stickId) {
+    if (id > stickEntries) {
+      throw std::invalid_argument("writeTerrainDatabase: stick id " + std::to_string(id) + " with " +
+                                  std::to_string(stickEntries) + " stick table entries");
+    }
+  }
   if (options.progress) options.progress("pyramid", 0.0);
-  const std::vector<PyramidLevel> pyramid = buildPyramid(g, grid.heightQ, grid.colourRgba);
+  const std::vector<PyramidLevel> pyramid = buildPyramid(g, grid.heightQ, grid.colourRgba, grid.stickId);
   if (options.progress) options.progress("pyramid", 1.0);
 
   // Tiles in index order; compressed in parallel, written in batches so memory stays bounded.
@@ -67,7 +74,7 @@ BuildReport writeTerrainDatabase(const TerrainGrid& grid, const std::filesystem:
       for (int tx = 0; tx < g.tilesX(level); ++tx) tiles.push_back({level, tx, ty});
     }
   }
-  DatabaseWriter writer(path, layout);
+  DatabaseWriter writer(path, layout, grid.sticks.get());
   const int threads = detail::resolveThreads(options.threads);
   const std::size_t batch = static_cast<std::size_t>(threads) * 8;
   std::vector<std::vector<std::byte>> compressed(batch);
@@ -76,10 +83,11 @@ BuildReport writeTerrainDatabase(const TerrainGrid& grid, const std::filesystem:
     detail::parallelFor(count, threads, 1, [&](std::size_t begin, std::size_t end) {
       thread_local TileBuffers buffers;
       buffers.resize(g.tileShift);
+      buffers.stickId.resize(grid.stickId.empty() ? 0 : buffers.heightQ.size());
       for (std::size_t k = begin; k < end; ++k) {
         const TileRef& t = tiles[first + k];
         cutTile(pyramid[static_cast<std::size_t>(t.level)], g.tileShift, t.tx, t.ty, buffers.heightQ,
-                buffers.maxHeightQ, buffers.colourRgba);
+                buffers.maxHeightQ, buffers.colourRgba, buffers.stickId);
         compressed[k] = encodeTile(buffers, g.tileShift, layout.voxelColour, options.zstdLevel);
       }
     });

@@ -7,6 +7,7 @@
 #include <xxhash.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <bit>
 #include <cerrno>
@@ -41,6 +42,7 @@ constexpr std::size_t kOffIndexOffset = 88;
 constexpr std::size_t kOffIndexChecksum = 96;
 constexpr std::size_t kOffFileBytes = 104;
 constexpr std::size_t kOffGeoreferenceBytes = 112;  // version 2; reserved (0) in version 1
+constexpr std::size_t kOffStickTableBytes = 116;    // version 3; reserved (0) before
 constexpr std::size_t kOffHeaderChecksum = 120;
 constexpr std::uint32_t kTileEncodingDeltaZstd = 1;
 
@@ -100,6 +102,11 @@ void TileBuffers::resize(int tileShift) {
   heightQ.resize(n);
   maxHeightQ.resize(n);
   colourRgba.resize(n);
+  stickId.clear();
+}
+
+TileSticks tileSticks(const DatabaseLayout& layout, const StickTable* table) noexcept {
+  return TileSticks{layout.version >= 3, table != nullptr ? table->size() : 0u};
 }
 
 std::uint64_t totalTileCount(const TerrainGeometry& geometry) noexcept {
@@ -119,9 +126,9 @@ std::uint64_t tileIndexPosition(const TerrainGeometry& geometry, int level, int 
          static_cast<std::uint64_t>(tx);
 }
 
-std::size_t rawTileBytes(int tileShift, VoxelColour mode) noexcept {
+std::size_t rawTileBytes(int tileShift, VoxelColour mode, bool stickPlane) noexcept {
   const std::size_t n = std::size_t{1} << (2 * tileShift);
-  return n * (2 + 2 + (mode == VoxelColour::Rgba ? 4 : 1));
+  return n * (2 + 2 + (mode == VoxelColour::Rgba ? 4 : 1) + (stickPlane ? 4 : 0));
 }
 
 DatabaseLayout parseDatabaseHeader(std::span<const std::byte> header, std::uint64_t actualFileBytes,
@@ -213,6 +220,17 @@ DatabaseLayout parseDatabaseHeader(std::span<const std::byte> header, std::uint6
       fail(fileName, "georeference of " + std::to_string(layout.georeferenceBytes) + " bytes does not fit in the file");
     }
   }
+  if (version >= 3) {
+    layout.stickTableBytes = load<std::uint32_t>(header, kOffStickTableBytes);
+    if (layout.stickTableBytes > kMaxStickTableBytes) {
+      fail(fileName, "stick table of " + std::to_string(layout.stickTableBytes) + " bytes (at most " +
+                         std::to_string(kMaxStickTableBytes) + ")");
+    }
+    if (layout.stickTableBytes >
+        layout.fileBytes - kDatabaseHeaderBytes - layout.tileCount * kTileIndexEntryBytes - layout.georeferenceBytes) {
+      fail(fileName, "stick table of " + std::to_string(layout.stickTableBytes) + " bytes does not fit in the file");
+    }
+  }
   return layout;
 }
 
@@ -222,8 +240,9 @@ std::vector<TileIndexEntry> parseTileIndex(std::span<const std::byte> index, con
   if (index.size() != indexBytes) {
     fail(fileName, "tile index is " + std::to_string(index.size()) + " bytes, expected " + std::to_string(indexBytes));
   }
-  const std::uint64_t dataStart = kDatabaseHeaderBytes + indexBytes + layout.georeferenceBytes;
-  const std::size_t maxCompressed = ZSTD_compressBound(rawTileBytes(layout.geometry.tileShift, layout.voxelColour));
+  const std::uint64_t dataStart = kDatabaseHeaderBytes + indexBytes + layout.georeferenceBytes + layout.stickTableBytes;
+  const std::size_t maxCompressed =
+      ZSTD_compressBound(rawTileBytes(layout.geometry.tileShift, layout.voxelColour, layout.version >= 3));
   std::vector<TileIndexEntry> entries(static_cast<std::size_t>(layout.tileCount));
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const std::span<const std::byte> raw = index.subspan(k * kTileIndexEntryBytes, kTileIndexEntryBytes);
@@ -264,8 +283,7 @@ std::string parseGeoreference(std::span<const std::byte> block, const std::strin
   return text;
 }
 
-std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout,
-                                               std::span<const std::byte> indexAndGeoreference) {
+std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout, std::span<const std::byte> metadata) {
   std::vector<std::byte> header(kDatabaseHeaderBytes, std::byte{0});
   const std::span<std::byte> h(header);
   const TerrainGeometry& g = layout.geometry;
@@ -285,9 +303,10 @@ std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout,
   store<std::uint32_t>(h, kOffTileEncoding, kTileEncodingDeltaZstd);
   store<std::uint64_t>(h, kOffTileCount, layout.tileCount);
   store<std::uint64_t>(h, kOffIndexOffset, kDatabaseHeaderBytes);
-  store<std::uint64_t>(h, kOffIndexChecksum, xxh3(indexAndGeoreference));
+  store<std::uint64_t>(h, kOffIndexChecksum, xxh3(metadata));
   store<std::uint64_t>(h, kOffFileBytes, layout.fileBytes);
   store<std::uint32_t>(h, kOffGeoreferenceBytes, static_cast<std::uint32_t>(layout.crs.size()));
+  store<std::uint32_t>(h, kOffStickTableBytes, layout.stickTableBytes);
   store<std::uint64_t>(h, kOffHeaderChecksum, xxh3(std::span<const std::byte>(header).first(kOffHeaderChecksum)));
   return header;
 }
@@ -313,6 +332,15 @@ std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, VoxelC
     for (std::size_t k = 0; k < n; ++k) planes[k] = greyOf(tile.colourRgba[k]);
     deltaEncodeRows(planes, side);
   }
+  // Stick ids: runs of one id (a roof, a wood of one species) delta-code to zeros
+  std::byte* sticks = raw.data() + raw.size() - 4 * n;
+  if (tile.stickId.empty()) {
+    std::memset(sticks, 0, 4 * n);
+  } else {
+    std::vector<std::uint32_t> ids(tile.stickId.begin(), tile.stickId.begin() + static_cast<std::ptrdiff_t>(n));
+    deltaEncodeRows(ids.data(), side);
+    std::memcpy(sticks, ids.data(), 4 * n);
+  }
   std::vector<std::byte> compressed(ZSTD_compressBound(raw.size()));
   const std::size_t size = ZSTD_compress(compressed.data(), compressed.size(), raw.data(), raw.size(), zstdLevel);
   if (ZSTD_isError(size) != 0u) throw TerrainDatabaseError(std::string("zstd: ") + ZSTD_getErrorName(size));
@@ -321,13 +349,13 @@ std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, VoxelC
 }
 
 void decodeTile(std::span<const std::byte> compressed, const TileIndexEntry& entry, int tileShift, VoxelColour mode,
-                TileBuffers& out, const std::string& what) {
+                TileBuffers& out, const std::string& what, TileSticks sticks) {
   if (compressed.size() != entry.compressedBytes) {
     fail(what,
          "expected " + std::to_string(entry.compressedBytes) + " bytes, read " + std::to_string(compressed.size()));
   }
   if (xxh3(compressed) != entry.checksum) fail(what, "checksum mismatch (corrupt tile)");
-  const std::size_t expected = rawTileBytes(tileShift, mode);
+  const std::size_t expected = rawTileBytes(tileShift, mode, sticks.plane);
   const unsigned long long content = ZSTD_getFrameContentSize(compressed.data(), compressed.size());
   if (content != expected) fail(what, "tile does not decode to " + std::to_string(expected) + " bytes");
   thread_local std::vector<std::byte> raw;
@@ -359,6 +387,17 @@ void decodeTile(std::span<const std::byte> compressed, const TileIndexEntry& ent
     deltaDecodeRows(planes, side);
     for (std::size_t k = 0; k < n; ++k) out.colourRgba[k] = planes[k] * 0x010101u | 0xFF000000u;
   }
+  if (!sticks.plane) return;
+  out.stickId.resize(n);
+  std::memcpy(out.stickId.data(), raw.data() + raw.size() - 4 * n, 4 * n);
+  deltaDecodeRows(out.stickId.data(), side);
+  std::uint32_t highest = 0;
+  for (const std::uint32_t id : out.stickId) highest = std::max(highest, id);
+  if (highest > sticks.entries) {
+    fail(what, "stick id " + std::to_string(highest) + " beyond the stick table's " + std::to_string(sticks.entries) +
+                   " entries (corrupt tile)");
+  }
+  if (highest == 0) out.stickId.clear();  // no stick in this tile
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -405,17 +444,27 @@ DatabaseReader::DatabaseReader(const std::filesystem::path& path) : mPath(path) 
     }
     readExactly(mFd, 0, header, name);
     mLayout = parseDatabaseHeader(header, fileBytes, name);
-    // parseDatabaseHeader has checked that the index and the georeference fit inside the file.
+    // parseDatabaseHeader has checked that the index, the georeference and the stick table fit
+    // inside the file.
     const auto indexBytes = static_cast<std::size_t>(mLayout.tileCount * kTileIndexEntryBytes);
-    std::vector<std::byte> indexAndGeoreference(indexBytes + mLayout.georeferenceBytes);
-    readExactly(mFd, kDatabaseHeaderBytes, indexAndGeoreference, name);
-    if (xxh3(indexAndGeoreference) != load<std::uint64_t>(header, kOffIndexChecksum)) {
-      fail(name, mLayout.georeferenceBytes > 0 ? "tile index or georeference checksum mismatch (corrupt index)"
-                                               : "tile index checksum mismatch (corrupt index)");
+    std::vector<std::byte> metadata(indexBytes + mLayout.georeferenceBytes + mLayout.stickTableBytes);
+    readExactly(mFd, kDatabaseHeaderBytes, metadata, name);
+    if (xxh3(metadata) != load<std::uint64_t>(header, kOffIndexChecksum)) {
+      fail(name, mLayout.georeferenceBytes + mLayout.stickTableBytes > 0
+                     ? "tile index, georeference or stick table checksum mismatch (corrupt index)"
+                     : "tile index checksum mismatch (corrupt index)");
     }
-    const std::span<const std::byte> all(indexAndGeoreference);
+    const std::span<const std::byte> all(metadata);
     mIndex = parseTileIndex(all.first(indexBytes), mLayout, name);
-    mLayout.crs = parseGeoreference(all.subspan(indexBytes), name);
+    mLayout.crs = parseGeoreference(all.subspan(indexBytes, mLayout.georeferenceBytes), name);
+    if (mLayout.stickTableBytes > 0) {
+      try {
+        mSticks = std::make_shared<const StickTable>(
+            StickTable::parse(all.subspan(indexBytes + mLayout.georeferenceBytes, mLayout.stickTableBytes)));
+      } catch (const StickTableError& e) {
+        fail(name, e.what());
+      }
+    }
   } catch (...) {
     ::close(mFd);
     throw;
@@ -439,13 +488,14 @@ void DatabaseReader::readTile(int level, int tx, int ty, TileBuffers& out) const
   thread_local std::vector<std::byte> compressed;
   compressed.resize(e.compressedBytes);
   readExactly(mFd, e.offset, compressed, what.str());
-  decodeTile(compressed, e, mLayout.geometry.tileShift, mLayout.voxelColour, out, what.str());
+  decodeTile(compressed, e, mLayout.geometry.tileShift, mLayout.voxelColour, out, what.str(),
+             tileSticks(mLayout, mSticks.get()));
 }
 
 // ---------------------------------------------------------------------------------------------
 // Writer
 
-DatabaseWriter::DatabaseWriter(std::filesystem::path path, const DatabaseLayout& layout)
+DatabaseWriter::DatabaseWriter(std::filesystem::path path, const DatabaseLayout& layout, const StickTable* sticks)
     : mPath(std::move(path)), mLayout(layout) {
   const std::string name = mPath.string();
   if (mLayout.geometry.levels != mLayout.geometry.maxLevels()) {
@@ -458,12 +508,19 @@ DatabaseWriter::DatabaseWriter(std::filesystem::path path, const DatabaseLayout&
   }
   // The writer's own check of what the reader will refuse.
   (void)parseGeoreference(std::as_bytes(std::span(mLayout.crs)), name);
+  if (sticks != nullptr && sticks->size() > 0) mStickTable = sticks->serialize();
+  if (mStickTable.size() > kMaxStickTableBytes) {
+    fail(name, "stick table of " + std::to_string(mStickTable.size()) + " bytes (at most " +
+                   std::to_string(kMaxStickTableBytes) + ")");
+  }
   mLayout.version = kDatabaseVersion;
   mLayout.georeferenceBytes = static_cast<std::uint32_t>(mLayout.crs.size());
+  mLayout.stickTableBytes = static_cast<std::uint32_t>(mStickTable.size());
   mLayout.tileCount = totalTileCount(mLayout.geometry);
   mIndex.resize(static_cast<std::size_t>(mLayout.tileCount));
   mWritten.assign(mIndex.size(), false);
-  mEnd = kDatabaseHeaderBytes + mLayout.tileCount * kTileIndexEntryBytes + mLayout.georeferenceBytes;
+  mEnd = kDatabaseHeaderBytes + mLayout.tileCount * kTileIndexEntryBytes + mLayout.georeferenceBytes +
+         mLayout.stickTableBytes;
   std::filesystem::path folder = mPath.parent_path();
   if (folder.empty()) folder = ".";
   // An unnamed file vanishes by itself if the build dies; it gets a name only once complete.
@@ -508,11 +565,12 @@ std::uint64_t DatabaseWriter::commit() {
     if (!mWritten[k]) fail(name, "tile " + std::to_string(k) + " was never written");
   }
   mLayout.fileBytes = mEnd;
-  std::vector<std::byte> indexAndGeoreference = serializeTileIndex(mIndex);
+  std::vector<std::byte> metadata = serializeTileIndex(mIndex);
   const std::span<const std::byte> crs = std::as_bytes(std::span(mLayout.crs));
-  indexAndGeoreference.insert(indexAndGeoreference.end(), crs.begin(), crs.end());
-  const std::vector<std::byte> header = serializeDatabaseHeader(mLayout, indexAndGeoreference);
-  writeAt(kDatabaseHeaderBytes, indexAndGeoreference);
+  metadata.insert(metadata.end(), crs.begin(), crs.end());
+  metadata.insert(metadata.end(), mStickTable.begin(), mStickTable.end());
+  const std::vector<std::byte> header = serializeDatabaseHeader(mLayout, metadata);
+  writeAt(kDatabaseHeaderBytes, metadata);
   writeAt(0, header);
   if (::fsync(mFd) != 0) fail(name, systemError("fsync failed"));
   if (mNamedTemp.empty()) {

@@ -15,7 +15,8 @@ int TerrainGeometry::maxLevels() const noexcept {
   return count;
 }
 
-TerrainView::TerrainView(const TerrainGeometry& geometry) : mGeometry(geometry) {
+TerrainView::TerrainView(const TerrainGeometry& geometry, std::shared_ptr<const StickTable> sticks)
+    : mGeometry(geometry), mSticks(std::move(sticks)) {
   if (geometry.widthVox <= 0 || geometry.heightVox <= 0 || geometry.levels < 1 || geometry.levels > 24 ||
       geometry.tileShift < 2 || geometry.tileShift > 14 || !(geometry.spacingM > 0.0) ||
       !(geometry.heightStepM > 0.0)) {
@@ -44,11 +45,12 @@ TerrainView::Sample TerrainView::sample(int level, int i, int j) const noexcept 
     const int mask = mGeometry.tileSizeVox() - 1;
     const auto index = static_cast<std::size_t>(((lj & mask) << mGeometry.tileShift) | (li & mask));
     if (l != level) mMisses.fetch_add(1, std::memory_order_relaxed);
-    return Sample{t->heightQ[index], t->maxHeightQ[index], t->colourRgba[index], l};
+    return Sample{t->heightQ[index], t->maxHeightQ[index], t->colourRgba[index],
+                  t->stickId != nullptr ? t->stickId[index] : 0u, l};
   }
   // The top level is always resident; reaching here means an owner broke that promise.
   mMisses.fetch_add(1, std::memory_order_relaxed);
-  return Sample{0, 0, 0, mGeometry.levels - 1};
+  return Sample{0, 0, 0, 0, mGeometry.levels - 1};
 }
 
 double TerrainView::heightAtM(double xM, double yM, int level) const noexcept {

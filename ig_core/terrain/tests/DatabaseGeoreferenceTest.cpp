@@ -46,7 +46,7 @@ void expectTilesDecode(const DatabaseReader& reader) {
   }
 }
 
-TEST(DatabaseGeoreference, TheCrsRoundTripsInAVersion2File) {
+TEST(DatabaseGeoreference, TheCrsRoundTripsInTheCurrentVersion) {
   ScratchDir dir;
   // A long, WKT-like CRS: the length is not limited to anything the header could hold.
   std::string wkt = "PROJCRS[\"Local transverse Mercator at 50.000000, 8.000000\",";
@@ -57,7 +57,7 @@ TEST(DatabaseGeoreference, TheCrsRoundTripsInAVersion2File) {
     grid.crs = crs;
     const BuildReport report = writeTerrainDatabase(grid, dir / "g.fctdb", smallTiles());
     const DatabaseReader reader(dir / "g.fctdb");
-    EXPECT_EQ(reader.layout().version, 2u);
+    EXPECT_EQ(reader.layout().version, kDatabaseVersion);
     EXPECT_EQ(reader.layout().crs, crs);
     EXPECT_EQ(reader.geometry().originM, grid.geometry.originM);
     EXPECT_EQ(reader.geometry().spacingM, grid.geometry.spacingM);

@@ -101,7 +101,7 @@ expect_refused "plainfile is not a folder" build --dem "$asc" -o "$work/plainfil
 # Item 2: info prints the georeference: none for a grid without a CRS (and how the host link
 # then places latitude/longitude) ...
 "$tool" info "$work/slope.fctdb" > "$work/out.txt" 2>&1 || fail "info failed"
-grep -q "Fieldcast terrain database, version 2" "$work/out.txt" || fail "info does not say version 2"
+grep -q "Fieldcast terrain database, version 3" "$work/out.txt" || fail "info does not say version 3"
 grep -q "georef      none (no CRS); latitude/longitude map onto the local tangent plane at 46.000000 N, 7.000000 E" \
   "$work/out.txt" || fail "info does not say the database has no georeference and where the tangent plane is"
 # ... and, from GeoTIFFs written by GDAL (when gdal-bin is installed), the CRS and where the grid

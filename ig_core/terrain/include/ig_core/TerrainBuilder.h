@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,10 @@ struct TerrainGrid {
   std::vector<std::uint16_t> heightQ;     ///< W×H quantised heights, row-major (row = j, north)
   std::vector<std::uint32_t> colourRgba;  ///< W×H colours (R | G<<8 | B<<16 | A<<24)
   std::string crs;                        ///< CRS of world x, y (DatabaseLayout::crs); empty: none
+  /// W×H stick ids into `sticks` (0: none), or empty when the terrain has no sticks; a voxel with a
+  /// stick has its top in heightQ (Sticks.h, ObjectPlacement.h)
+  std::vector<std::uint32_t> stickId;
+  std::shared_ptr<const StickTable> sticks;
 };
 
 /// How heights in metres map onto 16-bit steps.

@@ -1,7 +1,7 @@
 #pragma once
 // The on-disk terrain database (format described in ig_core/README.md, "Database format"):
-// a fixed 128-byte header, a tile index, the georeference (version 2), then zstd-compressed
-// tiles, each with an XXH3 checksum.
+// a fixed 128-byte header, a tile index, the georeference (version 2), the stick table (version
+// 3), then zstd-compressed tiles, each with an XXH3 checksum.
 // Every level of the pyramid is stored, tile by tile; tiles hold the same arrays TerrainTile
 // points at (heights, conservative max mip, colours).
 //
@@ -9,11 +9,13 @@
 // and index checksums, every index entry inside the file. No allocation is sized from a header
 // field that the file's real length has not bounded first.
 
+#include <ig_core/Sticks.h>
 #include <ig_core/TerrainView.h>
 
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -32,12 +34,15 @@ enum class VoxelColour : std::uint8_t { Rgba = 0, Grey = 1 };
 
 /// "FCTERRDB": the first eight bytes of every database.
 inline constexpr char kDatabaseMagic[8] = {'F', 'C', 'T', 'E', 'R', 'R', 'D', 'B'};
-/// Format version this code writes. Version 2 added the georeference (the CRS text after the index).
-inline constexpr std::uint32_t kDatabaseVersion = 2;
+/// Format version this code writes. Version 2 added the georeference (the CRS text after the index),
+/// version 3 the sticks (the stick table after the georeference, a stick-id plane in every tile).
+inline constexpr std::uint32_t kDatabaseVersion = 3;
 /// Oldest version this code reads: version 1 files open with no georeference.
 inline constexpr std::uint32_t kOldestDatabaseVersion = 1;
 /// Longest georeference (CRS text) a database may hold, in bytes.
 inline constexpr std::uint32_t kMaxGeoreferenceBytes = 64 * 1024;
+/// Largest stick table a database may hold, in bytes.
+inline constexpr std::uint32_t kMaxStickTableBytes = 256u << 20;
 /// Size of the fixed header in bytes; the tile index follows it.
 inline constexpr std::size_t kDatabaseHeaderBytes = 128;
 /// Size of one tile index entry in bytes.
@@ -58,6 +63,7 @@ struct DatabaseLayout {
   /// World x, y are coordinates in this CRS; originM places the grid in it.
   std::string crs;
   std::uint32_t georeferenceBytes = 0;  ///< length of the CRS text in the file (parseDatabaseHeader)
+  std::uint32_t stickTableBytes = 0;    ///< length of the stick table in the file (0: none; version 3)
   std::uint64_t tileCount = 0;          ///< all tiles of all levels
   std::uint64_t fileBytes = 0;          ///< the length the header promises
 };
@@ -74,17 +80,29 @@ struct TileBuffers {
   std::vector<std::uint16_t> heightQ;
   std::vector<std::uint16_t> maxHeightQ;
   std::vector<std::uint32_t> colourRgba;
+  std::vector<std::uint32_t> stickId;  ///< empty when the tile has no stick (all ids 0)
 
-  /// Sizes all three arrays for tiles of 1 << tileShift voxels a side.
+  /// Sizes heights, maxima and colours for tiles of 1 << tileShift voxels a side (stick ids are
+  /// left empty: no sticks).
   void resize(int tileShift);
 };
+
+/// What the tiles of a database say about sticks: whether they carry the stick-id plane (version 3)
+/// and how many entries the table has (a tile's ids must not exceed it).
+struct TileSticks {
+  bool plane = true;
+  std::uint32_t entries = 0;
+};
+/// The tile sticks of a database of this layout.
+TileSticks tileSticks(const DatabaseLayout& layout, const StickTable* table) noexcept;
 
 /// Number of tiles over all levels of `geometry`.
 std::uint64_t totalTileCount(const TerrainGeometry& geometry) noexcept;
 /// Position of tile (level, tx, ty) in the index: level by level, rows north, tiles east.
 std::uint64_t tileIndexPosition(const TerrainGeometry& geometry, int level, int tx, int ty) noexcept;
-/// Bytes of one uncompressed tile in a database of this colour mode.
-std::size_t rawTileBytes(int tileShift, VoxelColour mode) noexcept;
+/// Bytes of one uncompressed tile in a database of this colour mode (with the stick-id plane of
+/// version 3, or without).
+std::size_t rawTileBytes(int tileShift, VoxelColour mode, bool stickPlane = true) noexcept;
 
 /// Parses and validates the 128-byte header of `fileName` whose real length is `actualFileBytes`.
 /// Throws TerrainDatabaseError naming the file and the field that is wrong.
@@ -97,19 +115,20 @@ std::vector<TileIndexEntry> parseTileIndex(std::span<const std::byte> index, con
 /// Checks the georeference block (layout.georeferenceBytes of text after the index: printable
 /// ASCII/UTF-8, no control characters) and returns it as the CRS. Throws TerrainDatabaseError.
 std::string parseGeoreference(std::span<const std::byte> block, const std::string& fileName);
-/// Serialises `layout` into a header for the index and georeference bytes that follow it
-/// (`indexAndGeoreference`, which the header's second checksum covers).
-std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout,
-                                               std::span<const std::byte> indexAndGeoreference);
+/// Serialises `layout` into a header for the index, georeference and stick table bytes that follow
+/// it (`metadata`, which the header's second checksum covers).
+std::vector<std::byte> serializeDatabaseHeader(const DatabaseLayout& layout, std::span<const std::byte> metadata);
 /// Serialises index entries.
 std::vector<std::byte> serializeTileIndex(std::span<const TileIndexEntry> entries);
 
-/// Compresses one tile (delta-coded planes, zstd at `zstdLevel`). Thread-safe.
+/// Compresses one tile (delta-coded planes, zstd at `zstdLevel`) as this version writes it, stick
+/// ids included (zeros when the tile has none). Thread-safe.
 std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, VoxelColour mode, int zstdLevel);
 /// Checks the checksum and decodes one compressed tile into `out` (resized). `what` names the
-/// tile in errors ("terrain.fctdb: tile L0 (3, 4)"). Throws TerrainDatabaseError. Thread-safe.
+/// tile in errors ("terrain.fctdb: tile L0 (3, 4)"). Throws TerrainDatabaseError, also for a
+/// stick id beyond the table. Thread-safe.
 void decodeTile(std::span<const std::byte> compressed, const TileIndexEntry& entry, int tileShift, VoxelColour mode,
-                TileBuffers& out, const std::string& what);
+                TileBuffers& out, const std::string& what, TileSticks sticks = {});
 
 /// An open database: header and index validated, tiles read on demand with pread (thread-safe).
 class DatabaseReader {
@@ -122,6 +141,8 @@ class DatabaseReader {
 
   const DatabaseLayout& layout() const noexcept { return mLayout; }
   const TerrainGeometry& geometry() const noexcept { return mLayout.geometry; }
+  /// The stick table, or nullptr when the database has none (versions 1 and 2, or no sticks).
+  const std::shared_ptr<const StickTable>& sticks() const noexcept { return mSticks; }
   const std::filesystem::path& path() const noexcept { return mPath; }
   const TileIndexEntry& entry(int level, int tx, int ty) const noexcept {
     return mIndex[tileIndexPosition(mLayout.geometry, level, tx, ty)];
@@ -137,6 +158,7 @@ class DatabaseReader {
   std::filesystem::path mPath;
   int mFd = -1;
   DatabaseLayout mLayout;
+  std::shared_ptr<const StickTable> mSticks;
   std::vector<TileIndexEntry> mIndex;
 };
 
@@ -145,8 +167,9 @@ class DatabaseReader {
 /// interrupted or abandoned write leaves nothing behind and never a half database at `path`.
 class DatabaseWriter {
  public:
-  /// Prepares to write `path` for `layout` (tileCount and fileBytes are filled in by commit()).
-  DatabaseWriter(std::filesystem::path path, const DatabaseLayout& layout);
+  /// Prepares to write `path` for `layout` (tileCount and fileBytes are filled in by commit()),
+  /// with the stick table `sticks` (null: none; the tiles' ids must then all be 0).
+  DatabaseWriter(std::filesystem::path path, const DatabaseLayout& layout, const StickTable* sticks = nullptr);
   ~DatabaseWriter();
   DatabaseWriter(const DatabaseWriter&) = delete;
   DatabaseWriter& operator=(const DatabaseWriter&) = delete;
@@ -162,6 +185,7 @@ class DatabaseWriter {
   std::filesystem::path mNamedTemp;  // set only when the filesystem lacks O_TMPFILE
   int mFd = -1;
   DatabaseLayout mLayout;
+  std::vector<std::byte> mStickTable;  // stored form
   std::vector<TileIndexEntry> mIndex;
   std::vector<bool> mWritten;
   std::uint64_t mEnd = 0;

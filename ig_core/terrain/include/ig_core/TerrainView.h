@@ -13,6 +13,8 @@
 // originM + ((i + ½)·2^L − ½)·spacingM on each axis (level-0 voxel centres at originM + i·spacingM).
 // Row j runs east along i; j grows to the north.
 
+#include <ig_core/Sticks.h>
+
 #include <glm/vec2.hpp>
 
 #include <atomic>
@@ -49,6 +51,9 @@ struct TerrainTile {
   const std::uint16_t* heightQ = nullptr;     ///< filtered quantised heights of this level
   const std::uint16_t* maxHeightQ = nullptr;  ///< conservative max mip, see TerrainView::maxHeightQ
   const std::uint32_t* colourRgba = nullptr;  ///< RGBA8, bytes R, G, B, A in memory order
+  /// Stick ids (0: none; else an entry of TerrainView::sticks()), or nullptr when the tile has no
+  /// stick: the height of a voxel with a stick is its stick's top (Sticks.h).
+  const std::uint32_t* stickId = nullptr;
 };
 
 /// Lock-free tile table over all levels. The owner of the tiles (MemoryTerrain, the tile cache)
@@ -57,12 +62,15 @@ struct TerrainTile {
 /// level, and the miss is counted. Never blocks, never does I/O.
 class TerrainView {
  public:
-  explicit TerrainView(const TerrainGeometry& geometry);
+  /// A view of `geometry` whose tiles' stick ids point into `sticks` (none: a terrain without sticks).
+  explicit TerrainView(const TerrainGeometry& geometry, std::shared_ptr<const StickTable> sticks = {});
   TerrainView(const TerrainView&) = delete;
   TerrainView& operator=(const TerrainView&) = delete;
 
   const TerrainGeometry& geometry() const noexcept { return mGeometry; }
   int levels() const noexcept { return mGeometry.levels; }
+  /// The shared stick table, or nullptr when the terrain has no sticks. RT-safe.
+  const StickTable* sticks() const noexcept { return mSticks.get(); }
 
   /// Tile (tx, ty) of `level`, or nullptr when it is not resident. RT-safe, lock-free.
   /// The load is seq_cst (a plain load on x86-64 and arm64, like acquire): TileCache's lease
@@ -86,7 +94,8 @@ class TerrainView {
     std::uint16_t heightQ = 0;
     std::uint16_t maxQ = 0;
     std::uint32_t colour = 0;
-    int level = 0;  ///< ≥ the level asked for when its tile was missing
+    std::uint32_t stickId = 0;  ///< 0: no stick
+    int level = 0;              ///< ≥ the level asked for when its tile was missing
   };
   /// The voxel (i, j) of `level` (clamped), falling back to coarser resident levels. RT-safe.
   Sample sample(int level, int i, int j) const noexcept;
@@ -109,6 +118,7 @@ class TerrainView {
     std::unique_ptr<std::atomic<const TerrainTile*>[]> slots;
   };
   TerrainGeometry mGeometry;
+  std::shared_ptr<const StickTable> mSticks;
   std::vector<Level> mLevels;
   mutable std::atomic<std::uint64_t> mMisses{0};
 };

@@ -46,6 +46,8 @@ class TileSource {
   virtual std::string name() const = 0;
   /// CRS of world x, y (DatabaseLayout::crs); empty when the terrain has none.
   virtual std::string crs() const { return {}; }
+  /// The stick table the tiles' stick ids point into; null when the terrain has none.
+  virtual std::shared_ptr<const StickTable> sticks() const { return nullptr; }
 };
 
 /// A TileSource reading a database file.
@@ -57,6 +59,7 @@ class DatabaseTileSource final : public TileSource {
   void readTile(int level, int tx, int ty, TileBuffers& out) override { mReader.readTile(level, tx, ty, out); }
   std::string name() const override { return mReader.path().string(); }
   std::string crs() const override { return mReader.layout().crs; }
+  std::shared_ptr<const StickTable> sticks() const override { return mReader.sticks(); }
   const DatabaseReader& reader() const noexcept { return mReader; }
 
  private:

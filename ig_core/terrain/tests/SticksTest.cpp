@@ -1,0 +1,205 @@
+// The stick layer: the shared table (mips, colour by depth below the top, its stored form and
+// what it refuses), the pyramid carrying sticks up, and version 3 databases round-tripping them
+// while version 2 files still open.
+#include "TerrainTestUtil.h"
+
+#include <ig_core/MemoryTerrain.h>
+#include <ig_core/Sticks.h>
+#include <ig_core/TerrainBuilder.h>
+#include <ig_core/TerrainDatabase.h>
+
+#include <gtest/gtest.h>
+#include <xxhash.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#ifndef FIELDCAST_SOURCE_DIR
+#define FIELDCAST_SOURCE_DIR "."
+#endif
+
+namespace fieldcast::core {
+namespace {
+
+using testing::ScratchDir;
+
+constexpr std::uint32_t grey(std::uint32_t v) { return v | (v << 8) | (v << 16) | 0xFF000000u; }
+
+StickTable twoSticks() {
+  // 1: a uniform red hedge of 3 units; 2: a textured stick of 5, grey 10, 20, 30, 40, 50 top down
+  return StickTable(0.5, {StickEntry{StickKind::Uniform, 3, {0xFF0000FFu}},
+                          StickEntry{StickKind::Textured, 5, {grey(10), grey(20), grey(30), grey(40), grey(50)}}});
+}
+
+TEST(StickTable, TexturedSticksAreFilteredTwoToOneUpThePyramid) {
+  const StickTable table = twoSticks();
+  EXPECT_EQ(table.size(), 2u);
+  const auto level0 = table.texels(2, 0);
+  EXPECT_EQ(std::vector<std::uint32_t>(level0.begin(), level0.end()),
+            (std::vector<std::uint32_t>{grey(10), grey(20), grey(30), grey(40), grey(50)}));
+  const auto level1 = table.texels(2, 1);  // pairs, the odd one out alone
+  EXPECT_EQ(std::vector<std::uint32_t>(level1.begin(), level1.end()),
+            (std::vector<std::uint32_t>{grey(15), grey(35), grey(50)}));
+  const auto level2 = table.texels(2, 2);
+  EXPECT_EQ(std::vector<std::uint32_t>(level2.begin(), level2.end()), (std::vector<std::uint32_t>{grey(25), grey(50)}));
+  EXPECT_EQ(table.texels(2, 3).size(), 1u);
+  EXPECT_EQ(table.texels(2, 9).size(), 1u);  // beyond its mips: the last
+  EXPECT_EQ(table.texels(1, 0).size(), 1u);  // uniform: one colour at every level
+}
+
+TEST(StickTable, AColourIsChosenByDepthBelowTheTopInUnitsOfTheLevel) {
+  const StickTable table = twoSticks();
+  EXPECT_EQ(table.colourBelowTop(2, 0, 0.0), grey(10));
+  EXPECT_EQ(table.colourBelowTop(2, 0, 0.99), grey(10));
+  EXPECT_EQ(table.colourBelowTop(2, 0, 1.0), grey(20));
+  EXPECT_EQ(table.colourBelowTop(2, 0, 4.5), grey(50));
+  EXPECT_EQ(table.colourBelowTop(2, 0, 40.0), grey(50));  // lower ground than the stick was made for
+  EXPECT_EQ(table.colourBelowTop(2, 0, -3.0), grey(10));  // above the top (a neighbour's lean)
+  EXPECT_EQ(table.colourBelowTop(2, 1, 2.5), grey(35));   // level 1: two units a texel
+  EXPECT_EQ(table.colourBelowTop(1, 0, 2.0), 0xFF0000FFu);
+}
+
+TEST(StickTable, RoundTripsThroughItsStoredForm) {
+  const StickTable table = twoSticks();
+  const std::vector<std::byte> bytes = table.serialize();
+  EXPECT_EQ(bytes.size(), 16u + 2 * 8 + 4 * 6);
+  const StickTable back = StickTable::parse(bytes);
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back.unitM(), 0.5);
+  for (std::uint32_t id = 1; id <= 2; ++id) {
+    EXPECT_EQ(back.entry(id).kind, table.entry(id).kind);
+    EXPECT_EQ(back.entry(id).lengthVox, table.entry(id).lengthVox);
+    EXPECT_EQ(back.entry(id).texels, table.entry(id).texels);
+  }
+}
+
+TEST(StickTable, RefusesWhatItCannotHold) {
+  auto refuses = [](auto make, const std::string& what) {
+    try {
+      make();
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const StickTableError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  refuses([] { StickTable(0.0, {}); }, "unit of 0");
+  refuses([] { StickTable(0.5, {StickEntry{StickKind::Textured, 3, {1, 2}}}); }, "2 colours for a textured stick of 3");
+  refuses([] { StickTable(0.5, {StickEntry{StickKind::Uniform, 0, {1}}}); }, "length 0");
+  refuses([] { StickTable(0.5, {StickEntry{static_cast<StickKind>(9), 1, {1}}}); }, "unknown kind 9");
+  const std::vector<std::byte> good = twoSticks().serialize();
+  refuses([&] { StickTable::parse(std::span(good).first(10)); }, "its header needs 16");
+  refuses([&] { StickTable::parse(std::span(good).first(good.size() - 4)); }, "bytes of colours");
+  std::vector<std::byte> many = good;
+  const std::uint32_t count = 1u << 20;
+  std::memcpy(many.data(), &count, 4);
+  refuses([&] { StickTable::parse(many); }, "entries do not fit");
+  std::vector<std::byte> kind = good;
+  kind[16] = std::byte{7};
+  refuses([&] { StickTable::parse(kind); }, "unknown kind 7");
+}
+
+// A flat 64 × 64 grid (height 1000 q) with one stick of 200 q at (9, 9) and a 2 × 2 block of
+// sticks of 100 q at (20..21, 30..31)
+TerrainGrid gridWithSticks() {
+  TerrainGrid grid;
+  grid.geometry.widthVox = grid.geometry.heightVox = 64;
+  grid.geometry.heightStepM = 0.05;
+  grid.heightQ.assign(64 * 64, 1000);
+  grid.colourRgba.assign(64 * 64, grey(90));
+  grid.stickId.assign(64 * 64, 0);
+  grid.sticks = std::make_shared<const StickTable>(twoSticks());
+  auto at = [](int i, int j) { return static_cast<std::size_t>(j * 64 + i); };
+  grid.heightQ[at(9, 9)] = 1200;
+  grid.stickId[at(9, 9)] = 2;
+  for (int j = 30; j < 32; ++j)
+    for (int i = 20; i < 22; ++i) {
+      grid.heightQ[at(i, j)] = 1100;
+      grid.stickId[at(i, j)] = 1;
+    }
+  return grid;
+}
+
+TEST(StickPyramid, ACoarseVoxelOverAStickTakesItsTopAndId) {
+  TerrainGrid grid = gridWithSticks();
+  grid.geometry.levels = 4;
+  const std::vector<PyramidLevel> pyramid = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba, grid.stickId);
+  // The lone stick: its top, not a quarter of its height, at every level
+  for (int level = 1; level < 4; ++level) {
+    const PyramidLevel& l = pyramid[static_cast<std::size_t>(level)];
+    const std::size_t o = static_cast<std::size_t>((9 >> level) * l.widthVox + (9 >> level));
+    EXPECT_EQ(l.heightQ[o], 1200) << "level " << level;
+    EXPECT_EQ(l.stickId[o], 2u) << "level " << level;
+  }
+  // Plain ground stays the box filter, with no stick
+  const PyramidLevel& l1 = pyramid[1];
+  EXPECT_EQ(l1.heightQ[static_cast<std::size_t>(2 * l1.widthVox + 2)], 1000);
+  EXPECT_EQ(l1.stickId[static_cast<std::size_t>(2 * l1.widthVox + 2)], 0u);
+  // Without stick ids the same heights are box-filtered: the lone stick shrinks to a quarter
+  const std::vector<PyramidLevel> plain = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba);
+  EXPECT_EQ(plain[1].heightQ[static_cast<std::size_t>(4 * plain[1].widthVox + 4)], 1050);
+  EXPECT_TRUE(plain[1].stickId.empty());
+}
+
+TEST(StickDatabase, Version3KeepsTheTableAndEveryTilesIds) {
+  ScratchDir dir;
+  const TerrainGrid grid = gridWithSticks();
+  BuildOptions options;
+  options.tileShift = 4;  // 16² tiles: sticks in some, none in others
+  writeTerrainDatabase(grid, dir / "s.fctdb", options);
+  const DatabaseReader reader(dir / "s.fctdb");
+  EXPECT_EQ(reader.layout().version, 3u);
+  ASSERT_NE(reader.sticks(), nullptr);
+  EXPECT_EQ(reader.sticks()->size(), 2u);
+  EXPECT_EQ(reader.sticks()->entry(2).texels, grid.sticks->entry(2).texels);
+  TileBuffers tile;
+  reader.readTile(0, 0, 0, tile);  // voxels 0..15: the lone stick at (9, 9)
+  ASSERT_EQ(tile.stickId.size(), 256u);
+  EXPECT_EQ(tile.stickId[9 * 16 + 9], 2u);
+  EXPECT_EQ(tile.heightQ[9 * 16 + 9], 1200);
+  EXPECT_EQ(std::count(tile.stickId.begin(), tile.stickId.end(), 0u), 255);
+  reader.readTile(0, 1, 1, tile);  // voxels 16..31: the block at (20..21, 30..31)
+  EXPECT_EQ(tile.stickId[14 * 16 + 4], 1u);
+  reader.readTile(0, 3, 3, tile);  // no stick: an empty array, as a tile without sticks is kept
+  EXPECT_TRUE(tile.stickId.empty());
+  reader.readTile(2, 0, 0, tile);  // level 2: the stick carried up
+  EXPECT_EQ(tile.stickId[2 * 16 + 2], 2u);
+}
+
+TEST(StickDatabase, AnIdBeyondTheTableIsACorruptTile) {
+  TileBuffers tile;
+  tile.resize(4);
+  tile.stickId.assign(256, 0);
+  tile.stickId[17] = 3;
+  const std::vector<std::byte> compressed = encodeTile(tile, 4, VoxelColour::Rgba, 3);
+  const TileIndexEntry entry{0, static_cast<std::uint32_t>(compressed.size()),
+                             XXH3_64bits(compressed.data(), compressed.size())};
+  TileBuffers out;
+  decodeTile(compressed, entry, 4, VoxelColour::Rgba, out, "t", TileSticks{true, 3});
+  EXPECT_EQ(out.stickId[17], 3u);
+  try {
+    decodeTile(compressed, entry, 4, VoxelColour::Rgba, out, "t", TileSticks{true, 2});
+    FAIL() << "an id beyond a table of 2 decoded";
+  } catch (const TerrainDatabaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("stick id 3 beyond the stick table's 2 entries"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(StickDatabase, AVersion2FileOpensWithNoSticks) {
+  // Written by the version 2 code (the fuzzer's seed), byte for byte as it was.
+  const std::filesystem::path old =
+      std::filesystem::path(FIELDCAST_SOURCE_DIR) / "ig_core" / "terrain" / "fuzz" / "corpus" / "tiny-utm.fctdb";
+  const std::vector<char> bytes = testing::readFile(old);
+  ASSERT_EQ(bytes[8], 2) << "the seed is no longer a version 2 file";
+  const DatabaseReader reader(old);
+  EXPECT_EQ(reader.layout().version, 2u);
+  EXPECT_EQ(reader.sticks(), nullptr);
+  TileBuffers tile;
+  reader.readTile(0, 0, 0, tile);
+  EXPECT_TRUE(tile.stickId.empty());
+  EXPECT_FALSE(tile.heightQ.empty());
+}
+
+}  // namespace
+}  // namespace fieldcast::core
