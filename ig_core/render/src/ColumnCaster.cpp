@@ -54,9 +54,11 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
       tileMask(v.geometry().tileSizeVox() - 1),
       supersample(std::clamp(settings.verticalSupersample, 1, 4)),
       blend(settings.blendLevels),
+      sticks(v.sticks()),
       image(img),
       rangeM(range) {
   const TerrainGeometry& g = v.geometry();
+  if (sticks != nullptr) stickUnitsPerQ = g.heightStepM / sticks->unitM();
   for (int l = 0; l < levels; ++l) {
     levelWidth[static_cast<std::size_t>(l)] = g.levelWidthVox(l);
     levelHeight[static_cast<std::size_t>(l)] = g.levelHeightVox(l);

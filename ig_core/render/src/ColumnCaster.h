@@ -4,6 +4,7 @@
 // Private to ig_core; Renderer drives it through the RenderPool.
 
 #include "Shading.h"
+#include "StickShading.h"
 
 #include <ig_core/RenderSettings.h>
 #include <ig_core/TerrainView.h>
@@ -60,8 +61,10 @@ struct CasterFrame {
   /// castColumns; below 1 acts as 1). Any value gives the same image; tests set it near 1 to pause
   /// at almost every crossing, and to infinity to march each column to its end.
   double marchBand = 1.5;
-  Image* image;   ///< output pixels (or null)
-  float* rangeM;  ///< output range per pixel (or null)
+  const StickTable* sticks;     ///< the terrain's sticks, or null when it has none
+  double stickUnitsPerQ = 0.0;  ///< stick voxels (level 0) per height quantum
+  Image* image;                 ///< output pixels (or null)
+  float* rangeM;                ///< output range per pixel (or null)
 };
 
 /// Per-worker state: a tile pointer per level (most lookups are one compare) and counters.

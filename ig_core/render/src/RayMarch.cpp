@@ -235,6 +235,21 @@ std::uint32_t colourAt(const CasterFrame& f, CasterThread& t, int level, int x, 
   return tile->colourRgba[((y & f.tileMask) << f.tileShift) | (x & f.tileMask)];
 }
 
+StickVoxel stickAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept {
+  if (f.sticks == nullptr) return {};
+  x = std::clamp(x, 0, f.levelWidth[static_cast<std::size_t>(level)] - 1);
+  y = std::clamp(y, 0, f.levelHeight[static_cast<std::size_t>(level)] - 1);
+  const TerrainTile* tile = tileAt(f, t, level, x >> f.tileShift, y >> f.tileShift);
+  if (tile == nullptr) {
+    const TerrainView::Sample s = f.view->sample(level, x, y);
+    return s.stickId != 0 ? StickVoxel{s.stickId, s.heightQ, s.level} : StickVoxel{};
+  }
+  if (tile->stickId == nullptr) return {};
+  const auto index = static_cast<std::size_t>(((y & f.tileMask) << f.tileShift) | (x & f.tileMask));
+  const std::uint32_t id = tile->stickId[index];
+  return id != 0 ? StickVoxel{id, tile->heightQ[index], level} : StickVoxel{};
+}
+
 MarchHit march(const CasterFrame& f, CasterThread& t, const RayLine& r, double mStart) noexcept {
   mStart = std::clamp(mStart, r.mEnter, r.mExit);
   int level = levelAt(f, r, mStart);
@@ -357,6 +372,14 @@ Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const Mar
   const Cursor& c = h.at;
   const int j = static_cast<int>(c.y >> 32);
   const float frac = static_cast<float>(static_cast<std::uint32_t>(c.y) * (1.0 / kMinorOne));
+  if (f.sticks != nullptr) {
+    const StickVoxel s = r.xMajor ? colouringStick(stickAt(f, t, c.level, c.i, j), stickAt(f, t, c.level, c.i, j + 1))
+                                  : colouringStick(stickAt(f, t, c.level, j, c.i), stickAt(f, t, c.level, j + 1, c.i));
+    if (s.id != 0) {
+      const double zQ = f.camZq + r.zPer * h.m;
+      return unpackRgb(stickTexel(f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, zQ, f.stickUnitsPerQ)));
+    }
+  }
   const std::uint32_t c0 = r.xMajor ? colourAt(f, t, c.level, c.i, j) : colourAt(f, t, c.level, j, c.i);
   const std::uint32_t c1 = r.xMajor ? colourAt(f, t, c.level, c.i, j + 1) : colourAt(f, t, c.level, j + 1, c.i);
   Rgb colour = mix(unpackRgb(c0), unpackRgb(c1), frac);

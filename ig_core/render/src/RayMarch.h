@@ -71,6 +71,9 @@ bool setupLine(const CasterFrame& f, const glm::dvec3& d, RayLine& r) noexcept;
 /// levels when the tile is missing.
 std::uint16_t heightAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept;
 std::uint32_t colourAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept;
+/// The stick of voxel (x, y) of `level` (id 0: none, always so on a terrain without sticks),
+/// clamped to the grid, from the coarser level that stands in when the tile is missing.
+StickVoxel stickAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept;
 
 /// The march state at one grid line of one level.
 struct Cursor {
@@ -104,7 +107,7 @@ MarchHit marchCoherent(const CasterFrame& f, CasterThread& t, const RayLine& r, 
                        glm::dvec2& prevHit) noexcept;
 
 /// Colour at a hit: linear along the grid line at the hit's level, blended with the next level
-/// (bilinear there) by distance.
+/// (bilinear there) by distance; on a stick's side or top, the stick's colour (StickShading.h).
 Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const MarchHit& h, double depthM) noexcept;
 
 /// World position (metres) of the point at distance m along the ray.

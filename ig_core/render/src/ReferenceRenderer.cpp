@@ -7,9 +7,12 @@
 #include "ColumnCaster.h"
 #include "FrameAssembly.h"
 #include "Shading.h"
+#include "StickShading.h"
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -27,6 +30,26 @@ Rgb bilinearColour(const TerrainView& view, int level, double x, double y) {
   const Rgb a = mix(unpackRgb(view.colourRgba(level, i, j)), unpackRgb(view.colourRgba(level, i + 1, j)), tx);
   const Rgb b = mix(unpackRgb(view.colourRgba(level, i, j + 1)), unpackRgb(view.colourRgba(level, i + 1, j + 1)), tx);
   return mix(a, b, ty);
+}
+
+// On a stick's side or top (StickShading.h): the colour, at height zM, of the tallest stick among
+// the four voxels of `level` around level-0 continuous coordinates (x, y); nothing when none of
+// them carries one.
+std::optional<Rgb> stickColour(const TerrainView& view, int level, double x, double y, double zM) {
+  const StickTable* table = view.sticks();
+  if (table == nullptr) return std::nullopt;
+  const int i = static_cast<int>(std::floor(std::ldexp(x + 0.5, -level) - 0.5));
+  const int j = static_cast<int>(std::floor(std::ldexp(y + 0.5, -level) - 0.5));
+  StickVoxel stick;
+  for (const auto& [ci, cj] : {std::pair{i, j}, std::pair{i + 1, j}, std::pair{i, j + 1}, std::pair{i + 1, j + 1}}) {
+    const TerrainView::Sample v = view.sample(level, ci, cj);
+    if (v.stickId != 0) stick = colouringStick(stick, StickVoxel{v.stickId, v.heightQ, v.level});
+  }
+  if (stick.id == 0) return std::nullopt;
+  const TerrainGeometry& g = view.geometry();
+  const double zQ = (zM - g.heightBaseM) / g.heightStepM;
+  return unpackRgb(stickTexel(table->texels(stick.id, stick.level),
+                              stickTexelCoordinate(stick, zQ, g.heightStepM / table->unitM())));
 }
 
 }  // namespace
@@ -131,9 +154,13 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
           const TerrainGeometry& g = mView.geometry();
           const double x = (h.pointM.x - g.originM.x) / g.spacingM;
           const double y = (h.pointM.y - g.originM.y) / g.spacingM;
-          colour = bilinearColour(mView, h.level, x, y);
-          const double blend = settings.blendLevels ? geo.levelBlend(h.depthM * geo.lodStretch(d), h.level) : 0.0;
-          if (blend > 0.0) colour = mix(colour, bilinearColour(mView, h.level + 1, x, y), static_cast<float>(blend));
+          if (const std::optional<Rgb> stick = stickColour(mView, h.level, x, y, h.pointM.z)) {
+            colour = *stick;
+          } else {
+            colour = bilinearColour(mView, h.level, x, y);
+            const double blend = settings.blendLevels ? geo.levelBlend(h.depthM * geo.lodStretch(d), h.level) : 0.0;
+            if (blend > 0.0) colour = mix(colour, bilinearColour(mView, h.level + 1, x, y), static_cast<float>(blend));
+          }
           const auto range = static_cast<float>(h.depthM * length);
           colour = shading.terrain(colour, range);
           if (sub == s / 2) rangePx = range;

@@ -8,6 +8,7 @@
 // sub-row, and fillSpan hands those to the plain loop.
 
 #include "Shading.h"
+#include "StickShading.h"
 
 #include <algorithm>
 #include <cassert>
@@ -15,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <span>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -56,6 +58,38 @@ inline SpanPixel spanPixel(const CrossingSpan& span, const ColumnFill& column, c
   return {shading.terrain(mix(span.c0, span.c1, tw), rangeM), rangeM};
 }
 
+/// spanPixel as a function object: what forEachSpanRow colours terrain with.
+struct TerrainSpanPixel {
+  SpanPixel operator()(const CrossingSpan& span, const ColumnFill& column, const PixelShader& shading,
+                       int q) const noexcept {
+    return spanPixel(span, column, shading, q);
+  }
+};
+
+/// A span on a stick's side or top (StickShading.h): the stick's texels at its level, and the
+/// near and the far crossing's texel coordinates on it.
+struct StickSpan {
+  std::span<const std::uint32_t> texels;
+  float s0 = 0.0f, s1 = 0.0f;
+};
+
+/// What sub-row q of a span on a stick sees: the texel at its place between the crossings (the far
+/// crossing's weight as in spanPixel, nearest texel), with its range and haze.
+struct StickSpanPixel {
+  StickSpan stick;
+  SpanPixel operator()(const CrossingSpan& span, const ColumnFill& column, const PixelShader& shading,
+                       int q) const noexcept {
+    const float vqf = (static_cast<float>(q) + 0.5f) * column.invS;
+    const float ts = std::clamp((vqf - span.v0) * span.invDv, 0.0f, 1.0f);
+    const float depth = 1.0f / (span.invDepth0 + ts * (span.invDepth1 - span.invDepth0));
+    const float tw = std::clamp(ts * span.invDepth1 * depth, 0.0f, 1.0f);
+    const float yc = (column.cy - vqf) * column.invFy;
+    const float rangeM = depth * std::sqrt(column.xc2 + yc * yc);
+    const std::uint32_t texel = stickTexel(stick.texels, stick.s0 + (stick.s1 - stick.s0) * tw);
+    return {shading.terrain(unpackRgb(texel), rangeM), rangeM};
+  }
+};
+
 /// A column with one sub-row per pixel: its pixel and its range in row 0 (rows are consecutive);
 /// either may be null. Bytes per pixel: 1 for grey, 3 for colour.
 struct ColumnPixels {
@@ -64,20 +98,21 @@ struct ColumnPixels {
   std::size_t bytesPerPixel;
 };
 
-/// Calls put(q, pixel) with spanPixel for sub-rows q, q−1, ... while their centre vq lies below
-/// vStop (the far crossing's row), one at a time; advances q and vq as the march steps them (vq
-/// by the sub-row pitch, and not past sub-row 0). q ≥ 0 on entry. Everything the loop reads is a
-/// local: pixel stores are bytes, which may alias anything, so values read through a reference
-/// would be read again after every store.
-template <typename Put>
+/// Calls put(q, pixel) with pixelOf (spanPixel by default) for sub-rows q, q−1, ... while their
+/// centre vq lies below vStop (the far crossing's row), one at a time; advances q and vq as the
+/// march steps them (vq by the sub-row pitch, and not past sub-row 0). q ≥ 0 on entry. Everything
+/// the loop reads is a local: pixel stores are bytes, which may alias anything, so values read
+/// through a reference would be read again after every store.
+template <typename Put, typename PixelOf = TerrainSpanPixel>
 __attribute__((always_inline)) inline void forEachSpanRow(const CrossingSpan span, const ColumnFill& column,
                                                           const PixelShader& shading, double vStop, int& qInOut,
-                                                          double& vqInOut, Put&& put) noexcept {
+                                                          double& vqInOut, Put&& put,
+                                                          const PixelOf pixelOf = {}) noexcept {
   const ColumnFill local = column;
   int q = qInOut;
   double vq = vqInOut;
   while (vq > vStop) {
-    put(q, spanPixel(span, local, shading, q));
+    put(q, pixelOf(span, local, shading, q));
     if (--q < 0) break;
     vq -= local.invSd;
   }

@@ -83,9 +83,10 @@ StickTable::StickTable(double unitM, std::vector<StickEntry> entries) : mUnitM(u
 
 std::uint32_t StickTable::colourBelowTop(std::uint32_t id, int level, double depthUnits) const noexcept {
   const std::span<const std::uint32_t> colours = texels(id, level);
-  const double k = std::floor(std::ldexp(depthUnits, -level));
+  const double x = std::ldexp(depthUnits, -level);
+  const double k = x > 0.0 ? std::floor(x) : 0.0;  // above the top, or NaN: the top
   const double last = static_cast<double>(colours.size() - 1);
-  return colours[static_cast<std::size_t>(k < 0.0 ? 0.0 : (k > last ? last : k))];  // a NaN depth reads the top
+  return colours[static_cast<std::size_t>(k < last ? k : last)];
 }
 
 std::vector<std::byte> StickTable::serialize() const {

@@ -1,0 +1,45 @@
+#pragma once
+// The colour of sticks (ig_core/README.md, "Sticks"), shared by the fast caster and the reference
+// renderer. A voxel with a stick has its stick's top as its height, so the surface between it and
+// a lower neighbour is the stick's side; a point there, or on its top, takes the stick's colour at
+// its depth below the top — nearest texel, no level blend (the table's mips filter it instead).
+// Between two voxels that both carry sticks the taller one colours it.
+
+#include <ig_core/Sticks.h>
+
+#include <cmath>
+#include <cstdint>
+#include <span>
+
+namespace fieldcast::core {
+
+/// A voxel's stick as the renderers see it: its id (0: none), its top (height quanta), and the
+/// level whose colours it takes (the voxel's own, or the coarser one that stood in for it).
+struct StickVoxel {
+  std::uint32_t id = 0;
+  std::uint16_t topQ = 0;
+  int level = 0;
+};
+
+/// The stick that colours a point between voxels a and b: the taller of those that carry one.
+inline StickVoxel colouringStick(const StickVoxel& a, const StickVoxel& b) noexcept {
+  if (a.id == 0) return b;
+  if (b.id == 0 || a.topQ >= b.topQ) return a;
+  return b;
+}
+
+/// Where height zQ (quanta) lies on stick s: texels of its level below its top. `unitsPerQ` is
+/// the height step over the table's unit (level-0 stick voxels per quantum).
+inline float stickTexelCoordinate(const StickVoxel& s, double zQ, double unitsPerQ) noexcept {
+  return static_cast<float>(std::ldexp((s.topQ - zQ) * unitsPerQ, -s.level));
+}
+
+/// The texel at `coordinate` (floor, clamped to the stick: above its top the first, below its
+/// foot the last; NaN the first).
+inline std::uint32_t stickTexel(std::span<const std::uint32_t> texels, float coordinate) noexcept {
+  const float last = static_cast<float>(texels.size() - 1);
+  const float k = coordinate > 0.0f ? std::floor(coordinate) : 0.0f;
+  return texels[static_cast<std::size_t>(k < last ? k : last)];
+}
+
+}  // namespace fieldcast::core

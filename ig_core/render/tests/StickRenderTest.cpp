@@ -1,0 +1,162 @@
+// Sticks drawn by both renderers: a uniform block and a striped textured block standing on flat
+// ground. The fast caster's hits and colours are judged by the reference renderer's, and the
+// stripes of the textured stick must appear at the rows their heights project to.
+#include "RenderTestUtil.h"
+
+#include <ig_core/MemoryTerrain.h>
+#include <ig_core/Renderer.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+namespace fieldcast::core::test {
+namespace {
+
+constexpr std::uint32_t rgb(std::uint32_t r, std::uint32_t g, std::uint32_t b) {
+  return r | (g << 8) | (b << 16) | 0xFF000000u;
+}
+constexpr std::uint32_t kGround = rgb(70, 120, 60);
+constexpr std::uint32_t kRed = rgb(220, 30, 30);
+constexpr std::uint32_t kRoof = rgb(20, 20, 20);
+constexpr std::uint32_t kBlue = rgb(30, 60, 220);
+constexpr std::uint32_t kWhite = rgb(235, 235, 235);
+constexpr double kGroundM = 100.0;
+constexpr double kStickUnitM = 0.5;
+
+// 256² voxels at 2 m, flat at 100 m, 64-voxel tiles. A uniform red block of 8 × 8 voxels, 8 m
+// tall, at voxels (100..107, 120..127) — world x 200..214, y 240..254; and a textured block of
+// 6 × 6 voxels, 12 m tall, at (140..145, 120..125): a black roof texel (0.5 m), then 1 m stripes,
+// blue then white, down to the ground.
+std::unique_ptr<MemoryTerrain> blocks() {
+  constexpr int kSide = 256;
+  TerrainGeometry g;
+  g.widthVox = g.heightVox = kSide;
+  g.spacingM = 2.0;
+  g.heightStepM = 0.05;
+  g.tileShift = 6;
+  std::vector<std::uint16_t> heightQ(kSide * kSide, static_cast<std::uint16_t>(kGroundM / g.heightStepM));
+  std::vector<std::uint32_t> colour(kSide * kSide, kGround);
+  std::vector<std::uint32_t> stickId(kSide * kSide, 0);
+  std::vector<std::uint32_t> striped{kRoof};
+  for (int k = 0; k < 23; ++k) striped.push_back((k / 2) % 2 == 0 ? kBlue : kWhite);
+  auto table = std::make_shared<const StickTable>(
+      kStickUnitM, std::vector<StickEntry>{{StickKind::Uniform, 16, {kRed}}, {StickKind::Textured, 24, striped}});
+  const auto place = [&](int i0, int j0, int side, double heightM, std::uint32_t id) {
+    for (int j = j0; j < j0 + side; ++j)
+      for (int i = i0; i < i0 + side; ++i) {
+        const auto k = static_cast<std::size_t>(j * kSide + i);
+        heightQ[k] = static_cast<std::uint16_t>((kGroundM + heightM) / g.heightStepM);
+        colour[k] = table->texels(id, 0)[0];  // the top's colour, as a builder writes it
+        stickId[k] = id;
+      }
+  };
+  place(100, 120, 8, 8.0, 1);
+  place(140, 120, 6, 12.0, 2);
+  return std::make_unique<MemoryTerrain>(g, heightQ, colour, stickId, std::move(table));
+}
+
+// Pixels of `frame` within `tolerance` of colour `rgba` (per channel)
+int pixelsOf(const Frame& frame, std::uint32_t rgba, int tolerance) {
+  int count = 0;
+  for (int v = 0; v < frame.image.heightPx(); ++v) {
+    const std::uint8_t* row = frame.image.row(v);
+    for (int u = 0; u < frame.image.widthPx(); ++u) {
+      bool near = true;
+      for (int c = 0; c < 3; ++c)
+        near = near && std::abs(row[3 * u + c] - static_cast<int>((rgba >> (8 * c)) & 0xFF)) <= tolerance;
+      count += near ? 1 : 0;
+    }
+  }
+  return count;
+}
+
+struct StickView {
+  const char* name;
+  double x, y, altitudeM, headingDeg, pitchDeg;
+};
+
+// The blocks seen from the south, low and level; from the south-west, oblique; from above; and far
+// off, where coarse levels draw them.
+const StickView kViews[] = {
+    {"side", 245.0, 150.0, 6.0, 0.0, 0.0},
+    {"oblique", 150.0, 160.0, 60.0, 35.0, -25.0},
+    {"down", 240.0, 250.0, 150.0, 0.0, -89.0},
+    {"far", 245.0, -100.0, 40.0, 0.0, -5.0},
+};
+
+TEST(StickRender, TheCasterDrawsSticksAsTheReferenceDoes) {
+  const auto terrain = blocks();
+  const TerrainView& view = terrain->view();
+  RenderSettings settings;
+  settings.rangeImage = true;
+  settings.hazeRangeM = 0.0;  // colours compared as they are
+  Renderer renderer(view, settings, 2);
+  const ReferenceRenderer reference(view);
+  for (const StickView& s : kViews) {
+    ViewRequest request;
+    request.pose.positionM = {s.x, s.y, kGroundM + s.altitudeM};
+    request.pose.headingRad = radians(s.headingDeg);
+    request.pose.pitchRad = radians(s.pitchDeg);
+    request.display = Intrinsics::fromHorizontalFov(160, 120, radians(50.0));
+    const Frame fast = renderer.render(request);
+    const Frame ref = reference.render(request, settings);
+    const HitAgreement hits = compareHits(fast, ref, view.geometry(), settings);
+    // Colours: pixels whose colour differs from the reference's by more than a third of the range
+    int differ = 0;
+    for (int v = 0; v < fast.image.heightPx(); ++v)
+      for (int u = 0; u < fast.image.widthPx(); ++u) {
+        int d = 0;
+        for (int c = 0; c < 3; ++c)
+          d = std::max(d, std::abs(fast.image.row(v)[3 * u + c] - ref.image.row(v)[3 * u + c]));
+        differ += d > 80 ? 1 : 0;
+      }
+    const int pixels = fast.image.widthPx() * fast.image.heightPx();
+    const int red = pixelsOf(fast, kRed, 30), redRef = pixelsOf(ref, kRed, 30);
+    const int stripes = pixelsOf(fast, kBlue, 30) + pixelsOf(fast, kWhite, 30);
+    std::printf("%-8s hits %.4f same; colours: %d of %d differ; red %d (reference %d), stripes %d\n", s.name,
+                hits.fraction(), differ, pixels, red, redRef, stripes);
+    EXPECT_GE(hits.fraction(), 0.995) << s.name;
+    EXPECT_LE(differ, pixels / 100) << s.name;
+    EXPECT_GT(red, 20) << s.name << ": the uniform block is not drawn";
+    EXPECT_NEAR(red, redRef, std::max(10, redRef / 10)) << s.name;
+    EXPECT_GT(stripes, 20) << s.name << ": the textured block's sides are not drawn";
+  }
+}
+
+TEST(StickRender, ATexturedSticksStripesLieAtTheirHeights) {
+  const auto terrain = blocks();
+  RenderSettings settings;
+  settings.hazeRangeM = 0.0;
+  Renderer renderer(terrain->view(), settings, 1);
+  // Level, looking north at the textured block's south face from 60 m, eye 6 m up
+  ViewRequest request;
+  request.pose.positionM = {285.0, 180.0, kGroundM + 6.0};
+  request.display = Intrinsics::fromHorizontalFov(200, 400, radians(30.0));
+  const Frame frame = renderer.render(request);
+  const Intrinsics& k = frame.intrinsics;
+  const int u = static_cast<int>(k.cxPx);
+  // Down the centre column: each change between blue and white is a stripe edge
+  const auto channel = [&](int v, int c) { return static_cast<int>(frame.image.row(v)[3 * u + c]); };
+  const auto isBlue = [&](int v) { return channel(v, 2) > 150 && channel(v, 0) < 100; };
+  const auto isWhite = [&](int v) { return channel(v, 0) > 180 && channel(v, 2) > 180; };
+  std::vector<int> edges;
+  for (int v = 1; v < k.heightPx; ++v) {
+    if ((isBlue(v - 1) && isWhite(v)) || (isWhite(v - 1) && isBlue(v))) edges.push_back(v);
+  }
+  // Texel s of the stick lies s·0.5 m below its 12 m top; blue and white change at s = 3, 5, … 23:
+  // at heights z = 11.5 − n m, n = 1 … 11. The face is the surface's lean from the ground voxel's
+  // centre line (y 238) to the block's first (y 240): a point at height z lies at y = 238 + 2·z/12.
+  ASSERT_EQ(edges.size(), 11u) << "the textured block's face does not show its 11 stripe edges";
+  for (std::size_t n = 1; n <= edges.size(); ++n) {
+    const double z = 11.5 - static_cast<double>(n);
+    const double depth = 238.0 + 2.0 * z / 12.0 - request.pose.positionM.y;
+    const double row = k.cyPx - k.fyPx * (kGroundM + z - request.pose.positionM.z) / depth;
+    EXPECT_NEAR(edges[n - 1], row, 1.0) << "stripe edge " << n << " (" << z << " m up)";
+  }
+}
+
+}  // namespace
+}  // namespace fieldcast::core::test
