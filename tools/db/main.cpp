@@ -1,6 +1,6 @@
 // fieldcast-db: the terrain database tool.
 //   fieldcast-db build --builtin [--size N --seed S --spacing M] -o out.fctdb
-//   fieldcast-db build --dem elevation.tif [--ortho photo.jpg] -o out.fctdb
+//   fieldcast-db build --dem elevation.tif [--ortho photo.jpg] [--objects placements.csv] -o out.fctdb
 //   fieldcast-db info db.fctdb          header, georeference, levels, sizes, compression, height ranges
 //   fieldcast-db verify db.fctdb        reads and checks every tile; exit 1 on any failure
 //   fieldcast-db preview db.fctdb -o level.png [--level L] [--shaded]
@@ -10,6 +10,7 @@
 #include <ig_core/BuiltinTerrain.h>
 #include <ig_core/ElevationImport.h>
 #include <ig_core/Georeference.h>
+#include <ig_core/ObjectPlacement.h>
 #include <ig_core/TerrainBuilder.h>
 #include <ig_core/TerrainDatabase.h>
 
@@ -43,6 +44,7 @@ struct BuildArgs {
   bool builtin = false;
   std::string dem;
   std::string ortho;
+  std::string objects;  ///< placement list (CSV), empty: none
   std::string output;
   int size = 8192;
   double spacing = 2.0;
@@ -146,6 +148,12 @@ int runBuild(const BuildArgs& a) {
       grid.colourRgba = bakeProceduralColour(grid.geometry, grid.heightQ, {}, colour);
     }
   }
+  if (!a.objects.empty()) {
+    const std::vector<ObjectPlacement> objects = readPlacementList(a.objects);
+    const PlacementReport placed = placeObjects(grid, objects);
+    std::printf("%s: %zu objects placed (%zu off the grid), %zu voxels with sticks, %u stick table entries\n",
+                a.objects.c_str(), placed.placed, placed.offGrid, placed.stickVoxels, placed.tableEntries);
+  }
   BuildOptions options;
   options.tileShift = a.tileShift;
   options.voxelColour = a.grey ? VoxelColour::Grey : VoxelColour::Rgba;
@@ -167,7 +175,8 @@ struct StoredHeightRange {
   std::uint16_t minQ = 0xFFFF;
   std::uint16_t maxQ = 0;
   std::uint64_t tilesRead = 0;
-  std::uint64_t tilesBad = 0;  ///< unreadable tiles, left out of the range (verify names them)
+  std::uint64_t tilesBad = 0;     ///< unreadable tiles, left out of the range (verify names them)
+  std::uint64_t stickVoxels = 0;  ///< level-0 voxels inside the grid that carry a stick
 };
 
 StoredHeightRange scanLevel0Heights(const DatabaseReader& reader) {
@@ -191,6 +200,11 @@ StoredHeightRange scanLevel0Heights(const DatabaseReader& reader) {
         const auto [lo, hi] = std::minmax_element(row, row + columns);
         r.minQ = std::min(r.minQ, *lo);
         r.maxQ = std::max(r.maxQ, *hi);
+        if (!tile.stickId.empty()) {
+          const std::uint32_t* ids = tile.stickId.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(side);
+          r.stickVoxels +=
+              static_cast<std::uint64_t>(std::count_if(ids, ids + columns, [](auto id) { return id != 0; }));
+        }
       }
     }
   }
@@ -250,13 +264,25 @@ int runInfo(const std::string& path) {
   std::printf("  quantised   z = %.3f + %.4f * q, q 0..65535: can hold %.2f .. %.2f m\n", g.heightBaseM, g.heightStepM,
               g.heightBaseM, g.heightM(65535));
   std::printf("  colour      %s\n", l.voxelColour == VoxelColour::Rgba ? "RGBA" : "grey");
+  if (const auto& sticks = reader.sticks()) {
+    std::uint64_t uniform = 0;
+    for (std::uint32_t id = 1; id <= sticks->size(); ++id) uniform += sticks->entry(id).kind == StickKind::Uniform;
+    std::printf(
+        "  sticks      %llu level-0 voxels carry one; table of %u entries (%llu uniform, %llu textured), "
+        "%.1f KiB, stick voxels %.2f m\n",
+        static_cast<unsigned long long>(stored.stickVoxels), sticks->size(), static_cast<unsigned long long>(uniform),
+        static_cast<unsigned long long>(sticks->size() - uniform), l.stickTableBytes / 1024.0, sticks->unitM());
+  } else {
+    std::printf("  sticks      none%s\n", l.version < 3 ? " (a version 1 or 2 database)" : "");
+  }
   std::printf("  tiles       %d x %d voxels, %llu tiles over %d levels\n", g.tileSizeVox(), g.tileSizeVox(),
               static_cast<unsigned long long>(l.tileCount), g.levels);
   for (int level = 0; level < g.levels; ++level) {
     std::printf("    level %2d  %6d x %-6d voxels  %4d x %-4d tiles\n", level, g.levelWidthVox(level),
                 g.levelHeightVox(level), g.tilesX(level), g.tilesY(level));
   }
-  const double raw = static_cast<double>(l.tileCount) * static_cast<double>(rawTileBytes(g.tileShift, l.voxelColour));
+  const double raw =
+      static_cast<double>(l.tileCount) * static_cast<double>(rawTileBytes(g.tileShift, l.voxelColour, l.version >= 3));
   std::printf("  size        %.1f MiB on disk, %.1f MiB of tiles uncompressed (%.2fx)\n",
               static_cast<double>(l.fileBytes) / 1048576.0, raw / 1048576.0,
               raw / static_cast<double>(reader.compressedBytes()));
@@ -268,13 +294,16 @@ int runVerify(const std::string& path) {
   const DatabaseReader reader(path);
   const TerrainGeometry& g = reader.geometry();
   TileBuffers tile;
-  std::uint64_t bad = 0, good = 0;
+  std::uint64_t bad = 0, good = 0, stickVoxels = 0;
   for (int level = 0; level < g.levels; ++level) {
     for (int ty = 0; ty < g.tilesY(level); ++ty) {
       for (int tx = 0; tx < g.tilesX(level); ++tx) {
         try {
-          reader.readTile(level, tx, ty, tile);
+          reader.readTile(level, tx, ty, tile);  // checks every stick id against the table
           ++good;
+          if (level == 0)
+            stickVoxels += static_cast<std::uint64_t>(
+                std::count_if(tile.stickId.begin(), tile.stickId.end(), [](auto id) { return id != 0; }));
         } catch (const TerrainDatabaseError& e) {
           std::fprintf(stderr, "%s\n", e.what());
           ++bad;
@@ -284,6 +313,12 @@ int runVerify(const std::string& path) {
   }
   std::printf("%s: %llu tiles good, %llu bad (%.1f s)\n", path.c_str(), static_cast<unsigned long long>(good),
               static_cast<unsigned long long>(bad), seconds(start));
+  if (const auto& sticks = reader.sticks()) {
+    std::printf(
+        "%s: stick table of %u entries read and checked; every stick id of the good tiles lies in it "
+        "(%llu in level-0 tiles, edge repeats included)\n",
+        path.c_str(), sticks->size(), static_cast<unsigned long long>(stickVoxels));
+  }
   return bad == 0 ? 0 : 1;
 }
 
@@ -366,6 +401,8 @@ int main(int argc, char** argv) {
   buildCmd->add_option("--ortho", build.ortho, "orthophoto draped over the DEM (any image OpenImageIO reads)")
       ->needs(demOpt);
   buildCmd->add_option("-o,--output", build.output, "database to write")->required();
+  buildCmd->add_option("--objects", build.objects, "placement list of objects (CSV: model,x,y,heading,scale)")
+      ->check(CLI::ExistingFile);
   buildCmd->add_option("--size", build.size, "built-in: voxels per side")
       ->check(intRange(kMinBuiltinSizeVox, kMaxBuiltinSizeVox, "voxels"))
       ->capture_default_str();

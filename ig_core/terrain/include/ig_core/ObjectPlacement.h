@@ -1,0 +1,55 @@
+#pragma once
+// Placing objects (ig_core/README.md, "Objects"): voxel models resampled into a terrain grid as
+// sticks. Each placement names a model, where its footprint's centre stands (world metres), its
+// heading (clockwise from north: the model's north points there) and its scale. The model stands
+// on the lowest ground under its footprint (so it never floats; on a slope its uphill side is
+// shorter); a voxel takes the model cell its centre falls in (nearest). Where objects overlap the
+// taller stick wins. Every kind of stick a model has becomes one entry of the terrain's shared
+// stick table however often the model is placed.
+
+#include <ig_core/ObjectModels.h>
+#include <ig_core/TerrainBuilder.h>
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace fieldcast::core {
+
+struct ObjectPlacement {
+  std::string model;
+  double xM = 0.0, yM = 0.0;  ///< world position of the footprint's centre
+  double headingDeg = 0.0;    ///< clockwise from north
+  double scale = 1.0;         ///< horizontal and vertical
+};
+
+/// Scales a placement may have.
+inline constexpr double kMinObjectScale = 0.25;
+inline constexpr double kMaxObjectScale = 4.0;
+
+/// Reads a placement list: CSV with the header `model,x,y,heading,scale` (heading and scale may be
+/// left out of the header, and then of every row: 0° and 1), `#` comments and blank lines
+/// ignored. Throws std::runtime_error naming the file and line of anything else.
+std::vector<ObjectPlacement> readPlacementList(const std::filesystem::path& path);
+
+/// What placing did.
+struct PlacementReport {
+  std::size_t placed = 0;       ///< objects with at least one voxel on the grid
+  std::size_t offGrid = 0;      ///< objects wholly off the grid (or below the ground everywhere)
+  std::size_t stickVoxels = 0;  ///< level-0 voxels carrying a stick afterwards
+  std::uint32_t tableEntries = 0;
+};
+
+/// Finds a model by name (nullptr: unknown).
+using ModelLookup = std::function<const VoxelModel*(const std::string&)>;
+
+/// Places `objects` into `grid`: heights, stick ids, top colours, and the stick table (its entries
+/// kept, the models' added). Throws std::invalid_argument for an unknown model (naming the known
+/// ones), a scale out of range, or a non-finite position.
+PlacementReport placeObjects(TerrainGrid& grid, std::span<const ObjectPlacement> objects,
+                             const ModelLookup& lookup = findBuiltinModel);
+
+}  // namespace fieldcast::core

@@ -1,0 +1,170 @@
+#include <ig_core/ObjectPlacement.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace fieldcast::core {
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto begin = s.find_first_not_of(" \t\r");
+  if (begin == std::string::npos) return {};
+  return s.substr(begin, s.find_last_not_of(" \t\r") - begin + 1);
+}
+
+std::vector<std::string> splitCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream in(line);
+  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(trim(cell));
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+std::string knownModels() {
+  std::string names;
+  for (const VoxelModel& m : builtinModels()) names += (names.empty() ? "" : ", ") + m.name;
+  return names;
+}
+
+}  // namespace
+
+std::vector<ObjectPlacement> readPlacementList(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open the placement list");
+  std::vector<ObjectPlacement> objects;
+  std::vector<std::string> header;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const std::string where = path.string() + ":" + std::to_string(number) + ": ";
+    const std::string content = trim(line);
+    if (content.empty() || content[0] == '#') continue;
+    const std::vector<std::string> cells = splitCells(content);
+    if (header.empty()) {
+      header = cells;
+      const bool known = header.size() >= 3 && header.size() <= 5 && header[0] == "model" && header[1] == "x" &&
+                         header[2] == "y" && (header.size() < 4 || header[3] == "heading") &&
+                         (header.size() < 5 || header[4] == "scale");
+      if (!known) throw std::runtime_error(where + "the header must be model,x,y[,heading[,scale]], not " + content);
+      continue;
+    }
+    if (cells.size() != header.size()) {
+      throw std::runtime_error(where + std::to_string(cells.size()) + " values, the header has " +
+                               std::to_string(header.size()));
+    }
+    ObjectPlacement p;
+    p.model = cells[0];
+    const auto number_ = [&](std::size_t k) {
+      std::size_t used = 0;
+      double value = 0.0;
+      try {
+        value = std::stod(cells[k], &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != cells[k].size() || cells[k].empty() || !std::isfinite(value)) {
+        throw std::runtime_error(where + header[k] + " '" + cells[k] + "' is not a number");
+      }
+      return value;
+    };
+    p.xM = number_(1);
+    p.yM = number_(2);
+    if (cells.size() > 3) p.headingDeg = number_(3);
+    if (cells.size() > 4) p.scale = number_(4);
+    if (p.scale < kMinObjectScale || p.scale > kMaxObjectScale) {
+      throw std::runtime_error(where + "scale " + cells[4] + " out of range " + std::to_string(kMinObjectScale) +
+                               " .. " + std::to_string(kMaxObjectScale));
+    }
+    objects.push_back(std::move(p));
+  }
+  if (header.empty()) throw std::runtime_error(path.string() + ": empty placement list (no header)");
+  return objects;
+}
+
+PlacementReport placeObjects(TerrainGrid& grid, std::span<const ObjectPlacement> objects, const ModelLookup& lookup) {
+  const TerrainGeometry& g = grid.geometry;
+  const std::size_t count = static_cast<std::size_t>(g.widthVox) * static_cast<std::size_t>(g.heightVox);
+  if (grid.heightQ.size() != count || grid.colourRgba.size() != count) {
+    throw std::invalid_argument("placeObjects: the grid's arrays do not match its size");
+  }
+  if (grid.stickId.empty()) grid.stickId.assign(count, 0u);
+  // The table: the grid's entries, then one per kind of stick of each model used
+  std::vector<StickEntry> entries;
+  if (grid.sticks) {
+    if (std::abs(grid.sticks->unitM() - kModelStickUnitM) > 1e-12) {
+      throw std::invalid_argument("placeObjects: the grid's stick table has another unit than the models'");
+    }
+    for (std::uint32_t id = 1; id <= grid.sticks->size(); ++id) entries.push_back(grid.sticks->entry(id));
+  }
+  std::map<std::pair<const VoxelModel*, std::uint32_t>, std::uint32_t> idOf;
+  const std::vector<std::uint16_t> ground = grid.heightQ;  // before any of these objects
+  PlacementReport report;
+  std::vector<std::pair<std::size_t, const VoxelModel::Column*>> footprint;
+  for (const ObjectPlacement& p : objects) {
+    const VoxelModel* model = lookup(p.model);
+    if (model == nullptr) {
+      throw std::invalid_argument("unknown model '" + p.model + "' (built in: " + knownModels() + ")");
+    }
+    if (!(p.scale >= kMinObjectScale && p.scale <= kMaxObjectScale) || !std::isfinite(p.xM) || !std::isfinite(p.yM) ||
+        !std::isfinite(p.headingDeg)) {
+      throw std::invalid_argument("placement of '" + p.model + "': a position, heading or scale out of range");
+    }
+    // The voxels whose centres fall in the model's rotated footprint, with their cells
+    const double cell = model->cellM * p.scale;
+    const double heading = p.headingDeg * std::numbers::pi / 180.0;
+    const double rightX = std::cos(heading), rightY = -std::sin(heading);     // the model's x axis in the world
+    const double forwardX = std::sin(heading), forwardY = std::cos(heading);  // its y axis
+    const double radius = 0.5 * cell * std::hypot(model->widthCells, model->depthCells);
+    const int i0 = std::max(0, static_cast<int>(std::floor((p.xM - radius - g.originM.x) / g.spacingM)));
+    const int i1 = std::min(g.widthVox - 1, static_cast<int>(std::ceil((p.xM + radius - g.originM.x) / g.spacingM)));
+    const int j0 = std::max(0, static_cast<int>(std::floor((p.yM - radius - g.originM.y) / g.spacingM)));
+    const int j1 = std::min(g.heightVox - 1, static_cast<int>(std::ceil((p.yM + radius - g.originM.y) / g.spacingM)));
+    footprint.clear();
+    std::uint16_t baseQ = 65535;
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        const double dx = g.originM.x + i * g.spacingM - p.xM;
+        const double dy = g.originM.y + j * g.spacingM - p.yM;
+        const double mx = (dx * rightX + dy * rightY) / cell + 0.5 * model->widthCells;
+        const double my = (dx * forwardX + dy * forwardY) / cell + 0.5 * model->depthCells;
+        if (mx < 0.0 || my < 0.0 || mx >= model->widthCells || my >= model->depthCells) continue;
+        const VoxelModel::Column& column =
+            model->columns[static_cast<std::size_t>(static_cast<int>(my) * model->widthCells + static_cast<int>(mx))];
+        if (column.stick == 0) continue;
+        const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(g.widthVox) + i;
+        footprint.emplace_back(k, &column);
+        baseQ = std::min(baseQ, ground[k]);
+      }
+    }
+    bool any = false;
+    for (const auto& [k, column] : footprint) {
+      const double topM = g.heightM(baseQ) + column->heightUnits * kModelStickUnitM * p.scale;
+      const auto topQ =
+          static_cast<std::uint16_t>(std::clamp(std::lround((topM - g.heightBaseM) / g.heightStepM), 0L, 65535L));
+      if (topQ <= ground[k]) continue;                                // buried by the slope
+      if (grid.stickId[k] != 0 && grid.heightQ[k] >= topQ) continue;  // a taller stick is there
+      auto [it, added] = idOf.try_emplace({model, column->stick}, 0u);
+      if (added) {
+        entries.push_back(model->sticks[column->stick - 1]);
+        it->second = static_cast<std::uint32_t>(entries.size());
+      }
+      grid.heightQ[k] = topQ;
+      grid.stickId[k] = it->second;
+      grid.colourRgba[k] = model->sticks[column->stick - 1].texels.front();  // the top, for coarse levels
+      any = true;
+    }
+    ++(any ? report.placed : report.offGrid);
+  }
+  grid.sticks = std::make_shared<const StickTable>(kModelStickUnitM, std::move(entries));
+  report.tableEntries = grid.sticks->size();
+  report.stickVoxels = static_cast<std::size_t>(
+      std::count_if(grid.stickId.begin(), grid.stickId.end(), [](std::uint32_t id) { return id != 0; }));
+  return report;
+}
+
+}  // namespace fieldcast::core

@@ -1,0 +1,141 @@
+// Placing voxel models as sticks: a thousand copies share the table's entries, heading and scale
+// turn and size the footprint, a model stands on the lowest ground under it, and the placement
+// list says what is wrong with it, line by line.
+#include "TerrainTestUtil.h"
+
+#include <ig_core/ObjectPlacement.h>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+#include <string>
+
+namespace fieldcast::core {
+namespace {
+
+using testing::ScratchDir;
+
+// A flat grid of side × side voxels at 2 m, ground at 100 m (step 5 cm), without sticks
+TerrainGrid flatGrid(int side) {
+  TerrainGrid grid;
+  grid.geometry.widthVox = grid.geometry.heightVox = side;
+  grid.geometry.spacingM = 2.0;
+  grid.geometry.heightStepM = 0.05;
+  grid.heightQ.assign(static_cast<std::size_t>(side * side), 2000);
+  grid.colourRgba.assign(static_cast<std::size_t>(side * side), 0xFF336633u);
+  return grid;
+}
+
+// The extent (voxels) of the sticks in `grid`: i0, i1, j0, j1
+std::array<int, 4> stickExtent(const TerrainGrid& grid) {
+  std::array<int, 4> e{1 << 30, -1, 1 << 30, -1};
+  const int w = grid.geometry.widthVox;
+  for (std::size_t k = 0; k < grid.stickId.size(); ++k) {
+    if (grid.stickId[k] == 0) continue;
+    const int i = static_cast<int>(k) % w, j = static_cast<int>(k) / w;
+    e = {std::min(e[0], i), std::max(e[1], i), std::min(e[2], j), std::max(e[3], j)};
+  }
+  return e;
+}
+
+TEST(ObjectPlacement, AThousandHousesShareTheTablesEntries) {
+  TerrainGrid grid = flatGrid(1024);
+  std::vector<ObjectPlacement> village;
+  for (int k = 0; k < 1000; ++k) village.push_back({"house", 20.0 + 60.0 * (k % 32), 20.0 + 60.0 * (k / 32), 0.0, 1.0});
+  const PlacementReport report = placeObjects(grid, village);
+  const VoxelModel& house = *findBuiltinModel("house");
+  std::set<std::uint32_t> used;
+  for (const VoxelModel::Column& c : house.columns) used.insert(c.stick);
+  EXPECT_EQ(report.placed, 1000u);
+  EXPECT_EQ(report.tableEntries, used.size()) << "each kind of stick once, however many houses";
+  EXPECT_EQ(grid.sticks->size(), used.size());
+  EXPECT_EQ(report.stickVoxels, 1000u * house.columns.size());
+}
+
+TEST(ObjectPlacement, HeadingTurnsAndScaleSizesTheFootprint) {
+  // The house: 5 × 4 cells of 2 m, 10 m east-west and 8 m north-south at heading 0
+  const auto extentOf = [](double heading, double scale) {
+    TerrainGrid grid = flatGrid(128);
+    const ObjectPlacement one{"house", 128.0, 128.0, heading, scale};
+    placeObjects(grid, std::span(&one, 1));
+    const auto e = stickExtent(grid);
+    return std::pair{e[1] - e[0] + 1, e[3] - e[2] + 1};  // voxels along x, along y
+  };
+  EXPECT_EQ(extentOf(0.0, 1.0), std::pair(5, 4));
+  EXPECT_EQ(extentOf(90.0, 1.0), std::pair(4, 5));
+  EXPECT_EQ(extentOf(0.0, 2.0), std::pair(10, 8));
+  // Scale is vertical too: the ridge twice as high above the ground
+  TerrainGrid once = flatGrid(128), twice = flatGrid(128);
+  const ObjectPlacement a{"house", 128.0, 128.0, 0.0, 1.0}, b{"house", 128.0, 128.0, 0.0, 2.0};
+  placeObjects(once, std::span(&a, 1));
+  placeObjects(twice, std::span(&b, 1));
+  const auto top = [](const TerrainGrid& g) { return *std::max_element(g.heightQ.begin(), g.heightQ.end()) - 2000; };
+  EXPECT_NEAR(top(twice), 2 * top(once), 1);
+}
+
+TEST(ObjectPlacement, AModelStandsOnTheLowestGroundUnderIt) {
+  // Ground rising 1 m per voxel eastward: the house's walls reach down to its lowest corner, and
+  // its roof is level (every eave column at the same height)
+  TerrainGrid grid = flatGrid(64);
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i)
+      grid.heightQ[static_cast<std::size_t>(j * 64 + i)] = static_cast<std::uint16_t>(2000 + 20 * i);
+  const ObjectPlacement one{"house", 64.0, 64.0, 0.0, 1.0};
+  placeObjects(grid, std::span(&one, 1));
+  const auto e = stickExtent(grid);
+  const auto at = [&](int i, int j) { return grid.heightQ[static_cast<std::size_t>(j * 64 + i)]; };
+  for (int i = e[0]; i <= e[1]; ++i) EXPECT_EQ(at(i, e[2]), at(e[0], e[2])) << "eave column " << i;
+  // The south row's top stands its height over the lowest ground (the west column)
+  const int southUnits = findBuiltinModel("house")->columns[0].heightUnits;
+  EXPECT_EQ(at(e[0], e[2]) - (2000 + 20 * e[0]), southUnits * kModelStickUnitM / 0.05);
+}
+
+TEST(ObjectPlacement, ObjectsOffTheGridAreCountedNotPlaced) {
+  TerrainGrid grid = flatGrid(64);
+  const std::vector<ObjectPlacement> objects{{"conifer", 50.0, 50.0, 0.0, 1.0}, {"conifer", -500.0, 50.0, 0.0, 1.0}};
+  const PlacementReport report = placeObjects(grid, objects);
+  EXPECT_EQ(report.placed, 1u);
+  EXPECT_EQ(report.offGrid, 1u);
+}
+
+TEST(ObjectPlacement, TheListIsReadAndItsMistakesNamed) {
+  ScratchDir dir;
+  std::ofstream(dir / "ok.csv") << "# a farm\nmodel,x,y,heading,scale\n\nhouse, 10, 20, 30, 1.5\nbarn,1e2,-4,0,1\n";
+  const std::vector<ObjectPlacement> ok = readPlacementList(dir / "ok.csv");
+  ASSERT_EQ(ok.size(), 2u);
+  EXPECT_EQ(ok[0].model, "house");
+  EXPECT_EQ(ok[0].headingDeg, 30.0);
+  EXPECT_EQ(ok[0].scale, 1.5);
+  EXPECT_EQ(ok[1].xM, 100.0);
+  std::ofstream(dir / "short.csv") << "model,x,y\nconifer,1,2\n";
+  EXPECT_EQ(readPlacementList(dir / "short.csv")[0].scale, 1.0);
+
+  const auto refused = [&](const std::string& text, const std::string& what) {
+    std::ofstream(dir / "bad.csv") << text;
+    try {
+      readPlacementList(dir / "bad.csv");
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  refused("name,x,y\n", "bad.csv:1: the header must be model,x,y[,heading[,scale]]");
+  refused("model,x,y\nhouse,1\n", "bad.csv:2: 2 values, the header has 3");
+  refused("model,x,y\n\nhouse,1,north\n", "bad.csv:3: y 'north' is not a number");
+  refused("model,x,y,heading,scale\nhouse,1,2,0,9\n", "bad.csv:2: scale 9 out of range");
+  refused("", "empty placement list");
+  TerrainGrid grid = flatGrid(16);
+  const ObjectPlacement unknown{"castle", 1.0, 1.0, 0.0, 1.0};
+  try {
+    placeObjects(grid, std::span(&unknown, 1));
+    ADD_FAILURE() << "placed a castle";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown model 'castle' (built in: conifer, broadleaf, hedge, house"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace fieldcast::core
