@@ -11,9 +11,14 @@
 // 4 or 6 ms (the grazing-angle rule first, then the quality knob, as the service does): the
 // frame time it holds, the knob it settles on and the share of frames with the grazing rule on.
 //
+// render_objects: the four poses over a wood and over a village of the built-in terrain, the
+// furnished terrain against the same land bare (spec.objects = false), frames alternated in one
+// run, 720×486 on 2 threads: objects_ms, bare_ms (medians) and their ratio.
+//
 // Counters: frame_ms (per frame), ns_per_px (frame time / frame pixels), steps_per_px (height
 // samples per pixel), ref_ns_per_px (reference renderer, one thread, sampled pixels), speedup
 // (reference ns/px over this run's ns/px × threads: the per-core speed-up).
+#include <ig_core/BuiltinTerrain.h>
 #include <ig_core/FrameTimeController.h>
 #include <ig_core/OpenTerrain.h>
 #include <ig_core/ReferenceRenderer.h>
@@ -188,7 +193,77 @@ void BM_RenderHeld(benchmark::State& state) {
   state.counters["grazing_share"] = static_cast<double>(grazing) / static_cast<double>(seconds.size());
 }
 
+// ---- Objects --------------------------------------------------------------------------------------
+
+// Where the built-in terrain's objects are (generator version 4, seed 1): a wood in the foothills
+// and the village on the river's west bank at y 4.45 km
+struct ObjectArea {
+  const char* name;
+  double xM, yM;
+};
+constexpr std::array<ObjectArea, 2> kObjectAreas{{{"wood", 5000.0, 9300.0}, {"village", 9280.0, 4470.0}}};
+
+// The built-in terrain furnished (objects) or bare, opened once each
+TileCache& builtinCache(bool objects) {
+  static std::map<bool, std::unique_ptr<TileCache>> caches;
+  auto& cache = caches[objects];
+  if (!cache) {
+    BuiltinTerrainSpec spec;
+    spec.objects = objects;
+    cache = openTerrain("builtin", gCacheDir, std::size_t{3} << 29, spec);
+  }
+  return *cache;
+}
+
+void BM_RenderObjects(benchmark::State& state) {
+  const BenchPose& p = kPoses[static_cast<std::size_t>(state.range(0))];
+  const ObjectArea& area = kObjectAreas[static_cast<std::size_t>(state.range(1))];
+  state.SetLabel(std::string(area.name) + " " + p.name);
+  TileCache& furnished = builtinCache(true);
+  TileCache& bare = builtinCache(false);
+  ViewRequest request;
+  // Both at the same height above the bare ground, so the camera is never inside an object
+  request.pose.positionM = {area.xM, area.yM, bare.heightAtM(area.xM, area.yM) + p.altitudeM};
+  request.pose.headingRad = radians(p.headingDeg);
+  request.pose.pitchRad = radians(p.pitchDeg);
+  request.display = Intrinsics::fromHorizontalFov(720, 486, radians(60.0));
+  const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
+  for (TileCache* cache : {&furnished, &bare}) {
+    cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
+    cache->waitIdle(std::chrono::seconds(120));
+  }
+  const FrameLease leaseFurnished = furnished.lease(), leaseBare = bare.lease();
+  Renderer withObjects(furnished.view(), RenderSettings{}, 2), without(bare.view(), RenderSettings{}, 2);
+  Frame a = withObjects.render(request), b = without.render(request);  // warm up
+  std::vector<double> objectsS, bareS;
+  const auto timed = [&](Renderer& renderer, Frame& frame) {
+    const auto start = std::chrono::steady_clock::now();
+    frame = renderer.render(request, nullptr, std::move(frame));
+    benchmark::DoNotOptimize(frame.image.bytes().data());
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  for (auto _ : state) {
+    objectsS.push_back(timed(withObjects, a));
+    bareS.push_back(timed(without, b));
+  }
+  std::sort(objectsS.begin(), objectsS.end());
+  std::sort(bareS.begin(), bareS.end());
+  const double objectsMs = 1e3 * objectsS[objectsS.size() / 2], bareMs = 1e3 * bareS[bareS.size() / 2];
+  state.counters["objects_ms"] = objectsMs;
+  state.counters["bare_ms"] = bareMs;
+  state.counters["ratio"] = objectsMs / bareMs;
+}
+
 void registerAll() {
+  for (int area = 0; area < static_cast<int>(kObjectAreas.size()); ++area) {
+    for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
+      benchmark::RegisterBenchmark("render_objects", BM_RenderObjects)
+          ->Args({pose, area})
+          ->ArgNames({"pose", "area"})
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
+  }
   for (int size = 0; size < 2; ++size) {
     for (int anisotropy : {0, 2}) {
       for (int threads : {1, 2}) {

@@ -44,7 +44,8 @@ struct BuildArgs {
   bool builtin = false;
   std::string dem;
   std::string ortho;
-  std::string objects;  ///< placement list (CSV), empty: none
+  std::string objects;         ///< placement list (CSV), empty: none
+  bool builtinObjects = true;  ///< the built-in terrain furnished
   std::string output;
   int size = 8192;
   double spacing = 2.0;
@@ -110,6 +111,7 @@ int runBuild(const BuildArgs& a) {
     spec.sizeVox = a.size;
     spec.spacingM = a.spacing;
     spec.seed = a.seed;
+    spec.objects = a.builtinObjects;
     grid = generateBuiltinTerrain(spec, colour, console.callback());
   } else {
     ImportOptions import;
@@ -410,6 +412,8 @@ int main(int argc, char** argv) {
       ->check(finiteRange(kMinSpacingM, kMaxSpacingM, "m"))
       ->capture_default_str();
   buildCmd->add_option("--seed", build.seed, "built-in: seed")->check(seedNumber())->capture_default_str();
+  buildCmd->add_flag("!--no-objects", build.builtinObjects,
+                     "built-in: the bare land, without woods, hedgerows and villages");
   buildCmd
       ->add_option("--dem-spacing", build.demSpacing,
                    "DEM voxel spacing in metres (overrides the file; needed when it does not say)")

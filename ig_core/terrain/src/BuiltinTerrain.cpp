@@ -5,6 +5,7 @@
 // river channel are added per voxel.
 #include <ig_core/BuiltinTerrain.h>
 
+#include <ig_core/ObjectPlacement.h>
 #include <ig_core/TerrainDatabase.h>
 
 #include "Noise.h"
@@ -23,6 +24,7 @@
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace fieldcast::core {
 namespace {
@@ -134,6 +136,167 @@ class Shape {
   double mAmp;  // heights shrink on small test terrains so slopes stay plausible
   std::uint32_t mSeed;
   double mPhase[3] = {};
+};
+
+// ---- Objects ----------------------------------------------------------------------------------------
+
+// Where the built-in terrain's objects go, from its shape and what its colour painted each voxel:
+// villages (houses, barns and a church) on the river's banks every 1.5 km through the lowlands,
+// farmsteads (a house, a barn, trees) among the fields about every 350 m, woods on its forests (a
+// tree every 6 m, conifers up high, broadleaves below), hedgerows along its fields' edges (with
+// gaps). Deterministic for the seed.
+class Furnisher {
+ public:
+  Furnisher(const Shape& shape, TerrainGrid& grid, const std::vector<LandCover>& cover)
+      : mShape(shape), mGrid(grid), mCover(cover), mPlacer(grid), mSeed(shape.seed() ^ 0x0B1EC75u) {}
+
+  PlacementReport run(const ProgressFn& progress) {
+    placeVillages();
+    placeFarmsteads();
+    if (progress) progress("objects", 0.2);
+    placeWoods();
+    if (progress) progress("objects", 0.7);
+    placeHedgerows();
+    if (progress) progress("objects", 1.0);
+    return mPlacer.finish();
+  }
+
+ private:
+  static constexpr double kVillageRadiusM = 110.0;
+
+  double unit(int a, int b, std::uint32_t salt) const noexcept {
+    return detail::unitFromHash(detail::hashLattice(a, b, mSeed + salt));
+  }
+  int side() const noexcept { return mGrid.geometry.widthVox; }
+  double spacing() const noexcept { return mGrid.geometry.spacingM; }
+  // The voxel under world (x, y), or -1 off the grid
+  long voxelAt(double xM, double yM) const noexcept {
+    const long i = std::lround(xM / spacing()), j = std::lround(yM / spacing());
+    return i < 0 || j < 0 || i >= side() || j >= side() ? -1 : j * side() + i;
+  }
+  bool dryLand(double xM, double yM) const noexcept {
+    const long k = voxelAt(xM, yM);
+    return k >= 0 && mCover[static_cast<std::size_t>(k)] != LandCover::Water;
+  }
+  bool inVillage(double xM, double yM) const noexcept {
+    return std::any_of(mVillages.begin(), mVillages.end(), [&](const glm::dvec2& c) {
+      return glm::length(glm::dvec2{xM, yM} - c) < kVillageRadiusM;
+    });
+  }
+
+  void placeVillages() {
+    const double extent = mShape.extentM();
+    const VoxelModel& house = *findBuiltinModel("house");
+    const VoxelModel& barn = *findBuiltinModel("barn");
+    const VoxelModel& church = *findBuiltinModel("church");
+    int k = 0;
+    for (double yM = 0.18 * extent; yM < 0.50 * extent; yM += 1500.0, ++k) {
+      const double v = yM / extent;
+      if (!mShape.riverFlows(v) || v < mShape.coastV(mShape.riverU(v)) + 0.02) continue;
+      // On the bank, alternately east and west, along the river's course
+      const double bankM = mShape.riverHalfWidthM(v) + 40.0 + kVillageRadiusM;
+      const double side = k % 2 == 0 ? 1.0 : -1.0;
+      const glm::dvec2 centre{mShape.riverU(v) * extent + side * bankM, yM};
+      if (!dryLand(centre.x, centre.y)) continue;
+      const double dv = 0.002;
+      const double along = std::atan2((mShape.riverU(v + dv) - mShape.riverU(v - dv)) * extent, 2.0 * dv * extent);
+      const double streetDeg = along * 180.0 / std::numbers::pi;  // the river's heading
+      mVillages.push_back(centre);
+      mPlacer.place(church, centre.x, centre.y, streetDeg, 1.0);
+      // Houses on a jittered grid of 22 m around the church, barns at the edge
+      for (int gy = -4; gy <= 4; ++gy) {
+        for (int gx = -4; gx <= 4; ++gx) {
+          if (std::abs(gx) <= 1 && std::abs(gy) <= 1) continue;  // the church's square
+          const double r = std::hypot(gx, gy) * 22.0;
+          if (r > kVillageRadiusM - 10.0 || unit(gx + 16 * k, gy, 1) < 0.35) continue;
+          const double a = along;
+          const double ox = gx * 22.0 + 5.0 * (unit(gx, gy + 16 * k, 2) - 0.5);
+          const double oy = gy * 22.0 + 5.0 * (unit(gx, gy + 16 * k, 3) - 0.5);
+          const double x = centre.x + ox * std::cos(a) + oy * std::sin(a);
+          const double y = centre.y - ox * std::sin(a) + oy * std::cos(a);
+          if (!dryLand(x, y)) continue;
+          const bool isBarn = r > 70.0 && unit(gx, gy, 4 + k) < 0.4;
+          const double heading =
+              streetDeg + 90.0 * std::floor(4.0 * unit(gx, gy, 5 + k)) + 8.0 * (unit(gx, gy, 6) - 0.5);
+          mPlacer.place(isBarn ? barn : house, x, y, heading, 0.9 + 0.25 * unit(gx, gy, 7 + k));
+        }
+      }
+    }
+  }
+
+  void placeFarmsteads() {
+    const VoxelModel& house = *findBuiltinModel("house");
+    const VoxelModel& barn = *findBuiltinModel("barn");
+    const VoxelModel& broadleaf = *findBuiltinModel("broadleaf");
+    constexpr double kEveryM = 350.0;
+    const int cells = static_cast<int>(side() * spacing() / kEveryM);
+    const auto inField = [&](double x, double y) {
+      const long k = voxelAt(x, y);
+      return k >= 0 && (mCover[static_cast<std::size_t>(k)] == LandCover::Field ||
+                        mCover[static_cast<std::size_t>(k)] == LandCover::FieldEdge);
+    };
+    for (int cj = 0; cj < cells; ++cj) {
+      for (int ci = 0; ci < cells; ++ci) {
+        const double x = (ci + 0.2 + 0.6 * unit(ci, cj, 31)) * kEveryM;
+        const double y = (cj + 0.2 + 0.6 * unit(ci, cj, 32)) * kEveryM;
+        // Among fields all round (not on a slope into woods, rock or water), away from villages
+        bool fields = true;
+        for (const auto& [ox, oy] : {std::pair{-30.0, -30.0}, {30.0, -30.0}, {-30.0, 30.0}, {30.0, 30.0}, {0.0, 0.0}})
+          fields = fields && inField(x + ox, y + oy);
+        if (!fields || inVillage(x, y) || unit(ci, cj, 33) < 0.2) continue;
+        const double heading = 90.0 * std::floor(4.0 * unit(ci, cj, 34)) + 10.0 * (unit(ci, cj, 35) - 0.5);
+        const double a = heading * std::numbers::pi / 180.0;
+        // The barn 22 m east of the house (in the farm's own frame), two trees to the west
+        const auto at = [&](double ox, double oy) {
+          return glm::dvec2{x + ox * std::cos(a) + oy * std::sin(a), y - ox * std::sin(a) + oy * std::cos(a)};
+        };
+        mPlacer.place(house, x, y, heading, 1.0);
+        const glm::dvec2 b = at(22.0, 4.0), t1 = at(-14.0, 8.0), t2 = at(-12.0, -9.0);
+        mPlacer.place(barn, b.x, b.y, heading + 90.0, 1.0);
+        mPlacer.place(broadleaf, t1.x, t1.y, 0.0, 1.1);
+        mPlacer.place(broadleaf, t2.x, t2.y, 0.0, 0.9);
+      }
+    }
+  }
+
+  void placeWoods() {
+    const VoxelModel& conifer = *findBuiltinModel("conifer");
+    const VoxelModel& broadleaf = *findBuiltinModel("broadleaf");
+    constexpr int kEvery = 3;  // voxels between trees (6 m at 2 m)
+    for (int cj = 0; cj < side() / kEvery; ++cj) {
+      for (int ci = 0; ci < side() / kEvery; ++ci) {
+        const int i = ci * kEvery + static_cast<int>(kEvery * unit(ci, cj, 11));
+        const int j = cj * kEvery + static_cast<int>(kEvery * unit(ci, cj, 12));
+        const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(side()) + i;
+        if (mCover[k] != LandCover::Forest || unit(ci, cj, 13) > 0.85) continue;
+        const double x = i * spacing(), y = j * spacing();
+        if (inVillage(x, y)) continue;
+        const double groundM = mGrid.geometry.heightM(mGrid.heightQ[k]);
+        const bool needles = groundM > 350.0 || unit(ci, cj, 14) < 0.3;
+        mPlacer.place(needles ? conifer : broadleaf, x, y, 360.0 * unit(ci, cj, 15), 0.75 + 0.5 * unit(ci, cj, 16));
+      }
+    }
+  }
+
+  void placeHedgerows() {
+    const VoxelModel& hedge = *findBuiltinModel("hedge");
+    for (int j = 0; j < side(); ++j) {
+      for (int i = 0; i < side(); ++i) {
+        const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(side()) + i;
+        if (mCover[k] != LandCover::FieldEdge || unit(i / 8, j / 8, 21) < 0.25) continue;  // gaps of 16 m
+        const double x = i * spacing(), y = j * spacing();
+        if (inVillage(x, y)) continue;
+        mPlacer.place(hedge, x, y, 0.0, 0.8 + 0.4 * unit(i, j, 22));
+      }
+    }
+  }
+
+  const Shape& mShape;
+  TerrainGrid& mGrid;
+  const std::vector<LandCover>& mCover;
+  ObjectPlacer mPlacer;
+  std::uint32_t mSeed;
+  std::vector<glm::dvec2> mVillages;
 };
 
 // Catmull-Rom weights for the kCoarseStride fractional positions.
@@ -302,10 +465,17 @@ TerrainGrid generateBuiltinTerrain(const BuiltinTerrainSpec& spec, const Procedu
   ProceduralColourOptions options = colour;
   options.seed = colour.seed ^ static_cast<std::uint32_t>(spec.seed);
   TerrainGrid grid;
-  grid.colourRgba = bakeProceduralColour(heights.geometry, heights.heightQ, heights.waterDepthM, options);
+  std::vector<LandCover> cover;
+  grid.colourRgba = bakeProceduralColour(heights.geometry, heights.heightQ, heights.waterDepthM, options, &cover);
   if (progress) progress("colour", 1.0);
   grid.geometry = heights.geometry;
   grid.heightQ = std::move(heights.heightQ);
+  if (spec.objects) {
+    const Shape shape(spec);
+    const PlacementReport placed = Furnisher(shape, grid, cover).run(progress);
+    spdlog::debug("built-in terrain: {} objects, {} voxels with sticks, {} stick table entries", placed.placed,
+                  placed.stickVoxels, placed.tableEntries);
+  }
   return grid;
 }
 
@@ -323,7 +493,7 @@ std::filesystem::path defaultCacheDir() {
 std::filesystem::path builtinDatabasePath(const std::filesystem::path& cacheDir, const BuiltinTerrainSpec& spec) {
   std::ostringstream name;
   name << "builtin-g" << kBuiltinGeneratorVersion << "-" << spec.sizeVox << "-" << std::lround(spec.spacingM * 1000.0)
-       << "mm-seed" << spec.seed << ".fctdb";
+       << "mm-seed" << spec.seed << (spec.objects ? "" : "-bare") << ".fctdb";
   return cacheDir / name.str();
 }
 

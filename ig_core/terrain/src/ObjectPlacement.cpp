@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -86,85 +85,95 @@ std::vector<ObjectPlacement> readPlacementList(const std::filesystem::path& path
   return objects;
 }
 
-PlacementReport placeObjects(TerrainGrid& grid, std::span<const ObjectPlacement> objects, const ModelLookup& lookup) {
+ObjectPlacer::ObjectPlacer(TerrainGrid& grid) : mGrid(grid) {
   const TerrainGeometry& g = grid.geometry;
   const std::size_t count = static_cast<std::size_t>(g.widthVox) * static_cast<std::size_t>(g.heightVox);
-  if (grid.heightQ.size() != count || grid.colourRgba.size() != count) {
-    throw std::invalid_argument("placeObjects: the grid's arrays do not match its size");
+  if (grid.heightQ.size() != count || grid.colourRgba.size() != count ||
+      (!grid.stickId.empty() && grid.stickId.size() != count)) {
+    throw std::invalid_argument("placing objects: the grid's arrays do not match its size");
   }
   if (grid.stickId.empty()) grid.stickId.assign(count, 0u);
-  // The table: the grid's entries, then one per kind of stick of each model used
-  std::vector<StickEntry> entries;
   if (grid.sticks) {
     if (std::abs(grid.sticks->unitM() - kModelStickUnitM) > 1e-12) {
-      throw std::invalid_argument("placeObjects: the grid's stick table has another unit than the models'");
+      throw std::invalid_argument("placing objects: the grid's stick table has another unit than the models'");
     }
-    for (std::uint32_t id = 1; id <= grid.sticks->size(); ++id) entries.push_back(grid.sticks->entry(id));
+    for (std::uint32_t id = 1; id <= grid.sticks->size(); ++id) mEntries.push_back(grid.sticks->entry(id));
   }
-  std::map<std::pair<const VoxelModel*, std::uint32_t>, std::uint32_t> idOf;
-  const std::vector<std::uint16_t> ground = grid.heightQ;  // before any of these objects
-  PlacementReport report;
-  std::vector<std::pair<std::size_t, const VoxelModel::Column*>> footprint;
+  mGround = grid.heightQ;
+}
+
+bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double headingDeg, double scale) {
+  if (!(scale >= kMinObjectScale && scale <= kMaxObjectScale) || !std::isfinite(xM) || !std::isfinite(yM) ||
+      !std::isfinite(headingDeg)) {
+    throw std::invalid_argument("placement of '" + model.name + "': a position, heading or scale out of range");
+  }
+  const TerrainGeometry& g = mGrid.geometry;
+  // The voxels whose centres fall in the model's rotated footprint, with their cells
+  const double cell = model.cellM * scale;
+  const double heading = headingDeg * std::numbers::pi / 180.0;
+  const double rightX = std::cos(heading), rightY = -std::sin(heading);     // the model's x axis in the world
+  const double forwardX = std::sin(heading), forwardY = std::cos(heading);  // its y axis
+  const double radius = 0.5 * cell * std::hypot(model.widthCells, model.depthCells);
+  const int i0 = std::max(0, static_cast<int>(std::floor((xM - radius - g.originM.x) / g.spacingM)));
+  const int i1 = std::min(g.widthVox - 1, static_cast<int>(std::ceil((xM + radius - g.originM.x) / g.spacingM)));
+  const int j0 = std::max(0, static_cast<int>(std::floor((yM - radius - g.originM.y) / g.spacingM)));
+  const int j1 = std::min(g.heightVox - 1, static_cast<int>(std::ceil((yM + radius - g.originM.y) / g.spacingM)));
+  mFootprint.clear();
+  std::uint16_t baseQ = 65535;
+  for (int j = j0; j <= j1; ++j) {
+    for (int i = i0; i <= i1; ++i) {
+      const double dx = g.originM.x + i * g.spacingM - xM;
+      const double dy = g.originM.y + j * g.spacingM - yM;
+      const double mx = (dx * rightX + dy * rightY) / cell + 0.5 * model.widthCells;
+      const double my = (dx * forwardX + dy * forwardY) / cell + 0.5 * model.depthCells;
+      if (mx < 0.0 || my < 0.0 || mx >= model.widthCells || my >= model.depthCells) continue;
+      const VoxelModel::Column& column =
+          model.columns[static_cast<std::size_t>(static_cast<int>(my) * model.widthCells + static_cast<int>(mx))];
+      if (column.stick == 0) continue;
+      const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(g.widthVox) + i;
+      mFootprint.emplace_back(k, &column);
+      baseQ = std::min(baseQ, mGround[k]);
+    }
+  }
+  bool any = false;
+  for (const auto& [k, column] : mFootprint) {
+    const double topM = g.heightM(baseQ) + column->heightUnits * kModelStickUnitM * scale;
+    const auto topQ =
+        static_cast<std::uint16_t>(std::clamp(std::lround((topM - g.heightBaseM) / g.heightStepM), 0L, 65535L));
+    if (topQ <= mGround[k]) continue;                                 // buried by the slope
+    if (mGrid.stickId[k] != 0 && mGrid.heightQ[k] >= topQ) continue;  // a taller stick is there
+    auto [it, added] = mIdOf.try_emplace({&model, column->stick}, 0u);
+    if (added) {
+      mEntries.push_back(model.sticks[column->stick - 1]);
+      it->second = static_cast<std::uint32_t>(mEntries.size());
+    }
+    mGrid.heightQ[k] = topQ;
+    mGrid.stickId[k] = it->second;
+    mGrid.colourRgba[k] = model.sticks[column->stick - 1].texels.front();  // the top, for coarse levels
+    any = true;
+  }
+  ++(any ? mReport.placed : mReport.offGrid);
+  return any;
+}
+
+PlacementReport ObjectPlacer::finish() {
+  mGrid.sticks = std::make_shared<const StickTable>(kModelStickUnitM, std::move(mEntries));
+  mReport.tableEntries = mGrid.sticks->size();
+  mReport.stickVoxels = static_cast<std::size_t>(
+      std::count_if(mGrid.stickId.begin(), mGrid.stickId.end(), [](std::uint32_t id) { return id != 0; }));
+  return mReport;
+}
+
+PlacementReport placeObjects(TerrainGrid& grid, std::span<const ObjectPlacement> objects, const ModelLookup& lookup) {
+  ObjectPlacer placer(grid);
   for (const ObjectPlacement& p : objects) {
     const VoxelModel* model = lookup(p.model);
     if (model == nullptr) {
       throw std::invalid_argument("unknown model '" + p.model + "' (built in: " + knownModels() + ")");
     }
-    if (!(p.scale >= kMinObjectScale && p.scale <= kMaxObjectScale) || !std::isfinite(p.xM) || !std::isfinite(p.yM) ||
-        !std::isfinite(p.headingDeg)) {
-      throw std::invalid_argument("placement of '" + p.model + "': a position, heading or scale out of range");
-    }
-    // The voxels whose centres fall in the model's rotated footprint, with their cells
-    const double cell = model->cellM * p.scale;
-    const double heading = p.headingDeg * std::numbers::pi / 180.0;
-    const double rightX = std::cos(heading), rightY = -std::sin(heading);     // the model's x axis in the world
-    const double forwardX = std::sin(heading), forwardY = std::cos(heading);  // its y axis
-    const double radius = 0.5 * cell * std::hypot(model->widthCells, model->depthCells);
-    const int i0 = std::max(0, static_cast<int>(std::floor((p.xM - radius - g.originM.x) / g.spacingM)));
-    const int i1 = std::min(g.widthVox - 1, static_cast<int>(std::ceil((p.xM + radius - g.originM.x) / g.spacingM)));
-    const int j0 = std::max(0, static_cast<int>(std::floor((p.yM - radius - g.originM.y) / g.spacingM)));
-    const int j1 = std::min(g.heightVox - 1, static_cast<int>(std::ceil((p.yM + radius - g.originM.y) / g.spacingM)));
-    footprint.clear();
-    std::uint16_t baseQ = 65535;
-    for (int j = j0; j <= j1; ++j) {
-      for (int i = i0; i <= i1; ++i) {
-        const double dx = g.originM.x + i * g.spacingM - p.xM;
-        const double dy = g.originM.y + j * g.spacingM - p.yM;
-        const double mx = (dx * rightX + dy * rightY) / cell + 0.5 * model->widthCells;
-        const double my = (dx * forwardX + dy * forwardY) / cell + 0.5 * model->depthCells;
-        if (mx < 0.0 || my < 0.0 || mx >= model->widthCells || my >= model->depthCells) continue;
-        const VoxelModel::Column& column =
-            model->columns[static_cast<std::size_t>(static_cast<int>(my) * model->widthCells + static_cast<int>(mx))];
-        if (column.stick == 0) continue;
-        const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(g.widthVox) + i;
-        footprint.emplace_back(k, &column);
-        baseQ = std::min(baseQ, ground[k]);
-      }
-    }
-    bool any = false;
-    for (const auto& [k, column] : footprint) {
-      const double topM = g.heightM(baseQ) + column->heightUnits * kModelStickUnitM * p.scale;
-      const auto topQ =
-          static_cast<std::uint16_t>(std::clamp(std::lround((topM - g.heightBaseM) / g.heightStepM), 0L, 65535L));
-      if (topQ <= ground[k]) continue;                                // buried by the slope
-      if (grid.stickId[k] != 0 && grid.heightQ[k] >= topQ) continue;  // a taller stick is there
-      auto [it, added] = idOf.try_emplace({model, column->stick}, 0u);
-      if (added) {
-        entries.push_back(model->sticks[column->stick - 1]);
-        it->second = static_cast<std::uint32_t>(entries.size());
-      }
-      grid.heightQ[k] = topQ;
-      grid.stickId[k] = it->second;
-      grid.colourRgba[k] = model->sticks[column->stick - 1].texels.front();  // the top, for coarse levels
-      any = true;
-    }
-    ++(any ? report.placed : report.offGrid);
+    placer.place(*model, p.xM, p.yM, p.headingDeg, p.scale);
   }
-  grid.sticks = std::make_shared<const StickTable>(kModelStickUnitM, std::move(entries));
-  report.tableEntries = grid.sticks->size();
-  report.stickVoxels = static_cast<std::size_t>(
-      std::count_if(grid.stickId.begin(), grid.stickId.end(), [](std::uint32_t id) { return id != 0; }));
-  return report;
+  return placer.finish();
 }
 
 }  // namespace fieldcast::core

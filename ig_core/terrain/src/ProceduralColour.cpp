@@ -78,7 +78,7 @@ double slopeDegrees(double tangent) noexcept {
 
 std::vector<std::uint32_t> bakeProceduralColour(const TerrainGeometry& geometry, std::span<const std::uint16_t> heightQ,
                                                 std::span<const std::uint8_t> waterDepthM,
-                                                const ProceduralColourOptions& options) {
+                                                const ProceduralColourOptions& options, std::vector<LandCover>* cover) {
   const int w = geometry.widthVox;
   const int h = geometry.heightVox;
   const auto count = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
@@ -96,6 +96,7 @@ std::vector<std::uint32_t> bakeProceduralColour(const TerrainGeometry& geometry,
   const double spacing = geometry.spacingM;
   const std::uint32_t seed = options.seed * 0x9E3779B9u + 0x1234567u;
   std::vector<std::uint32_t> colours(count);
+  if (cover != nullptr) cover->assign(count, LandCover::Open);
   const CoarseField patchField(w, h, spacing, options.threads,
                                [seed](float x, float y) { return detail::fbm(x / 400.0f, y / 400.0f, 3, seed + 7); });
   const CoarseField jitterX(w, h, spacing, options.threads, [seed](float x, float y) {
@@ -129,12 +130,17 @@ std::vector<std::uint32_t> bakeProceduralColour(const TerrainGeometry& geometry,
         bool water = depth > 0;
         if (water) {
           c = mix(kShallow, kDeep, std::sqrt(std::min(depth, 40) / 40.0));
+          if (cover != nullptr) (*cover)[k] = LandCover::Water;
         } else {
           // Lowland fields: a patchwork of rectangles about 60–120 m, jittered.
-          const float fx = xM / 90.0f + 0.3f * jitterX.at(i, j);
-          const float fy = yM / 70.0f + 0.3f * jitterY.at(i, j);
-          const std::uint32_t cell =
-              detail::hashLattice(static_cast<int>(std::floor(fx)), static_cast<int>(std::floor(fy)), seed + 13);
+          const auto fieldX = [&](int ii, int jj) {
+            return static_cast<int>(std::floor(static_cast<float>(ii * spacing) / 90.0f + 0.3f * jitterX.at(ii, jj)));
+          };
+          const auto fieldY = [&](int ii, int jj) {
+            return static_cast<int>(std::floor(static_cast<float>(jj * spacing) / 70.0f + 0.3f * jitterY.at(ii, jj)));
+          };
+          const int cellX = fieldX(i, j), cellY = fieldY(i, j);
+          const std::uint32_t cell = detail::hashLattice(cellX, cellY, seed + 13);
           Rgb land = kFields[cell % kFields.size()];
           // Forest on slopes and at mid elevation, with a ragged edge from noise.
           const double forestEdge = 0.5 + 0.5 * patch;
@@ -152,10 +158,22 @@ std::vector<std::uint32_t> bakeProceduralColour(const TerrainGeometry& geometry,
           land = mix(land, kRock,
                      std::max(detail::smoothstep(32.0, 45.0, slopeDeg + 6.0 * patch),
                               detail::smoothstep(1450.0, 1650.0, zM + 100.0 * patch)));
-          land = mix(land, kSnow,
-                     detail::smoothstep(1650.0, 1800.0, zM + 150.0 * patch) *
-                         (1.0 - detail::smoothstep(40.0, 55.0, slopeDeg)));
+          const double snow =
+              detail::smoothstep(1650.0, 1800.0, zM + 150.0 * patch) * (1.0 - detail::smoothstep(40.0, 55.0, slopeDeg));
+          land = mix(land, kSnow, snow);
           c = land;
+          if (cover != nullptr) {
+            const double rock = std::max(detail::smoothstep(32.0, 45.0, slopeDeg + 6.0 * patch),
+                                         detail::smoothstep(1450.0, 1650.0, zM + 100.0 * patch));
+            const double sand = (1.0 - detail::smoothstep(1.5, 4.0, zM - options.seaLevelM));
+            LandCover& here = (*cover)[k];
+            if (forest > 0.6 && rock < 0.3 && snow < 0.3) {
+              here = LandCover::Forest;
+            } else if (forest < 0.2 && rock < 0.2 && sand < 0.2 && zM < 1100.0) {
+              const bool edge = (i > 0 && fieldX(i - 1, j) != cellX) || (j > 0 && fieldY(i, j - 1) != cellY);
+              here = edge ? LandCover::FieldEdge : LandCover::Field;
+            }
+          }
         }
         // Lambert hillshade normalised so flat ground keeps its palette brightness.
         double light = 1.0;

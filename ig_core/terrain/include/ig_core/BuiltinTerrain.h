@@ -21,15 +21,18 @@
 
 namespace fieldcast::core {
 
-/// Which built-in terrain: size, spacing and seed fully determine it.
+/// Which built-in terrain: size, spacing, seed and whether it is furnished fully determine it.
 struct BuiltinTerrainSpec {
   int sizeVox = 8192;      ///< voxels per side (≥ 64)
   double spacingM = 2.0;   ///< voxel pitch
   std::uint64_t seed = 1;  ///< varies the noise and the river's meanders, not the layout
+  /// Furnished with objects (ObjectPlacement.h): woods on its forests, hedgerows along its fields,
+  /// villages with a church along its river. Without: the bare land (for comparisons).
+  bool objects = true;
 };
 
 /// Bumped whenever the generator's output changes, so stale caches are not reused.
-inline constexpr int kBuiltinGeneratorVersion = 3;
+inline constexpr int kBuiltinGeneratorVersion = 4;
 
 /// A named place of the built-in terrain, for scripting flights.
 struct BuiltinLandmark {
@@ -54,7 +57,8 @@ struct BuiltinHeights {
 /// std::invalid_argument for a size below 64 or above kMaxDatabaseSideVox.
 BuiltinHeights generateBuiltinHeights(const BuiltinTerrainSpec& spec, int threads = 0, const ProgressFn& progress = {});
 
-/// Heights plus procedural colour (stage "colour"), ready for writeTerrainDatabase.
+/// Heights plus procedural colour (stage "colour") and, when the spec asks, its objects (stage
+/// "objects"), ready for writeTerrainDatabase. Deterministic.
 TerrainGrid generateBuiltinTerrain(const BuiltinTerrainSpec& spec, const ProceduralColourOptions& colour = {},
                                    const ProgressFn& progress = {});
 

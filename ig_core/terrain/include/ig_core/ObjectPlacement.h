@@ -13,8 +13,10 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fieldcast::core {
@@ -46,9 +48,34 @@ struct PlacementReport {
 /// Finds a model by name (nullptr: unknown).
 using ModelLookup = std::function<const VoxelModel*(const std::string&)>;
 
-/// Places `objects` into `grid`: heights, stick ids, top colours, and the stick table (its entries
-/// kept, the models' added). Throws std::invalid_argument for an unknown model (naming the known
-/// ones), a scale out of range, or a non-finite position.
+/// Places objects into a grid one by one (for generators that make millions): heights, stick ids
+/// and top colours as each is placed, the stick table (the grid's entries kept, the models'
+/// added) at finish().
+class ObjectPlacer {
+ public:
+  /// Throws std::invalid_argument when the grid's arrays do not match its size, or its stick table
+  /// has another unit than the models.
+  explicit ObjectPlacer(TerrainGrid& grid);
+  ObjectPlacer(const ObjectPlacer&) = delete;
+  ObjectPlacer& operator=(const ObjectPlacer&) = delete;
+
+  /// Places `model` with its footprint's centre at world (xM, yM); false when none of it landed on
+  /// the grid. Throws std::invalid_argument for a scale out of range or a non-finite position.
+  bool place(const VoxelModel& model, double xM, double yM, double headingDeg, double scale);
+  /// Installs the stick table into the grid and says what was done. Once, after the last place().
+  PlacementReport finish();
+
+ private:
+  TerrainGrid& mGrid;
+  std::vector<std::uint16_t> mGround;  // the heights before any object
+  std::vector<StickEntry> mEntries;
+  std::map<std::pair<const VoxelModel*, std::uint32_t>, std::uint32_t> mIdOf;
+  std::vector<std::pair<std::size_t, const VoxelModel::Column*>> mFootprint;  // reused
+  PlacementReport mReport;
+};
+
+/// Places `objects` into `grid` (ObjectPlacer). Throws std::invalid_argument for an unknown model
+/// (naming the known ones), a scale out of range, or a non-finite position.
 PlacementReport placeObjects(TerrainGrid& grid, std::span<const ObjectPlacement> objects,
                              const ModelLookup& lookup = findBuiltinModel);
 

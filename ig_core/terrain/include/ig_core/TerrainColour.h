@@ -26,12 +26,24 @@ struct ProceduralColourOptions {
   int threads = 0;  ///< 0: every core
 };
 
+/// What the procedural colour painted a voxel as: what the built-in terrain is furnished by
+/// (forests on Forest, hedgerows on FieldEdge).
+enum class LandCover : std::uint8_t {
+  Water,
+  Open,       ///< meadow, sand, rock, snow, or a blend
+  Field,      ///< inside a field of the lowland patchwork
+  FieldEdge,  ///< a field's west or south boundary voxel
+  Forest,
+};
+
 /// Bakes a colour for every voxel of `geometry` from its quantised heights (W×H, row-major).
 /// `waterDepthM` is optional (empty, or W×H): 0 marks land, n > 0 water about n metres deep.
-/// Throws std::invalid_argument when sizes do not match.
+/// With `cover`, also says what each voxel was painted as (W×H). Throws std::invalid_argument
+/// when sizes do not match.
 std::vector<std::uint32_t> bakeProceduralColour(const TerrainGeometry& geometry, std::span<const std::uint16_t> heightQ,
                                                 std::span<const std::uint8_t> waterDepthM,
-                                                const ProceduralColourOptions& options);
+                                                const ProceduralColourOptions& options,
+                                                std::vector<LandCover>* cover = nullptr);
 
 /// Where an orthophoto lies: world position of its top-left pixel corner and pixel size.
 /// Left unset, the image is stretched over the whole grid (its GeoTIFF tags are used when present).
