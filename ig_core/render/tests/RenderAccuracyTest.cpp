@@ -36,9 +36,14 @@ std::vector<SweepPose> sweep() {
   return poses;
 }
 
-void sweepAgainstTheReference(double maxAnisotropy) {
-  const MemoryTerrain& terrain = hills();
-  const TerrainView& view = terrain.view();
+// How close the two renderers must come: per pose and overall, the share of pixels on the
+// reference's voxel or a neighbour; and the largest voxel distance of a control point's hit.
+struct Agreement {
+  double perPose = 0.995, overall = 0.995;
+  int controlPointVoxels = 1;
+};
+
+void sweepAgainstTheReference(const TerrainView& view, double maxAnisotropy, const Agreement& bound = {}) {
   RenderSettings settings;
   settings.rangeImage = true;
   settings.maxAnisotropy = maxAnisotropy;
@@ -55,10 +60,10 @@ void sweepAgainstTheReference(double maxAnisotropy) {
     const HitAgreement a = compareHits(fast, ref, view.geometry(), settings);
     std::printf("heading %6.1f pitch %6.1f alt %6.0f fov %4.0f: %.4f same (%d sky mismatches, %d at the edge)\n",
                 s.headingDeg, s.pitchDeg, s.altitudeM, s.fovDeg, a.fraction(), a.skyMismatch, a.atEdge);
-    EXPECT_GE(a.fraction(), 0.995) << "pose heading " << s.headingDeg << " pitch " << s.pitchDeg;
+    EXPECT_GE(a.fraction(), bound.perPose) << "pose heading " << s.headingDeg << " pitch " << s.pitchDeg;
     total += a.pixels;
     same += a.same;
-    // Control points: within one voxel (at the level used) of the reference hit.
+    // Control points: within bound.controlPointVoxels (at the level used) of the reference hit.
     const ViewGeometry geo(fast.pose, fast.intrinsics, view.geometry(), settings);
     for (const ControlPoint& cp : fast.controlPoints) {
       const ReferenceRenderer::Hit h = reference.cast(geo, cp.framePx.x, cp.framePx.y);
@@ -67,18 +72,30 @@ void sweepAgainstTheReference(double maxAnisotropy) {
       if (!h.hit) continue;
       const int level = geo.lodLevel(glm::dot(cp.world - fast.pose.positionM, geo.axes().forward),
                                      geo.ray(cp.framePx.x, cp.framePx.y));
-      EXPECT_LE(voxelDistance(view.geometry(), cp.world, h.pointM, level), 1);
+      EXPECT_LE(voxelDistance(view.geometry(), cp.world, h.pointM, level), bound.controlPointVoxels);
     }
   }
   const double overall = static_cast<double>(same) / total;
   std::printf("overall: %.5f of %d pixels hit the reference voxel or a neighbour\n", overall, total);
-  EXPECT_GE(overall, 0.995);
+  EXPECT_GE(overall, bound.overall);
 }
 
-TEST(RenderAccuracy, ColumnCasterHitsTheReferenceVoxelOverAPoseSweep) { sweepAgainstTheReference(0.0); }
+TEST(RenderAccuracy, ColumnCasterHitsTheReferenceVoxelOverAPoseSweep) { sweepAgainstTheReference(hills().view(), 0.0); }
 
 // The grazing-angle level of detail changes the surface both renderers see; they must still agree.
-TEST(RenderAccuracy, GrazingAngleLevelOfDetailAgreesWithTheReference) { sweepAgainstTheReference(2.0); }
+TEST(RenderAccuracy, GrazingAngleLevelOfDetailAgreesWithTheReference) { sweepAgainstTheReference(hills().view(), 2.0); }
+
+// The same hills furnished with woods and a village of sticks. A stick raises one voxel's height
+// sample by up to 30 m, and on such steep one-voxel leans the two renderers' surfaces part more
+// than on terrain: the reference's is bilinear over each cell, the caster's linear along grid
+// lines and ruled between them. Measured (2026-12-03): overall 99.49%, three poses under 99.5%
+// (worst 94.85%, 20 m over the village looking down 75°), one control point 7 voxels from the
+// reference's hit (still on the caster's own surface, the one its image shows). Issue 20's
+// vertical walls (a box per stick voxel, in both renderers) would close the gap; until then the
+// bounds are these, a guard against losing more.
+TEST(RenderAccuracy, ColumnCasterHitsTheReferenceVoxelOverHillsWithObjects) {
+  sweepAgainstTheReference(furnishedHills().view(), 0.0, Agreement{0.94, 0.99, 8});
+}
 
 }  // namespace
 }  // namespace fieldcast::core::test

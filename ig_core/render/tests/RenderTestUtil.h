@@ -1,6 +1,7 @@
 #pragma once
 // Shared helpers of the renderer tests: a small hilly terrain, poses over it, and the comparison
 // of a frame's hits with the reference renderer's.
+#include <ig_core/ObjectPlacement.h>
 #include <ig_core/ReferenceRenderer.h>
 #include <ig_core/RenderSettings.h>
 #include <ig_core/SyntheticTerrain.h>
@@ -16,12 +17,46 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <vector>
 
 namespace fieldcast::core::test {
 
 /// The hills every renderer test uses: 512² voxels at 2 m, 64-voxel tiles (many tile crossings).
 inline const MemoryTerrain& hills() {
   static const std::unique_ptr<MemoryTerrain> terrain = makeSyntheticTerrain({SyntheticKind::Hills, 512, 2.0, 6, 3});
+  return *terrain;
+}
+
+/// The hills furnished with objects: a tree (conifer or broadleaf) on a jittered 8 m lattice over
+/// half the ground, and a village of 5 × 5 houses with a church around (420, 380), the sweep's
+/// point.
+inline const MemoryTerrain& furnishedHills() {
+  static const std::unique_ptr<MemoryTerrain> terrain = [] {
+    const TerrainView& bare = hills().view();
+    TerrainGrid grid;
+    grid.geometry = bare.geometry();
+    const int n = grid.geometry.widthVox;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        grid.heightQ.push_back(bare.heightQ(0, i, j));
+        grid.colourRgba.push_back(bare.colourRgba(0, i, j));
+      }
+    std::vector<ObjectPlacement> objects;
+    for (int j = 0; j < n / 4; ++j)
+      for (int i = 0; i < n / 4; ++i) {
+        const std::uint32_t h =
+            (static_cast<std::uint32_t>(i) * 73856093u) ^ (static_cast<std::uint32_t>(j) * 19349663u);
+        if (h % 2 == 0 || std::hypot(i * 8.0 - 420.0, j * 8.0 - 380.0) < 120.0) continue;
+        objects.push_back({h % 3 == 0 ? "broadleaf" : "conifer", i * 8.0 + (h >> 8) % 5, j * 8.0 + (h >> 12) % 5,
+                           static_cast<double>((h >> 4) % 360), 0.8 + 0.1 * ((h >> 16) % 5)});
+      }
+    for (int k = 0; k < 25; ++k) {
+      objects.push_back({"house", 340.0 + 40.0 * (k % 5), 300.0 + 40.0 * (k / 5), 15.0 * k, 1.0});
+    }
+    objects.push_back({"church", 420.0, 380.0, 30.0, 1.0});
+    placeObjects(grid, objects);
+    return std::make_unique<MemoryTerrain>(grid.geometry, grid.heightQ, grid.colourRgba, grid.stickId, grid.sticks);
+  }();
   return *terrain;
 }
 

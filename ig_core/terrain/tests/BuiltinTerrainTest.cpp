@@ -1,4 +1,5 @@
 #include <ig_core/BuiltinTerrain.h>
+#include <ig_core/ObjectModels.h>
 #include <ig_core/OpenTerrain.h>
 
 #include "TerrainTestUtil.h"
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <map>
+#include <string>
 
 namespace fieldcast::core {
 namespace {
@@ -80,6 +82,43 @@ TEST(BuiltinTerrain, HasSeaPlainsRiverAndMountains) {
   EXPECT_GT(*std::max_element(t.heightQ.begin(), t.heightQ.end()) * g.heightStepM + g.heightBaseM, 1200.0);
 }
 
+TEST(BuiltinTerrain, IsFurnishedWithWoodsHedgerowsFarmsAndVillages) {
+  // 4096² at 2 m (8 km): its lowlands hold villages on the river, farmsteads, woods, hedgerows
+  BuiltinTerrainSpec spec{4096, 2.0, 1};
+  ProceduralColourOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const TerrainGrid furnished = generateBuiltinTerrain(spec, one);
+  ASSERT_NE(furnished.sticks, nullptr);
+  ASSERT_EQ(furnished.stickId.size(), furnished.heightQ.size());
+  // Which models stand on it: count the voxels of each kind of stick by its top colour
+  std::map<std::string, std::size_t> voxelsOf;
+  for (const VoxelModel& m : builtinModels()) {
+    for (const StickEntry& e : m.sticks) {
+      for (std::uint32_t id = 1; id <= furnished.sticks->size(); ++id) {
+        if (furnished.sticks->entry(id).texels != e.texels) continue;
+        voxelsOf[m.name] +=
+            static_cast<std::size_t>(std::count(furnished.stickId.begin(), furnished.stickId.end(), id));
+      }
+    }
+  }
+  for (const char* model : {"conifer", "broadleaf", "hedge", "house", "barn", "church"}) {
+    EXPECT_GT(voxelsOf[model], 0u) << "no " << model << " on the built-in terrain";
+  }
+  EXPECT_GT(voxelsOf["hedge"], 10000u);
+  EXPECT_GT(voxelsOf["conifer"] + voxelsOf["broadleaf"], 100000u);
+  // Deterministic for any thread count; and the bare land has none of it
+  const TerrainGrid again = generateBuiltinTerrain(spec, two);
+  EXPECT_EQ(again.stickId, furnished.stickId);
+  EXPECT_EQ(again.heightQ, furnished.heightQ);
+  spec.sizeVox = 1024;
+  spec.objects = false;
+  const TerrainGrid bare = generateBuiltinTerrain(spec, one);
+  EXPECT_TRUE(bare.stickId.empty());
+  EXPECT_EQ(bare.sticks, nullptr);
+  EXPECT_NE(builtinDatabasePath("c", spec), builtinDatabasePath("c", BuiltinTerrainSpec{1024, 2.0, 1}));
+}
+
 TEST(BuiltinTerrain, CacheDirFollowsTheEnvironment) {
   const char* saved = std::getenv("FIELDCAST_CACHE_DIR");
   const std::string keep = saved != nullptr ? saved : "";
@@ -124,7 +163,8 @@ TEST(BuiltinTerrain, GeneratedOnceThenReusedAndRebuiltWhenCorrupt) {
 TEST(BuiltinTerrain, OpenTerrainServesTheBuiltinTerrain) {
   ScratchDir dir;
   const std::unique_ptr<TileCache> terrain = openTerrain("builtin", dir.path(), 64u << 20, smallSpec());
-  const BuiltinHeights reference = generateBuiltinHeights(smallSpec(), 2);
+  const TerrainGrid reference = generateBuiltinTerrain(smallSpec());  // furnished: objects' tops included
+  ASSERT_NE(terrain->view().sticks(), nullptr);
   // The whole 512² database fits in the budget: load everything, then compare a few voxels.
   for (int level = 0; level < terrain->geometry().levels; ++level) {
     for (int ty = 0; ty < terrain->geometry().tilesY(level); ++ty) {

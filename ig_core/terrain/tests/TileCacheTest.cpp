@@ -20,13 +20,15 @@ using testing::ScratchDir;
 
 constexpr int kSide = 512;
 
-// A 512² built-in terrain at 2 m in 32² tiles (16×16 tiles at level 0, 5 levels), built once.
+// A 512² built-in terrain at 2 m in 32² tiles (16×16 tiles at level 0, 5 levels), built once,
+// bare (no objects: the paging of a terrain with sticks is the same, its tiles a third larger).
 class TileCacheTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     sDir = new ScratchDir();
     BuiltinTerrainSpec spec;
     spec.sizeVox = kSide;
+    spec.objects = false;
     sGrid = new TerrainGrid(generateBuiltinTerrain(spec));
     BuildOptions options;
     options.tileShift = 5;
