@@ -101,13 +101,36 @@ StickVoxel crossingStick(const CasterFrame& f, CasterThread& t, const ColumnPlan
   return colouringStick(stickAt(f, t, l, vx, vy), stickAt(f, t, l, nx, ny));
 }
 
+// The stick id of voxel (x, y) of `level` through the tile window (0: none), the slow way outside
+// the grid or where the tile is missing.
+inline std::uint32_t windowStickId(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
+                                   int y) noexcept {
+  if (!windowFor(f, t, w, level, x, y)) return stickAt(f, t, level, x, y).id;
+  const auto l = static_cast<std::size_t>(level);
+  const std::uint32_t* ids = w.tile[l]->stickId;
+  return ids == nullptr ? 0u : ids[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
+}
+
+// Whether either voxel of crossing x's segment carries a stick: the test every fill of a terrain
+// with sticks makes before anything else (most of them have none).
+inline bool segmentHasStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                            const Crossing& x) noexcept {
+  const int vx = c.xMajor ? x.i : x.j;
+  const int vy = c.xMajor ? x.j : x.i;
+  const bool alongX = c.xMajor == x.onMinorLine;
+  return windowStickId(f, t, w, x.level, vx, vy) != 0 ||
+         windowStickId(f, t, w, x.level, alongX ? vx + 1 : vx, alongX ? vy : vy + 1) != 0;
+}
+
 // On a terrain with sticks: when either crossing lies on a stick, fills the sub-rows between them
 // with the stick's texels — the far crossing's stick, else the near one's — into the sink (one
-// sub-row per pixel or several), and returns true. Out of line and cold, off the terrain's fill path.
-[[gnu::noinline, gnu::cold]] bool fillStickSpan(const CasterFrame& f, CasterThread& t, const ColumnPlane& c,
-                                                const Crossing& from, const Crossing& to, const CrossingSpan& span,
-                                                const ColumnFill& column, ColumnSink& sink, double vStop, int& qInOut,
-                                                double& vqInOut) noexcept {
+// sub-row per pixel or several), and returns true. Out of line and cold: placed away from the
+// terrain fill's code. (The test whether a fill meets a stick at all stays inline in the march of a
+// terrain with sticks: called for it, the furnished built-in terrain's frames were 10–25% slower.)
+[[gnu::noinline, gnu::cold]] bool fillStickSpan(const CasterFrame& f, CasterThread& t, TileWindows& w,
+                                                const ColumnPlane& c, const Crossing& from, const Crossing& to,
+                                                const CrossingSpan& span, const ColumnFill& column, ColumnSink& sink,
+                                                double vStop, int& qInOut, double& vqInOut) noexcept {
   double fromZ = 0.0, toZ = 0.0;
   const StickVoxel near = crossingStick(f, t, c, from, fromZ);
   const StickVoxel far = crossingStick(f, t, c, to, toZ);
@@ -115,10 +138,19 @@ StickVoxel crossingStick(const CasterFrame& f, CasterThread& t, const ColumnPlan
   if (s.id == 0) return false;
   const StickSpan stick{f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, fromZ, f.stickUnitsPerQ),
                         stickTexelCoordinate(s, toZ, f.stickUnitsPerQ)};
-  const PixelShader shading = column.shading;
-  forEachSpanRow(
-      span, column, shading, vStop, qInOut, vqInOut,
-      [&](int q, const SpanPixel& p) { sink.emit(q, p.colour, p.rangeM); }, StickSpanPixel{stick});
+  const StickSpanPixel texels{stick};
+  if (sink.s != 1) {
+    const PixelShader shading = column.shading;
+    forEachSpanRow(
+        span, column, shading, vStop, qInOut, vqInOut,
+        [&](int q, const SpanPixel& p) { sink.emit(q, p.colour, p.rangeM); }, texels);
+  } else if (column.shading.grey) {
+    fillSpanReference<true>(span, column, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, vStop, qInOut,
+                            vqInOut, texels);
+  } else {
+    fillSpanReference<false>(span, column, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, vStop, qInOut,
+                             vqInOut, texels);
+  }
   return true;
 }
 
@@ -200,9 +232,9 @@ struct RowRayEnd {
 };
 
 // marchPlane (PlaneMarch.h) along one major axis.
-// kSticks: the terrain has sticks. A separate instance, and the stick fill kept cold (out of the
-// hot code's way): its call in the fill path, even never taken, made the frames of a terrain
-// without sticks 7% slower (scripts/render-ab.sh down and oblique, 9 rounds each).
+// kSticks: the terrain has sticks. A separate instance: the stick test and fill in the fill path,
+// even never taken, made the frames of a terrain without sticks 7% slower (scripts/render-ab.sh
+// down and oblique, 9 rounds each).
 template <bool kXMajor, bool kSticks>
 int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, const ColumnPlane& c, int q,
                    const glm::dvec2& start, int level, PlaneStop& stopped, PlaneMarchState& state, double pauseDepth,
@@ -482,7 +514,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         static_cast<float>(fromV),      static_cast<float>(1.0 / (toV - fromV)), static_cast<float>(fromInvDepth),
         static_cast<float>(toInvDepth), crossingColour(f, t, window, c, from),   crossingColour(f, t, window, c, to)};
     const int qFirst = q;
-    if (kSticks && fillStickSpan(f, t, c, from, to, span, fill, sink, toV, q, vq)) {
+    if (kSticks && (segmentHasStick(f, t, window, c, from) || segmentHasStick(f, t, window, c, to)) &&
+        fillStickSpan(f, t, window, c, from, to, span, fill, sink, toV, q, vq)) {
       // a stick's side or top, filled with its texels
     } else if (sink.s != 1) {
       fillSpanSubRows(span, fill, sink, toV, q, vq);

@@ -120,19 +120,22 @@ __attribute__((always_inline)) inline void forEachSpanRow(const CrossingSpan spa
   vqInOut = vq;
 }
 
-/// Fills the span's sub-rows of a column with one sub-row per pixel, one at a time (forEachSpanRow).
-/// The reference for fillSpan.
-template <bool kGrey>
+/// Fills the span's sub-rows of a column with one sub-row per pixel, one at a time (forEachSpanRow;
+/// pixelOf: the terrain's colours, or a stick's texels). The reference for fillSpan.
+template <bool kGrey, typename PixelOf = TerrainSpanPixel>
 __attribute__((always_inline)) inline void fillSpanReference(const CrossingSpan span, const ColumnFill& column,
                                                              const ColumnPixels out, double vStop, int& qInOut,
-                                                             double& vqInOut) noexcept {
+                                                             double& vqInOut, const PixelOf pixelOf = {}) noexcept {
   PixelShader shading = column.shading;
   shading.grey = kGrey;  // a constant here, so the store has no per-pixel branch
-  forEachSpanRow(span, column, shading, vStop, qInOut, vqInOut, [&](int q, const SpanPixel& p) {
-    if (out.pixels != nullptr)
-      shading.storePixel(out.pixels + static_cast<std::size_t>(q) * out.bytesPerPixel, p.colour, 1.0f);
-    if (out.ranges != nullptr) out.ranges[q] = p.rangeM;
-  });
+  forEachSpanRow(
+      span, column, shading, vStop, qInOut, vqInOut,
+      [&](int q, const SpanPixel& p) {
+        if (out.pixels != nullptr)
+          shading.storePixel(out.pixels + static_cast<std::size_t>(q) * out.bytesPerPixel, p.colour, 1.0f);
+        if (out.ranges != nullptr) out.ranges[q] = p.rangeM;
+      },
+      pixelOf);
 }
 
 #if defined(__SSE2__)
