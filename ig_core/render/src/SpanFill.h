@@ -45,17 +45,26 @@ struct SpanPixel {
   float rangeM;
 };
 
-/// The terrain sub-row q sees between the span's crossings: the far crossing's colour weight is
-/// ts·(1/depth₁)·depth. Per pixel one reciprocal and one square root, nothing carried over.
-inline SpanPixel spanPixel(const CrossingSpan& span, const ColumnFill& column, const PixelShader& shading,
-                           int q) noexcept {
+/// Where sub-row q meets the terrain between the span's crossings: the far crossing's weight
+/// ts·(1/depth₁)·depth (perspective-correct) and the range. One reciprocal and one square root.
+struct SpanPoint {
+  float tw, rangeM;
+};
+inline SpanPoint spanPoint(const CrossingSpan& span, const ColumnFill& column, int q) noexcept {
   const float vqf = (static_cast<float>(q) + 0.5f) * column.invS;
   const float ts = std::clamp((vqf - span.v0) * span.invDv, 0.0f, 1.0f);
   const float depth = 1.0f / (span.invDepth0 + ts * (span.invDepth1 - span.invDepth0));
   const float tw = std::clamp(ts * span.invDepth1 * depth, 0.0f, 1.0f);
   const float yc = (column.cy - vqf) * column.invFy;
-  const float rangeM = depth * std::sqrt(column.xc2 + yc * yc);
-  return {shading.terrain(mix(span.c0, span.c1, tw), rangeM), rangeM};
+  return {tw, depth * std::sqrt(column.xc2 + yc * yc)};
+}
+
+/// The terrain sub-row q sees between the span's crossings: their colours mixed by the far one's
+/// weight, with haze. Nothing carried over from the sub-row before.
+inline SpanPixel spanPixel(const CrossingSpan& span, const ColumnFill& column, const PixelShader& shading,
+                           int q) noexcept {
+  const SpanPoint p = spanPoint(span, column, q);
+  return {shading.terrain(mix(span.c0, span.c1, p.tw), p.rangeM), p.rangeM};
 }
 
 /// spanPixel as a function object: what forEachSpanRow colours terrain with.
@@ -79,14 +88,9 @@ struct StickSpanPixel {
   StickSpan stick;
   SpanPixel operator()(const CrossingSpan& span, const ColumnFill& column, const PixelShader& shading,
                        int q) const noexcept {
-    const float vqf = (static_cast<float>(q) + 0.5f) * column.invS;
-    const float ts = std::clamp((vqf - span.v0) * span.invDv, 0.0f, 1.0f);
-    const float depth = 1.0f / (span.invDepth0 + ts * (span.invDepth1 - span.invDepth0));
-    const float tw = std::clamp(ts * span.invDepth1 * depth, 0.0f, 1.0f);
-    const float yc = (column.cy - vqf) * column.invFy;
-    const float rangeM = depth * std::sqrt(column.xc2 + yc * yc);
-    const std::uint32_t texel = stickTexel(stick.texels, stick.s0 + (stick.s1 - stick.s0) * tw);
-    return {shading.terrain(unpackRgb(texel), rangeM), rangeM};
+    const SpanPoint p = spanPoint(span, column, q);
+    const std::uint32_t texel = stickTexel(stick.texels, stick.s0 + (stick.s1 - stick.s0) * p.tw);
+    return {shading.terrain(unpackRgb(texel), p.rangeM), p.rangeM};
   }
 };
 
