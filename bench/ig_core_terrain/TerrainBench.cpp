@@ -130,7 +130,8 @@ void BM_TileDecodeOnly(benchmark::State& state) {
   std::vector<double> us;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    decodeTile(compressed, entry, g.tileShift, reader.layout().voxelColour, tile, "bench");
+    decodeTile(compressed, entry, g.tileShift, reader.layout().voxelColour, tile, "bench",
+               tileSticks(reader.layout(), reader.sticks().get()));
     us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
   }
   state.counters["p50_us"] = percentile(us, 0.5);

@@ -93,13 +93,19 @@ std::vector<PyramidLevel> buildPyramid(const TerrainGeometry& geometry, std::spa
                                         below.colourRgba[idx(i0, j1)], below.colourRgba[idx(i1, j1)]);
         rawUp[o] = std::max({raw[idx(i0, j0)], raw[idx(i1, j0)], raw[idx(i0, j1)], raw[idx(i1, j1)]});
         if (sticks) {
-          // The tallest stick below, if any: its top and id (never lower than the filtered height)
+          // The tallest stick below, if any: its top and id — unless the filtered height stands
+          // above it (a hedge at the foot of a slope), which keeps the terrain's voxel
+          std::uint32_t id = 0;
+          std::uint16_t top = 0;
           for (const std::size_t child : {idx(i0, j0), idx(i1, j0), idx(i0, j1), idx(i1, j1)}) {
-            const std::uint32_t id = below.stickId[child];
-            if (id != 0 && (out.stickId[o] == 0 || below.heightQ[child] > out.heightQ[o])) {
-              out.stickId[o] = id;
-              out.heightQ[o] = std::max(out.heightQ[o], below.heightQ[child]);
+            if (below.stickId[child] != 0 && (id == 0 || below.heightQ[child] > top)) {
+              id = below.stickId[child];
+              top = below.heightQ[child];
             }
+          }
+          if (id != 0 && top >= out.heightQ[o]) {
+            out.stickId[o] = id;
+            out.heightQ[o] = top;
           }
         }
       }

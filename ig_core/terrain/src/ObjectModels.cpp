@@ -125,10 +125,12 @@ VoxelModel church() {
       const bool centre = x == 2 && y == 1;
       m.columns[static_cast<std::size_t>(y * m.widthCells + x)] = {centre ? spire : towerWall, centre ? 60 : 40};
     }
-  // Rows 3–12: the nave turned north-south (its row across the nave is the column x here)
+  // Rows 3–12: the nave turned north-south (its row across the nave is the column x here; along
+  // it, piers and windows alternate)
   for (int y = 3; y < 13; ++y)
     for (int x = 0; x < 5; ++x)
-      m.columns[static_cast<std::size_t>(y * m.widthCells + x)] = nave.columns[static_cast<std::size_t>(x * 10)];
+      m.columns[static_cast<std::size_t>(y * m.widthCells + x)] =
+          nave.columns[static_cast<std::size_t>(x * 10 + y % 2)];
   return m;
 }
 

@@ -99,25 +99,33 @@ ObjectPlacer::ObjectPlacer(TerrainGrid& grid) : mGrid(grid) {
     }
     for (std::uint32_t id = 1; id <= grid.sticks->size(); ++id) mEntries.push_back(grid.sticks->entry(id));
   }
-  mGround = grid.heightQ;
+  mGround = grid.groundQ.size() == count ? std::move(grid.groundQ) : grid.heightQ;
 }
 
 bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double headingDeg, double scale) {
-  if (!(scale >= kMinObjectScale && scale <= kMaxObjectScale) || !std::isfinite(xM) || !std::isfinite(yM) ||
-      !std::isfinite(headingDeg)) {
+  const TerrainGeometry& g = mGrid.geometry;
+  // Positions within a million grid widths of the grid: far enough for anything meant, near enough
+  // that the voxel ranges below stay in int
+  const double reachM = 1e6 * g.spacingM * std::max(g.widthVox, g.heightVox);
+  if (!(scale >= kMinObjectScale && scale <= kMaxObjectScale) || !(std::abs(xM - g.originM.x) < reachM) ||
+      !(std::abs(yM - g.originM.y) < reachM) || !std::isfinite(headingDeg)) {
     throw std::invalid_argument("placement of '" + model.name + "': a position, heading or scale out of range");
   }
-  const TerrainGeometry& g = mGrid.geometry;
+  if (model.widthCells < 1 || model.depthCells < 1 || !(model.cellM > 0.0) ||
+      model.columns.size() != static_cast<std::size_t>(model.widthCells) * static_cast<std::size_t>(model.depthCells)) {
+    throw std::invalid_argument("model '" + model.name + "': its columns do not match its size");
+  }
   // The voxels whose centres fall in the model's rotated footprint, with their cells
   const double cell = model.cellM * scale;
   const double heading = headingDeg * std::numbers::pi / 180.0;
   const double rightX = std::cos(heading), rightY = -std::sin(heading);     // the model's x axis in the world
   const double forwardX = std::sin(heading), forwardY = std::cos(heading);  // its y axis
   const double radius = 0.5 * cell * std::hypot(model.widthCells, model.depthCells);
-  const int i0 = std::max(0, static_cast<int>(std::floor((xM - radius - g.originM.x) / g.spacingM)));
-  const int i1 = std::min(g.widthVox - 1, static_cast<int>(std::ceil((xM + radius - g.originM.x) / g.spacingM)));
-  const int j0 = std::max(0, static_cast<int>(std::floor((yM - radius - g.originM.y) / g.spacingM)));
-  const int j1 = std::min(g.heightVox - 1, static_cast<int>(std::ceil((yM + radius - g.originM.y) / g.spacingM)));
+  const auto voxel = [](double v, int last) { return static_cast<int>(std::clamp(v, -1.0, last + 1.0)); };
+  const int i0 = std::max(0, voxel(std::floor((xM - radius - g.originM.x) / g.spacingM), g.widthVox));
+  const int i1 = std::min(g.widthVox - 1, voxel(std::ceil((xM + radius - g.originM.x) / g.spacingM), g.widthVox));
+  const int j0 = std::max(0, voxel(std::floor((yM - radius - g.originM.y) / g.spacingM), g.heightVox));
+  const int j1 = std::min(g.heightVox - 1, voxel(std::ceil((yM + radius - g.originM.y) / g.spacingM), g.heightVox));
   mFootprint.clear();
   std::uint16_t baseQ = 65535;
   for (int j = j0; j <= j1; ++j) {
@@ -130,6 +138,10 @@ bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double h
       const VoxelModel::Column& column =
           model.columns[static_cast<std::size_t>(static_cast<int>(my) * model.widthCells + static_cast<int>(mx))];
       if (column.stick == 0) continue;
+      if (column.stick > model.sticks.size()) {
+        throw std::invalid_argument("model '" + model.name + "': a column names stick " + std::to_string(column.stick) +
+                                    " of " + std::to_string(model.sticks.size()));
+      }
       const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(g.widthVox) + i;
       mFootprint.emplace_back(k, &column);
       baseQ = std::min(baseQ, mGround[k]);
@@ -158,6 +170,7 @@ bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double h
 
 PlacementReport ObjectPlacer::finish() {
   mGrid.sticks = std::make_shared<const StickTable>(kModelStickUnitM, std::move(mEntries));
+  mGrid.groundQ = std::move(mGround);  // for a later placer: the ground, not these objects' tops
   mReport.tableEntries = mGrid.sticks->size();
   mReport.stickVoxels = static_cast<std::size_t>(
       std::count_if(mGrid.stickId.begin(), mGrid.stickId.end(), [](std::uint32_t id) { return id != 0; }));

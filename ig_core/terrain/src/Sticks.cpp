@@ -39,8 +39,8 @@ T load(std::span<const std::byte> bytes, std::size_t offset) noexcept {
 }  // namespace
 
 StickTable::StickTable(double unitM, std::vector<StickEntry> entries) : mUnitM(unitM), mEntries(std::move(entries)) {
-  if (!(std::isfinite(unitM) && unitM > 0.0 && unitM <= 1000.0)) {
-    throw StickTableError("stick table: unit of " + std::to_string(unitM) + " m (expected 0 < unit <= 1000 m)");
+  if (!(unitM >= 1e-3 && unitM <= 1000.0)) {
+    throw StickTableError("stick table: unit of " + std::to_string(unitM) + " m (expected 0.001 .. 1000 m)");
   }
   if (mEntries.size() > kMaxStickEntries) {
     throw StickTableError("stick table: " + std::to_string(mEntries.size()) + " entries (at most " +
@@ -65,12 +65,12 @@ StickTable::StickTable(double unitM, std::vector<StickEntry> entries) : mUnitM(u
     }
     // Mip L: ceil(n / 2^L) colours, each the mean of the level-0 colours it covers; down to one
     Mips& m = mMips[e];
+    m.firstLevel = static_cast<std::uint32_t>(mLevelStart.size());
     const std::size_t n = entry.texels.size();
-    for (int level = 0; level < kMaxMipLevels; ++level) {
+    for (int level = 0;; ++level) {
       const std::size_t span = std::size_t{1} << level;
       const std::size_t count = (n + span - 1) / span;
-      m.offset[level] = mTexels.size();
-      m.count[level] = count;
+      mLevelStart.push_back(mTexels.size());
       for (std::size_t k = 0; k < count; ++k) {
         const std::size_t first = k * span;
         mTexels.push_back(meanRgba(std::span(entry.texels).subspan(first, std::min(span, n - first))));
@@ -79,6 +79,7 @@ StickTable::StickTable(double unitM, std::vector<StickEntry> entries) : mUnitM(u
       if (count == 1) break;
     }
   }
+  mLevelStart.push_back(mTexels.size());  // one past the last level
 }
 
 std::uint32_t StickTable::colourBelowTop(std::uint32_t id, int level, double depthUnits) const noexcept {

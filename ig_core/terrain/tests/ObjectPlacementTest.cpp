@@ -91,6 +91,26 @@ TEST(ObjectPlacement, AModelStandsOnTheLowestGroundUnderIt) {
   EXPECT_EQ(at(e[0], e[2]) - (2000 + 20 * e[0]), southUnits * kModelStickUnitM / 0.05);
 }
 
+TEST(ObjectPlacement, AModelPlacedAmongObjectsStandsOnTheirGroundNotOnThem) {
+  // A hedge on every voxel (as a generator furnishes a terrain), then a house from a second list:
+  // its south row stands its height over the ground, not over the hedges
+  TerrainGrid grid = flatGrid(64);
+  std::vector<ObjectPlacement> hedges;
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i) hedges.push_back({"hedge", i * 2.0, j * 2.0, 0.0, 1.0});
+  placeObjects(grid, hedges);
+  const std::vector<ObjectPlacement> house{{"house", 64.0, 64.0, 0.0, 1.0}};
+  placeObjects(grid, house);
+  const int southUnits = findBuiltinModel("house")->columns[0].heightUnits;
+  const VoxelModel& houseModel = *findBuiltinModel("house");
+  std::set<std::uint32_t> houseTops;
+  for (std::size_t k = 0; k < grid.heightQ.size(); ++k) houseTops.insert(grid.heightQ[k]);
+  EXPECT_TRUE(houseTops.count(static_cast<std::uint32_t>(2000 + southUnits * kModelStickUnitM / 0.05)))
+      << "the house's south row is not " << southUnits * kModelStickUnitM << " m over the ground";
+  (void)houseModel;
+  EXPECT_THROW(placeObjects(grid, std::vector<ObjectPlacement>{{"house", 1e12, 0.0, 0.0, 1.0}}), std::invalid_argument);
+}
+
 TEST(ObjectPlacement, ObjectsOffTheGridAreCountedNotPlaced) {
   TerrainGrid grid = flatGrid(64);
   const std::vector<ObjectPlacement> objects{{"conifer", 50.0, 50.0, 0.0, 1.0}, {"conifer", -500.0, 50.0, 0.0, 1.0}};

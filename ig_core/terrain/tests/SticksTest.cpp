@@ -84,6 +84,7 @@ TEST(StickTable, RefusesWhatItCannotHold) {
     }
   };
   refuses([] { StickTable(0.0, {}); }, "unit of 0");
+  refuses([] { StickTable(1e-9, {}); }, "expected 0.001 .. 1000 m");
   refuses([] { StickTable(0.5, {StickEntry{StickKind::Textured, 3, {1, 2}}}); }, "2 colours for a textured stick of 3");
   refuses([] { StickTable(0.5, {StickEntry{StickKind::Uniform, 0, {1}}}); }, "length 0");
   refuses([] { StickTable(0.5, {StickEntry{static_cast<StickKind>(9), 1, {1}}}); }, "unknown kind 9");
@@ -91,7 +92,7 @@ TEST(StickTable, RefusesWhatItCannotHold) {
   refuses([&] { StickTable::parse(std::span(good).first(10)); }, "its header needs 16");
   refuses([&] { StickTable::parse(std::span(good).first(good.size() - 4)); }, "bytes of colours");
   std::vector<std::byte> many = good;
-  const std::uint32_t count = 1u << 20;
+  const std::uint32_t count = kMaxStickEntries + 1;
   std::memcpy(many.data(), &count, 4);
   refuses([&] { StickTable::parse(many); }, "entries do not fit");
   std::vector<std::byte> kind = good;
@@ -139,6 +140,21 @@ TEST(StickPyramid, ACoarseVoxelOverAStickTakesItsTopAndId) {
   const std::vector<PyramidLevel> plain = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba);
   EXPECT_EQ(plain[1].heightQ[static_cast<std::size_t>(4 * plain[1].widthVox + 4)], 1050);
   EXPECT_TRUE(plain[1].stickId.empty());
+}
+
+TEST(StickPyramid, AStickBelowTheFilteredGroundLeavesTheCoarseVoxelToTheTerrain) {
+  // A 2 × 2 block: ground at 1000 and 1000, a steep 1400 beside a hedge of 50 q on 1000: the box
+  // filter (1112) stands above the hedge's top, so the coarse voxel is terrain, not hedge
+  TerrainGrid grid = gridWithSticks();
+  auto at = [](int i, int j) { return static_cast<std::size_t>(j * 64 + i); };
+  grid.heightQ[at(40, 40)] = 1050;
+  grid.stickId[at(40, 40)] = 1;
+  grid.heightQ[at(41, 41)] = 1400;
+  grid.geometry.levels = 2;
+  const std::vector<PyramidLevel> pyramid = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba, grid.stickId);
+  const std::size_t o = static_cast<std::size_t>(20 * pyramid[1].widthVox + 20);
+  EXPECT_EQ(pyramid[1].heightQ[o], 1113);  // (1050 + 1000 + 1000 + 1400 + 2) / 4
+  EXPECT_EQ(pyramid[1].stickId[o], 0u);
 }
 
 TEST(StickDatabase, Version3KeepsTheTableAndEveryTilesIds) {

@@ -67,7 +67,7 @@ class ObjectPlacer {
 
  private:
   TerrainGrid& mGrid;
-  std::vector<std::uint16_t> mGround;  // the heights before any object
+  std::vector<std::uint16_t> mGround;  // the ground under the objects (TerrainGrid::groundQ)
   std::vector<StickEntry> mEntries;
   std::map<std::pair<const VoxelModel*, std::uint32_t>, std::uint32_t> mIdOf;
   std::vector<std::pair<std::size_t, const VoxelModel::Column*>> mFootprint;  // reused

@@ -27,8 +27,10 @@ enum class StickKind : std::uint8_t {
 
 /// Longest stick a table entry may describe, in stick voxels (at 0.5 m: a 2 km tower).
 inline constexpr std::uint32_t kMaxStickLength = 4096;
-/// Most entries a table may hold (stick ids are 1 .. this; 0 is "no stick").
-inline constexpr std::uint32_t kMaxStickEntries = 1u << 24;
+/// Most entries a table may hold (stick ids are 1 .. this; 0 is "no stick"): a table holds a kind
+/// of stick once, however often it stands, so a million is far more than any database needs, and
+/// it bounds what a crafted file can make a reader allocate.
+inline constexpr std::uint32_t kMaxStickEntries = 1u << 20;
 
 /// A stick table that cannot be built or read; what() says what was wrong.
 class StickTableError : public std::runtime_error {
@@ -46,9 +48,8 @@ struct StickEntry {
 /// The shared stick table of a terrain: immutable once built, read lock-free by renderers.
 class StickTable {
  public:
-  /// A table of stick voxels `unitM` metres tall. Throws StickTableError on a unit that is not a
-  /// positive finite length, too many entries, or an entry whose texels do not match its kind and
-  /// length.
+  /// A table of stick voxels `unitM` metres tall. Throws StickTableError on a unit outside
+  /// 1 mm … 1 km, too many entries, or an entry whose texels do not match its kind and length.
   StickTable(double unitM, std::vector<StickEntry> entries);
 
   double unitM() const noexcept { return mUnitM; }
@@ -59,8 +60,8 @@ class StickTable {
   /// Level `level`'s colours of stick `id` (1 .. size()), top down, each 2^level units tall. RT-safe.
   std::span<const std::uint32_t> texels(std::uint32_t id, int level) const noexcept {
     const Mips& m = mMips[id - 1];
-    const int l = level < m.levels ? level : m.levels - 1;
-    return {mTexels.data() + m.offset[static_cast<std::size_t>(l)], m.count[static_cast<std::size_t>(l)]};
+    const std::size_t k = m.firstLevel + static_cast<std::size_t>(level < m.levels ? level : m.levels - 1);
+    return {mTexels.data() + mLevelStart[k], mLevelStart[k + 1] - mLevelStart[k]};
   }
 
   /// The colour of stick `id` at level `level`, `depthUnits` level-0 units below the voxel's top
@@ -73,16 +74,15 @@ class StickTable {
   static StickTable parse(std::span<const std::byte> block);
 
  private:
-  static constexpr int kMaxMipLevels = 24;
   struct Mips {
+    std::uint32_t firstLevel = 0;  // its level 0 in mLevelStart; its levels follow
     int levels = 0;
-    std::size_t offset[kMaxMipLevels] = {};
-    std::size_t count[kMaxMipLevels] = {};
   };
   double mUnitM;
   std::vector<StickEntry> mEntries;
   std::vector<Mips> mMips;
-  std::vector<std::uint32_t> mTexels;  // every entry's mips, level 0 first
+  std::vector<std::size_t> mLevelStart;  // where each entry's each level starts in mTexels, and one past the last
+  std::vector<std::uint32_t> mTexels;    // every entry's mips, level 0 first
 };
 
 }  // namespace fieldcast::core

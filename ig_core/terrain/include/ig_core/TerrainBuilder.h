@@ -24,6 +24,9 @@ struct TerrainGrid {
   /// stick has its top in heightQ (Sticks.h, ObjectPlacement.h)
   std::vector<std::uint32_t> stickId;
   std::shared_ptr<const StickTable> sticks;
+  /// W×H heights of the ground under the objects, kept by the placer for later placements (empty:
+  /// heightQ is the ground); not stored in the database
+  std::vector<std::uint16_t> groundQ;
 };
 
 /// How heights in metres map onto 16-bit steps.

@@ -42,7 +42,7 @@ inline constexpr std::uint32_t kOldestDatabaseVersion = 1;
 /// Longest georeference (CRS text) a database may hold, in bytes.
 inline constexpr std::uint32_t kMaxGeoreferenceBytes = 64 * 1024;
 /// Largest stick table a database may hold, in bytes.
-inline constexpr std::uint32_t kMaxStickTableBytes = 256u << 20;
+inline constexpr std::uint32_t kMaxStickTableBytes = 64u << 20;
 /// Size of the fixed header in bytes; the tile index follows it.
 inline constexpr std::size_t kDatabaseHeaderBytes = 128;
 /// Size of one tile index entry in bytes.
@@ -90,8 +90,8 @@ struct TileBuffers {
 /// What the tiles of a database say about sticks: whether they carry the stick-id plane (version 3)
 /// and how many entries the table has (a tile's ids must not exceed it).
 struct TileSticks {
-  bool plane = true;
-  std::uint32_t entries = 0;
+  bool plane;
+  std::uint32_t entries;
 };
 /// The tile sticks of a database of this layout.
 TileSticks tileSticks(const DatabaseLayout& layout, const StickTable* table) noexcept;
@@ -128,7 +128,7 @@ std::vector<std::byte> encodeTile(const TileBuffers& tile, int tileShift, VoxelC
 /// tile in errors ("terrain.fctdb: tile L0 (3, 4)"). Throws TerrainDatabaseError, also for a
 /// stick id beyond the table. Thread-safe.
 void decodeTile(std::span<const std::byte> compressed, const TileIndexEntry& entry, int tileShift, VoxelColour mode,
-                TileBuffers& out, const std::string& what, TileSticks sticks = {});
+                TileBuffers& out, const std::string& what, TileSticks sticks);
 
 /// An open database: header and index validated, tiles read on demand with pread (thread-safe).
 class DatabaseReader {
