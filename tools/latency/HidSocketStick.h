@@ -11,6 +11,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "FirstSend.h"
+
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -51,26 +53,7 @@ class HidSocketStick {
   /// Sends `report` from the next write on; returns the CLOCK_MONOTONIC instant (ns) of that
   /// write, or 0 when nothing was written within a second (no service connected).
   std::int64_t set(std::span<const std::uint8_t> report) {
-    std::uint64_t generation = 0;
-    {
-      const std::lock_guard lock(mMutex);
-      mReport.assign(report.begin(), report.end());
-      generation = ++mGeneration;
-    }
-    for (int i = 0; i < 1000; ++i) {
-      {
-        const std::lock_guard lock(mMutex);
-        if (mSentGeneration == generation) return mSentNs;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return 0;
-  }
-
-  static std::int64_t monotonicNs() noexcept {
-    timespec ts{};
-    ::clock_gettime(CLOCK_MONOTONIC, &ts);
-    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+    return mSends.waitFor(mSends.change([&] { mReport.assign(report.begin(), report.end()); }));
   }
 
  private:
@@ -88,26 +71,15 @@ class HidSocketStick {
         }
       }
       if (device < 0) continue;
-      std::uint64_t generation = 0;
-      {
-        const std::lock_guard lock(mMutex);
-        report = mReport;
-        generation = mGeneration;
-      }
+      const std::uint64_t generation = mSends.current([&] { report = mReport; });
       // The instant is taken just before the report leaves: the latency includes the whole path
-      const std::int64_t now = monotonicNs();
+      const std::int64_t now = FirstSend::monotonicNs();
       if (::send(device, report.data(), report.size(), MSG_NOSIGNAL) < 0) {
         ::close(device);
         device = -1;
         continue;
       }
-      {
-        const std::lock_guard lock(mMutex);
-        if (mSentGeneration != generation) {  // the first write of this report
-          mSentGeneration = generation;
-          mSentNs = now;
-        }
-      }
+      mSends.sent(generation, now);
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     if (device >= 0) ::close(device);
@@ -117,11 +89,8 @@ class HidSocketStick {
   bool mListening = false;
   std::thread mThread;
   std::atomic<bool> mStop{false}, mConnected{false};
-  std::mutex mMutex;
-  std::vector<std::uint8_t> mReport;  // guarded by mMutex, as are:
-  std::uint64_t mGeneration = 0;      // set() calls so far
-  std::uint64_t mSentGeneration = 0;  // the newest report written ...
-  std::int64_t mSentNs = 0;           // ... first written at this instant
+  FirstSend mSends;
+  std::vector<std::uint8_t> mReport;  // guarded by mSends
 };
 
 }  // namespace fieldcast::tools

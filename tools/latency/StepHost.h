@@ -4,6 +4,8 @@
 // every 1/60 s. turnTo() steps the ownship's heading; it returns when the first datagram with the
 // new heading left, on CLOCK_MONOTONIC — the instant a host → field latency is measured from.
 
+#include "FirstSend.h"
+
 #include <io_bridge/cigi/MessageBuilder.h>
 
 #include <arpa/inet.h>
@@ -49,26 +51,7 @@ class StepHost {
   /// Holds the heading at the start's plus `offsetDeg` from the next host frame on; returns the
   /// CLOCK_MONOTONIC instant (ns) that frame's datagram was sent, or 0 when none left within a second.
   std::int64_t turnTo(double offsetDeg) {
-    std::uint64_t generation = 0;
-    {
-      const std::lock_guard lock(mMutex);
-      mYawOffsetDeg = offsetDeg;
-      generation = ++mGeneration;
-    }
-    for (int i = 0; i < 1000; ++i) {
-      {
-        const std::lock_guard lock(mMutex);
-        if (mSentGeneration == generation) return mSentNs;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return 0;
-  }
-
-  static std::int64_t monotonicNs() noexcept {
-    timespec ts{};
-    ::clock_gettime(CLOCK_MONOTONIC, &ts);
-    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+    return mSends.waitFor(mSends.change([&] { mYawOffsetDeg = offsetDeg; }));
   }
 
  private:
@@ -80,12 +63,7 @@ class StepHost {
     for (std::uint32_t frame = 0; !mStop; ++frame) {
       std::this_thread::sleep_until(start + frame * kHostPeriod);
       double offsetDeg = 0.0;
-      std::uint64_t generation = 0;
-      {
-        const std::lock_guard lock(mMutex);
-        offsetDeg = mYawOffsetDeg;
-        generation = mGeneration;
-      }
+      const std::uint64_t generation = mSends.current([&] { offsetDeg = mYawOffsetDeg; });
       io::cigi::IgControl control;
       control.extrapolationEnabled = true;
       control.hostFrameNumber = frame;
@@ -103,16 +81,12 @@ class StepHost {
       message.add(ownship);
       message.add(io::cigi::RateControl{});  // entity 0, world frame, all rates zero: it stands still
       // The instant is taken just before the datagram leaves: the latency includes the whole path
-      const std::int64_t now = monotonicNs();
+      const std::int64_t now = FirstSend::monotonicNs();
       const auto bytes = message.bytes();
       if (::sendto(mFd, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&mIg), sizeof mIg) < 0) {
         continue;
       }
-      const std::lock_guard lock(mMutex);
-      if (mSentGeneration != generation) {  // the first frame with this heading
-        mSentGeneration = generation;
-        mSentNs = now;
-      }
+      mSends.sent(generation, now);
     }
   }
 
@@ -121,11 +95,8 @@ class StepHost {
   sockaddr_in mIg{};
   std::thread mThread;
   std::atomic<bool> mStop{false};
-  std::mutex mMutex;
-  double mYawOffsetDeg = 0.0;         // guarded by mMutex, as are:
-  std::uint64_t mGeneration = 0;      // turnTo() calls so far
-  std::uint64_t mSentGeneration = 0;  // the newest heading sent ...
-  std::int64_t mSentNs = 0;           // ... first sent at this instant
+  FirstSend mSends;
+  double mYawOffsetDeg = 0.0;  // guarded by mSends
 };
 
 }  // namespace fieldcast::tools

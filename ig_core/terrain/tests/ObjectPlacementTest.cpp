@@ -102,12 +102,10 @@ TEST(ObjectPlacement, AModelPlacedAmongObjectsStandsOnTheirGroundNotOnThem) {
   const std::vector<ObjectPlacement> house{{"house", 64.0, 64.0, 0.0, 1.0}};
   placeObjects(grid, house);
   const int southUnits = findBuiltinModel("house")->columns[0].heightUnits;
-  const VoxelModel& houseModel = *findBuiltinModel("house");
   std::set<std::uint32_t> houseTops;
   for (std::size_t k = 0; k < grid.heightQ.size(); ++k) houseTops.insert(grid.heightQ[k]);
   EXPECT_TRUE(houseTops.count(static_cast<std::uint32_t>(2000 + southUnits * kModelStickUnitM / 0.05)))
       << "the house's south row is not " << southUnits * kModelStickUnitM << " m over the ground";
-  (void)houseModel;
   EXPECT_THROW(placeObjects(grid, std::vector<ObjectPlacement>{{"house", 1e12, 0.0, 0.0, 1.0}}), std::invalid_argument);
 }
 
