@@ -10,6 +10,7 @@
 #include <ig_core/BuiltinTerrain.h>
 #include <ig_core/ElevationImport.h>
 #include <ig_core/Georeference.h>
+#include <ig_core/ModelLibrary.h>
 #include <ig_core/ObjectPlacement.h>
 #include <ig_core/TerrainBuilder.h>
 #include <ig_core/TerrainDatabase.h>
@@ -152,7 +153,8 @@ int runBuild(const BuildArgs& a) {
   }
   if (!a.objects.empty()) {
     const std::vector<ObjectPlacement> objects = readPlacementList(a.objects);
-    const PlacementReport placed = placeObjects(grid, objects);
+    ModelLibrary models(std::filesystem::path(a.objects).parent_path());
+    const PlacementReport placed = placeObjects(grid, objects, models.lookup());
     std::printf("%s: %zu objects placed (%zu off the grid), %zu voxels with sticks, %u stick table entries\n",
                 a.objects.c_str(), placed.placed, placed.offGrid, placed.stickVoxels, placed.tableEntries);
   }

@@ -182,7 +182,8 @@ PlacementReport placeObjects(TerrainGrid& grid, std::span<const ObjectPlacement>
   for (const ObjectPlacement& p : objects) {
     const VoxelModel* model = lookup(p.model);
     if (model == nullptr) {
-      throw std::invalid_argument("unknown model '" + p.model + "' (built in: " + knownModels() + ")");
+      throw std::invalid_argument("unknown model '" + p.model + "' (built in: " + knownModels() +
+                                  "; or a .vox file named by its path)");
     }
     placer.place(*model, p.xM, p.yM, p.headingDeg, p.scale);
   }
