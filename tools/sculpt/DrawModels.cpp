@@ -25,7 +25,8 @@ class Drawing {
         mImage(static_cast<int>(heightM * kPxPerM) + 2 * kMarginPx, static_cast<int>(widthM * kPxPerM) + 2 * kMarginPx,
                CV_8UC3, kKey) {}
   cv::Point at(double a, double up) const {
-    return {kMarginPx + static_cast<int>(a * kPxPerM + 0.5), kMarginPx + static_cast<int>((mHeightM - up) * kPxPerM + 0.5)};
+    return {kMarginPx + static_cast<int>(a * kPxPerM + 0.5),
+            kMarginPx + static_cast<int>((mHeightM - up) * kPxPerM + 0.5)};
   }
   void box(double a0, double up0, double a1, double up1, const cv::Scalar& bgr) {
     cv::rectangle(mImage, at(a0, up1), at(a1, up0) - cv::Point(1, 1), bgr, cv::FILLED, cv::LINE_8);
@@ -61,8 +62,8 @@ void drawVan(const std::filesystem::path& dir) {
   Drawing side(5.0, 2.4);  // the back on the left
   side.polygon({{0.0, 0.35}, {0.0, 2.4}, {3.9, 2.4}, {4.5, 1.3}, {5.0, 1.1}, {5.0, 0.35}}, body);
   side.polygon({{3.95, 2.25}, {4.4, 1.35}, {3.9, 1.35}, {3.9, 2.25}}, glass);  // the cab's side window
-  side.box(0.0, 1.45, 3.85, 1.6, roof);                                         // a stripe along the body
-  side.line(3.3, 0.4, 3.3, 2.3, trim);                                          // the sliding door's edge
+  side.box(0.0, 1.45, 3.85, 1.6, roof);                                        // a stripe along the body
+  side.line(3.3, 0.4, 3.3, 2.3, trim);                                         // the sliding door's edge
   side.box(4.7, 0.8, 5.0, 0.95, lamp);
   for (double y : {0.9, 4.1}) side.disc(y, 0.35, 0.35, tyre), side.disc(y, 0.35, 0.15, hub);
   side.save(dir / "side.png");
@@ -70,7 +71,7 @@ void drawVan(const std::filesystem::path& dir) {
   Drawing front(2.0, 2.4);  // the van's right on the left
   front.box(0.0, 0.35, 2.0, 2.4, body);
   front.polygon({{0.15, 1.3}, {1.85, 1.3}, {1.75, 2.25}, {0.25, 2.25}}, glass);  // the windscreen
-  front.box(0.6, 0.55, 1.4, 0.95, trim);                                          // the grille
+  front.box(0.6, 0.55, 1.4, 0.95, trim);                                         // the grille
   front.box(0.1, 0.75, 0.45, 0.95, lamp);
   front.box(1.55, 0.75, 1.9, 0.95, lamp);
   front.box(0.0, 0.35, 2.0, 0.5, trim);  // the bumper
@@ -90,14 +91,16 @@ void drawVan(const std::filesystem::path& dir) {
 // ridge across the front at 7 m, a brick chimney at the right gable to 8 m
 void drawCottage(const std::filesystem::path& dir) {
   const cv::Scalar wall = rgb(236, 230, 214), tile = rgb(150, 64, 44), tileLine = rgb(112, 46, 32),
-                   brick = rgb(120, 70, 56), glass = rgb(52, 70, 92), door = rgb(40, 80, 60), frame = rgb(250, 250, 250);
+                   brick = rgb(120, 70, 56), glass = rgb(52, 70, 92), door = rgb(40, 80, 60),
+                   frame = rgb(250, 250, 250);
   Drawing front(9.0, 8.0);  // the cottage's right (and its chimney) on the left
   front.box(0.0, 0.0, 9.0, 3.5, wall);
   front.box(0.0, 3.5, 9.0, 7.0, tile);
   for (double z = 3.9; z < 7.0; z += 0.45) front.line(0.0, z, 9.0, z, tileLine);
   front.box(0.2, 7.0, 1.0, 8.0, brick);
   front.box(4.0, 0.0, 5.0, 2.1, door);
-  for (double x : {1.2, 2.6, 6.0, 7.4}) front.box(x - 0.1, 0.9, x + 1.0, 2.5, frame), front.box(x, 1.0, x + 0.9, 2.4, glass);
+  for (double x : {1.2, 2.6, 6.0, 7.4})
+    front.box(x - 0.1, 0.9, x + 1.0, 2.5, frame), front.box(x, 1.0, x + 0.9, 2.4, glass);
   front.save(dir / "front.png");
 
   Drawing side(6.0, 8.0);  // the back on the left; the gable end
@@ -123,7 +126,8 @@ void drawCottage(const std::filesystem::path& dir) {
 
 int main(int argc, char** argv) {
   if (argc != 2) {
-    std::fprintf(stderr, "usage: fieldcast-draw-models <folder>   (writes <folder>/van/*.png, <folder>/cottage/*.png)\n");
+    std::fprintf(stderr,
+                 "usage: fieldcast-draw-models <folder>   (writes <folder>/van/*.png, <folder>/cottage/*.png)\n");
     return 2;
   }
   try {

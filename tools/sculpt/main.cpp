@@ -7,8 +7,8 @@
 #include <ig_core/VoxFile.h>
 #include <tools/OptionChecks.h>
 
-#include <CLI/CLI.hpp>
 #include <OpenImageIO/imageio.h>
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <exception>
@@ -61,7 +61,8 @@ void writePreview(const std::string& path, const VoxelSolid& s) {
               const std::size_t at = (static_cast<std::size_t>(kGap + b * kPx + py) * static_cast<std::size_t>(w) +
                                       static_cast<std::size_t>(left + a * kPx + px)) *
                                      3;
-              for (int k = 0; k < 3; ++k) rgb[at + static_cast<std::size_t>(k)] = static_cast<unsigned char>(c >> (8 * k));
+              for (int k = 0; k < 3; ++k)
+                rgb[at + static_cast<std::size_t>(k)] = static_cast<unsigned char>(c >> (8 * k));
             }
           break;
         }
@@ -109,10 +110,11 @@ int main(int argc, char** argv) {
                             readSilhouette(top, background)};
     const SculptResult r = sculptFromSilhouettes(views, heightM);
     const VoxWriteReport written = writeVoxFile(output, r.solid);
-    std::printf("%s: %d x %d x %d voxels of %.2f m (%.2f m wide, %.2f m deep, %.2f m high; the top view's aspect "
-                "within %.1f%%)\n",
-                output.c_str(), r.solid.sizeX, r.solid.sizeY, r.solid.sizeZ, kSolidVoxelM, r.widthM, r.depthM,
-                r.heightM, 100.0 * r.topAspectError);
+    std::printf(
+        "%s: %d x %d x %d voxels of %.2f m (%.2f m wide, %.2f m deep, %.2f m high; the top view's aspect "
+        "within %.1f%%)\n",
+        output.c_str(), r.solid.sizeX, r.solid.sizeY, r.solid.sizeZ, kSolidVoxelM, r.widthM, r.depthM, r.heightM,
+        100.0 * r.topAspectError);
     std::printf("%s: %zu voxels: %zu coloured from the top, %zu from the side, %zu from the front, %zu hidden\n",
                 output.c_str(), r.solid.filledCount(), r.fromTop, r.fromSide, r.fromFront, r.hidden);
     std::printf("%s: palette of %d colours (%s)\n", output.c_str(), written.paletteEntries,

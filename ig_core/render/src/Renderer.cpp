@@ -2,6 +2,7 @@
 #include <ig_core/Renderer.h>
 
 #include "ColumnCaster.h"
+#include "EntityPass.h"
 #include "FrameAssembly.h"
 
 #include <ig_core/ViewGeometry.h>
@@ -16,10 +17,11 @@ class Renderer::InFlight {
       : renderer(r),
         quality(s.quality),
         maxAnisotropy(s.maxAnisotropy),
-        frame(frameShell(request, s, s.rangeImage, std::move(recycle))),
+        entities(request.entities),
+        frame(frameShell(request, s, s.rangeImage || !entities.empty(), std::move(recycle))),
         geometry(frame.pose, frame.intrinsics, r.mView->geometry(), s),
         caster(*r.mView, geometry, s, r.mCeilingQ, r.mBaseColourRgba, &frame.image,
-               s.rangeImage ? frame.rangeM.data() : nullptr) {
+               frame.hasRange() ? frame.rangeM.data() : nullptr) {
     frame.renderStart = MonotonicClock::now();
     job.run = &InFlight::runColumns;
     job.context = this;
@@ -42,6 +44,7 @@ class Renderer::InFlight {
   Renderer& renderer;
   double quality;  // the settings that change from frame to frame, for RenderStats
   double maxAnisotropy;
+  std::vector<EntityInstance> entities;  // drawn after the columns (they need the range image)
   Frame frame;
   ViewGeometry geometry;
   CasterFrame caster;
@@ -91,6 +94,7 @@ Renderer::Ticket Renderer::submit(const ViewRequest& request, Frame&& recycle) {
 
 Frame Renderer::finish(Ticket f, RenderStats* stats) {
   mPool.wait(f->job);
+  if (!f->entities.empty()) drawEntities(f->entities, f->geometry, f->caster.shading, f->frame);
   f->frame.renderEnd = MonotonicClock::now();
   if (stats != nullptr) {
     stats->steps = f->steps.load(std::memory_order_relaxed);

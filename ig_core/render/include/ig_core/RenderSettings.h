@@ -1,6 +1,8 @@
 #pragma once
 // What the ray caster is asked to do: quality knob, outputs, sky and haze, frame margins.
 
+#include <ig_core/Entities.h>
+
 #include <fieldcast/Frame.h>
 #include <fieldcast/Intrinsics.h>
 #include <fieldcast/Pose.h>
@@ -9,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <vector>
 
 namespace fieldcast::core {
 
@@ -59,10 +62,11 @@ namespace fieldcast::core {
 
 /// One frame to render: the pose it is for, when that pose holds, and the display window.
 struct ViewRequest {
-  Pose pose;                      ///< camera pose; roll only sizes the frame (the IG renders unrolled)
-  TimePoint poseTime{};           ///< the instant the pose belongs to (copied into the Frame)
-  Intrinsics display;             ///< intrinsics of the display window (without margin)
-  std::uint64_t frameNumber = 0;  ///< copied into the Frame
+  Pose pose;                             ///< camera pose; roll only sizes the frame (the IG renders unrolled)
+  TimePoint poseTime{};                  ///< the instant the pose belongs to (copied into the Frame)
+  Intrinsics display;                    ///< intrinsics of the display window (without margin)
+  std::uint64_t frameNumber = 0;         ///< copied into the Frame
+  std::vector<EntityInstance> entities;  ///< moving entities at `poseTime` (Entities.h)
 };
 
 }  // namespace fieldcast::core

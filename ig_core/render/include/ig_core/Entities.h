@@ -1,0 +1,29 @@
+#pragma once
+// Moving entities (ig_core/README.md, "Entities"): voxel models drawn at a pose in every frame,
+// after the terrain, each ray-cast through its own small grid and kept where it is nearer than
+// what the frame's range image already holds (so a hill hides a vehicle, and the nearer of two
+// entities wins). The range image and the control points see them.
+
+#include <ig_core/VoxelSolid.h>
+
+#include <fieldcast/Pose.h>
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <memory>
+
+namespace fieldcast::core {
+
+/// One entity to draw in a frame, at the frame's pose time.
+struct EntityInstance {
+  std::uint32_t id = 0;
+  std::shared_ptr<const VoxelSolid> model;  ///< voxels of kSolidVoxelM × scale; null: nothing drawn
+  /// The model's footprint centre at its base (world metres) and its attitude: heading clockwise
+  /// from north turns its front (+y) there, pitch raises its front, roll lowers its right (Pose's
+  /// conventions, DESIGN.md §6).
+  Pose pose;
+  double scale = 1.0;
+};
+
+}  // namespace fieldcast::core

@@ -1,0 +1,182 @@
+// The entity pass: each entity's voxel grid ray-cast inside its screen bounding box (grid
+// traversal after Amanatides & Woo, "A fast voxel traversal algorithm for ray tracing", 1987),
+// composited with the terrain by the frame's range image.
+#include "EntityPass.h"
+
+#include "FrameAssembly.h"
+
+#include <fieldcast/Conventions.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace fieldcast::core {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The light the models are shaded with: the built-in colours' sun (north-west, 40° up;
+// TerrainColour.h), and the share of the light that comes from the sky whatever the face
+constexpr double kAmbient = 0.55;
+const glm::dvec3 kToSun =
+    glm::normalize(glm::dvec3(-0.7071067811865476, 0.7071067811865476, 0.8390996311772800));  // tan 40°
+
+// An entity's axes and scale: world point p is model point ((p − base)·right / s + sizeX/2,
+// (p − base)·forward / s + sizeY/2, (p − base)·up / s) in voxels
+struct ModelFrame {
+  CameraAxes axes;
+  glm::dvec3 base;
+  double voxelM;
+  glm::dvec3 toModel(const glm::dvec3& p, const VoxelSolid& m) const noexcept {
+    const glm::dvec3 d = p - base;
+    return {glm::dot(d, axes.right) / voxelM + 0.5 * m.sizeX, glm::dot(d, axes.forward) / voxelM + 0.5 * m.sizeY,
+            glm::dot(d, axes.up) / voxelM};
+  }
+  glm::dvec3 directionToModel(const glm::dvec3& d) const noexcept {
+    return glm::dvec3(glm::dot(d, axes.right), glm::dot(d, axes.forward), glm::dot(d, axes.up)) / voxelM;
+  }
+  glm::dvec3 toWorld(const glm::dvec3& local, const VoxelSolid& m) const noexcept {
+    return base + (local.x - 0.5 * m.sizeX) * voxelM * axes.right + (local.y - 0.5 * m.sizeY) * voxelM * axes.forward +
+           local.z * voxelM * axes.up;
+  }
+};
+
+ModelFrame modelFrame(const EntityInstance& e) noexcept {
+  return {cameraAxes(e.pose), e.pose.positionM, kSolidVoxelM * e.scale};
+}
+
+// The pixels the entity's box covers (frame pixels, clipped), or an empty box
+struct PixelBox {
+  int u0 = 0, v0 = 0, u1 = 0, v1 = 0;  // [u0, u1) × [v0, v1)
+  bool empty() const noexcept { return u0 >= u1 || v0 >= v1; }
+};
+
+PixelBox screenBox(const EntityInstance& e, const ModelFrame& mf, const ViewGeometry& geo) noexcept {
+  const VoxelSolid& m = *e.model;
+  const Intrinsics& k = geo.intrinsics();
+  const CameraAxes& cam = geo.axes();
+  const glm::dvec3 eye = geo.pose().positionM;
+  double uMin = kInf, vMin = kInf, uMax = -kInf, vMax = -kInf;
+  int behind = 0;
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner = mf.toWorld({(c & 1) ? m.sizeX : 0, (c & 2) ? m.sizeY : 0, (c & 4) ? m.sizeZ : 0}, m);
+    const glm::dvec3 d = corner - eye;
+    const double zc = glm::dot(d, cam.forward);
+    if (zc <= 1e-3) {
+      ++behind;
+      continue;
+    }
+    const double u = k.cxPx + k.fxPx * glm::dot(d, cam.right) / zc;
+    const double v = k.cyPx - k.fyPx * glm::dot(d, cam.up) / zc;
+    uMin = std::min(uMin, u), uMax = std::max(uMax, u), vMin = std::min(vMin, v), vMax = std::max(vMax, v);
+  }
+  if (behind == 8) return {};
+  if (behind > 0) return {0, 0, k.widthPx, k.heightPx};  // the camera is beside or inside it: every pixel may see it
+  const auto clampU = [&](double u) { return static_cast<int>(std::clamp(u, 0.0, static_cast<double>(k.widthPx))); };
+  const auto clampV = [&](double v) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(k.heightPx))); };
+  return {clampU(std::floor(uMin)), clampV(std::floor(vMin)), clampU(std::ceil(uMax) + 1.0),
+          clampV(std::ceil(vMax) + 1.0)};
+}
+
+bool castModel(const VoxelSolid& m, const ModelFrame& mf, const glm::dvec3& origin, const glm::dvec3& ray,
+               double maxDepthM, EntityHit& hit) noexcept {
+  const glm::dvec3 o = mf.toModel(origin, m);
+  const glm::dvec3 d = mf.directionToModel(ray);
+  const std::array<int, 3> size{m.sizeX, m.sizeY, m.sizeZ};
+  // Where the ray is inside the model's box (slabs)
+  double tEnter = 0.0, tExit = maxDepthM;
+  int enterAxis = -1;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < 0.0 || o[a] >= size[static_cast<std::size_t>(a)]) return false;
+      continue;
+    }
+    double t0 = (0.0 - o[a]) / d[a], t1 = (size[static_cast<std::size_t>(a)] - o[a]) / d[a];
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > tEnter) tEnter = t0, enterAxis = a;
+    tExit = std::min(tExit, t1);
+  }
+  if (!(tEnter < tExit)) return false;
+  // Walk the voxels from the entry, one boundary at a time
+  std::array<int, 3> cell{}, step{};
+  std::array<double, 3> tNext{}, tDelta{};
+  for (int a = 0; a < 3; ++a) {
+    const auto A = static_cast<std::size_t>(a);
+    cell[A] = std::clamp(static_cast<int>(std::floor(o[a] + d[a] * tEnter)), 0, size[A] - 1);
+    step[A] = d[a] > 0.0 ? 1 : -1;
+    tDelta[A] = d[a] != 0.0 ? std::abs(1.0 / d[a]) : kInf;
+    tNext[A] = d[a] != 0.0 ? (cell[A] + (d[a] > 0.0 ? 1.0 : 0.0) - o[a]) / d[a] : kInf;
+  }
+  double t = tEnter;
+  int axis = enterAxis;
+  for (;;) {
+    if (m.filled(cell[0], cell[1], cell[2])) {
+      hit.depthM = t;
+      hit.rgba = m.rgba[m.index(cell[0], cell[1], cell[2])];
+      const int a = axis < 0 ? 2 : axis;  // a ray that starts inside: light it as a top
+      const glm::dvec3 axisWorld = a == 0 ? mf.axes.right : a == 1 ? mf.axes.forward : mf.axes.up;
+      hit.normal = axis < 0 ? mf.axes.up : (d[a] > 0.0 ? -axisWorld : axisWorld);
+      return true;
+    }
+    axis = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
+    const auto A = static_cast<std::size_t>(axis);
+    t = tNext[A];
+    if (t >= tExit) return false;
+    cell[A] += step[A];
+    if (cell[A] < 0 || cell[A] >= size[A]) return false;
+    tNext[A] += tDelta[A];
+  }
+}
+
+}  // namespace
+
+bool castEntity(const EntityInstance& entity, const glm::dvec3& origin, const glm::dvec3& ray, double maxDepthM,
+                EntityHit& hit) noexcept {
+  if (!entity.model || entity.model->rgba.empty()) return false;
+  return castModel(*entity.model, modelFrame(entity), origin, ray, maxDepthM, hit);
+}
+
+std::size_t drawEntities(std::span<const EntityInstance> entities, const ViewGeometry& geometry, const Shading& shading,
+                         Frame& frame) noexcept {
+  const PixelShader shader = shading.pixelShader();
+  const int w = frame.intrinsics.widthPx;
+  const glm::dvec3 eye = geometry.pose().positionM;
+  std::size_t drawn = 0;
+  for (const EntityInstance& e : entities) {
+    if (!e.model || e.model->rgba.empty() || !(e.scale > 0.0)) continue;
+    const ModelFrame mf = modelFrame(e);
+    const PixelBox box = screenBox(e, mf, geometry);
+    for (int v = box.v0; v < box.v1; ++v) {
+      std::uint8_t* row = frame.image.row(v);
+      for (int u = box.u0; u < box.u1; ++u) {
+        const glm::dvec3 ray = geometry.ray(u + 0.5, v + 0.5);
+        const double length = glm::length(ray);
+        float& rangeM =
+            frame.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)];
+        EntityHit hit;
+        if (!castModel(*e.model, mf, eye, ray, static_cast<double>(rangeM) / length, hit)) continue;
+        // Lit by the sun and the sky, then hazed by range as the terrain is
+        const double light = kAmbient + (1.0 - kAmbient) * std::max(0.0, glm::dot(hit.normal, kToSun));
+        rangeM = static_cast<float>(hit.depthM * length);
+        const Rgb lit(unpackRgb(hit.rgba).v * static_cast<float>(light));
+        shader.storePixel(row + (shading.grey() ? u : 3 * u), shader.terrain(lit, rangeM), 1.0f);
+        ++drawn;
+      }
+    }
+    // A control ray that meets the entity nearer than its terrain point records the entity's point
+    for (ControlPoint& cp : frame.controlPoints) {
+      const glm::dvec3 ray = geometry.ray(cp.framePx.x, cp.framePx.y);
+      const double nearest =
+          cp.kind == ControlPointKind::Surface ? glm::length(cp.world - eye) / glm::length(ray) : kInf;
+      EntityHit hit;
+      if (castModel(*e.model, mf, eye, ray, nearest, hit)) setControlPoint(cp, frame, true, eye + hit.depthM * ray);
+    }
+  }
+  return drawn;
+}
+
+}  // namespace fieldcast::core

@@ -1,0 +1,181 @@
+// Moving entities drawn by the renderer's entity pass: where an entity appears is where its box
+// projects (within a pixel); a ridge hides it; the nearer of two entities hides the farther,
+// whatever their order; heading turns it; a control ray that meets it records its point.
+#include "RenderTestUtil.h"
+
+#include <ig_core/MemoryTerrain.h>
+#include <ig_core/Renderer.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+namespace fieldcast::core::test {
+namespace {
+
+constexpr double kGroundM = 100.0;
+
+// 256² voxels at 2 m, flat at 100 m; with a ridge 30 m high across y = 200 m when asked
+std::unique_ptr<MemoryTerrain> flatLand(bool ridge) {
+  constexpr int kSide = 256;
+  TerrainGeometry g;
+  g.widthVox = g.heightVox = kSide;
+  g.spacingM = 2.0;
+  g.heightStepM = 0.05;
+  g.tileShift = 6;
+  std::vector<std::uint16_t> heightQ(kSide * kSide, static_cast<std::uint16_t>(kGroundM / g.heightStepM));
+  std::vector<std::uint32_t> colour(kSide * kSide, 0xFF3C7846u);
+  if (ridge)
+    for (int j = 99; j <= 101; ++j)
+      for (int i = 0; i < kSide; ++i)
+        heightQ[static_cast<std::size_t>(j * kSide + i)] = static_cast<std::uint16_t>(130.0 / g.heightStepM);
+  return std::make_unique<MemoryTerrain>(g, heightQ, colour);
+}
+
+// A solid block of one colour, sx × sy × sz voxels
+std::shared_ptr<const VoxelSolid> block(int sx, int sy, int sz, std::uint32_t rgba) {
+  auto s = std::make_shared<VoxelSolid>(emptySolid(sx, sy, sz));
+  std::fill(s->rgba.begin(), s->rgba.end(), rgba);
+  return s;
+}
+
+EntityInstance entityAt(std::shared_ptr<const VoxelSolid> model, double x, double y, double headingDeg, double scale) {
+  EntityInstance e;
+  e.model = std::move(model);
+  e.pose.positionM = {x, y, kGroundM};
+  e.pose.headingRad = radians(headingDeg);
+  e.scale = scale;
+  return e;
+}
+
+// The camera 20 m up at (256, 40), looking north and 8° down
+ViewRequest lookNorth(std::vector<EntityInstance> entities) {
+  ViewRequest r;
+  r.pose.positionM = {256.0, 40.0, kGroundM + 20.0};
+  r.pose.pitchRad = radians(-8.0);
+  r.display = Intrinsics::fromHorizontalFov(320, 240, radians(50.0));
+  r.entities = std::move(entities);
+  return r;
+}
+
+// The pixels where two frames differ: their count and bounding box (u0, v0, u1, v1 inclusive)
+struct Changed {
+  int count = 0;
+  int u0 = 1 << 30, v0 = 1 << 30, u1 = -1, v1 = -1;
+};
+Changed changedPixels(const Frame& a, const Frame& b) {
+  Changed c;
+  const int bpp = a.image.format() == PixelFormat::Grey8 ? 1 : 3;
+  for (int v = 0; v < a.intrinsics.heightPx; ++v)
+    for (int u = 0; u < a.intrinsics.widthPx; ++u)
+      if (std::memcmp(a.image.row(v) + bpp * u, b.image.row(v) + bpp * u, static_cast<std::size_t>(bpp)) != 0) {
+        ++c.count;
+        c.u0 = std::min(c.u0, u), c.u1 = std::max(c.u1, u), c.v0 = std::min(c.v0, v), c.v1 = std::max(c.v1, v);
+      }
+  return c;
+}
+
+TEST(EntityRender, AnEntityAppearsWhereItsBoxProjectsAndARidgeHidesIt) {
+  const auto land = flatLand(false), ridged = flatLand(true);
+  Renderer renderer(land->view(), RenderSettings{}, 2), behindRidge(ridged->view(), RenderSettings{}, 2);
+  // A 4 × 4 × 4 block at scale 4 (8 m a side) 260 m ahead
+  const EntityInstance cube = entityAt(block(4, 4, 4, 0xFF2020E0u), 256.0, 300.0, 0.0, 4.0);
+  const Frame bare = renderer.render(lookNorth({}));
+  const Frame with = renderer.render(lookNorth({cube}));
+  const Changed c = changedPixels(bare, with);
+  ASSERT_GT(c.count, 0);
+  // The box's corners projected: the changed pixels' centres span the same rectangle within a pixel
+  double uMin = 1e9, uMax = -1e9, vMin = 1e9, vMax = -1e9;
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 corner{252.0 + ((k & 1) ? 8.0 : 0.0), 296.0 + ((k & 2) ? 8.0 : 0.0),
+                            kGroundM + ((k & 4) ? 8.0 : 0.0)};
+    const glm::dvec2 px = *projectPoint(with.pose, with.intrinsics, corner);
+    uMin = std::min(uMin, px.x), uMax = std::max(uMax, px.x), vMin = std::min(vMin, px.y), vMax = std::max(vMax, px.y);
+  }
+  std::printf("entity pixels u %d..%d v %d..%d; its box projects to u %.2f..%.2f v %.2f..%.2f\n", c.u0, c.u1, c.v0,
+              c.v1, uMin, uMax, vMin, vMax);
+  EXPECT_NEAR(c.u0 + 0.5, uMin, 1.0);
+  EXPECT_NEAR(c.u1 + 0.5, uMax, 1.0);
+  EXPECT_NEAR(c.v0 + 0.5, vMin, 1.0);
+  EXPECT_NEAR(c.v1 + 0.5, vMax, 1.0);
+  // The range image holds the entity: its near face at y = 296 through the box's middle pixel
+  const int u = (c.u0 + c.u1) / 2, v = (c.v0 + c.v1) / 2;
+  const glm::dvec3 ray = pixelRay(with.pose, with.intrinsics, pixelCentre(u, v));
+  const double expected = (296.0 - with.pose.positionM.y) / ray.y;
+  EXPECT_NEAR(with.rangeM[static_cast<std::size_t>(v * with.intrinsics.widthPx + u)], expected, 0.01);
+
+  // Behind a ridge 30 m high the same entity is hidden entirely
+  const Frame ridgeBare = behindRidge.render(lookNorth({}));
+  const Frame ridgeWith = behindRidge.render(lookNorth({cube}));
+  EXPECT_EQ(changedPixels(ridgeBare, ridgeWith).count, 0);
+}
+
+TEST(EntityRender, TheNearerOfTwoEntitiesHidesTheFartherWhateverTheirOrder) {
+  const auto land = flatLand(false);
+  Renderer renderer(land->view(), RenderSettings{}, 2);
+  const EntityInstance nearBlock = entityAt(block(4, 2, 20, 0xFF20C020u), 256.0, 200.0, 0.0, 2.0);  // 4 × 2 × 20 m
+  const EntityInstance farBlock = entityAt(block(8, 2, 12, 0xFFC02020u), 256.0, 240.0, 0.0, 2.0);   // 8 × 2 × 12 m
+  const Frame bare = renderer.render(lookNorth({}));
+  const Frame nearOnly = renderer.render(lookNorth({nearBlock}));
+  const Frame nearFirst = renderer.render(lookNorth({nearBlock, farBlock}));
+  const Frame farFirst = renderer.render(lookNorth({farBlock, nearBlock}));
+  EXPECT_EQ(changedPixels(nearFirst, farFirst).count, 0);  // the order does not matter
+  // Where the near block is, both frames show it as it is alone; the far block shows around it
+  const int w = bare.intrinsics.widthPx;
+  int nearPixels = 0, differ = 0;
+  for (int v = 0; v < bare.intrinsics.heightPx; ++v)
+    for (int u = 0; u < w; ++u) {
+      if (std::memcmp(bare.image.row(v) + 3 * u, nearOnly.image.row(v) + 3 * u, 3) == 0) continue;
+      ++nearPixels;
+      differ += std::memcmp(nearOnly.image.row(v) + 3 * u, nearFirst.image.row(v) + 3 * u, 3) != 0;
+    }
+  EXPECT_GT(nearPixels, 50);
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(changedPixels(nearOnly, nearFirst).count, 50);  // the far one's visible part
+  // The far block alone covers pixels the near one takes: they do overlap
+  const Frame farOnly = renderer.render(lookNorth({farBlock}));
+  const Changed nearBox = changedPixels(bare, nearOnly), farBox = changedPixels(bare, farOnly);
+  EXPECT_LT(farBox.u0, nearBox.u0);
+  EXPECT_GT(farBox.u1, nearBox.u1);
+  EXPECT_GT(farBox.v1, nearBox.v0);
+}
+
+TEST(EntityRender, HeadingTurnsTheModel) {
+  const auto land = flatLand(false);
+  Renderer renderer(land->view(), RenderSettings{}, 1);
+  // Looking straight down from 120 m at a model 2 voxels wide and 10 long (scale 4: 4 × 20 m)
+  const auto longModel = block(2, 10, 2, 0xFFE0E0E0u);
+  ViewRequest r;
+  r.pose.positionM = {256.0, 256.0, kGroundM + 120.0};
+  r.pose.pitchRad = radians(-90.0);
+  r.display = Intrinsics::fromHorizontalFov(240, 240, radians(40.0));
+  const Frame bare = renderer.render(r);
+  r.entities = {entityAt(longModel, 256.0, 256.0, 0.0, 4.0)};
+  const Changed north = changedPixels(bare, renderer.render(r));
+  r.entities = {entityAt(longModel, 256.0, 256.0, 90.0, 4.0)};
+  const Changed east = changedPixels(bare, renderer.render(r));
+  EXPECT_GT(north.v1 - north.v0, 3 * (north.u1 - north.u0));  // along the image's up (north)
+  EXPECT_GT(east.u1 - east.u0, 3 * (east.v1 - east.v0));      // across it
+}
+
+TEST(EntityRender, AControlRayThatMeetsAnEntityRecordsItsPoint) {
+  const auto land = flatLand(false);
+  Renderer renderer(land->view(), RenderSettings{}, 1);
+  // The middle control point looks 8° down from 20 m: it meets the ground about 142 m ahead. A
+  // block 20 m tall (scale 2) 100 m ahead stands in its way
+  const Frame bare = renderer.render(lookNorth({}));
+  const Frame with = renderer.render(lookNorth({entityAt(block(20, 4, 20, 0xFF808080u), 256.0, 140.0, 0.0, 2.0)}));
+  const ControlPoint& before = bare.controlPoints[4];
+  const ControlPoint& after = with.controlPoints[4];
+  ASSERT_EQ(after.kind, ControlPointKind::Surface);
+  EXPECT_NEAR(before.world.z, kGroundM, 0.5);
+  EXPECT_NEAR(after.world.y, 138.0, 0.01);  // the block's near face (4 voxels of 1 m deep about y = 140)
+  EXPECT_GT(after.world.z, kGroundM + 1.0);
+  EXPECT_EQ(bare.controlPoints[0].world, with.controlPoints[0].world);  // a corner's ray misses it
+}
+
+}  // namespace
+}  // namespace fieldcast::core::test
