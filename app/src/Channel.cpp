@@ -72,6 +72,7 @@ void Channel::renderMain() noexcept {
     pacing.controller = render.controller;
     pacing.initialQuality = render.settings.quality;
     pacing.hazeRangeM = mHazeRangeM;
+    pacing.entities = mEntities;
     pacing.display = &mDisplay;
     RenderLoop loop(renderer, mMotion, mSettings.view.display, mFrames, mMetrics, pacing, &mTerrain, &mTerrainSwitch);
     spdlog::info("render: {} worker threads, {}x{} display, margin {:.0f}%", renderer.threads(),

@@ -94,6 +94,9 @@ class Channel {
   /// Where the render loop reads a runtime haze range (HostSession::hazeRangeM; see RenderPacing);
   /// call before startRendering. Null: the configured haze throughout.
   void setHazeRange(const std::atomic<double>* rangeM) noexcept { mHazeRangeM = rangeM; }
+  /// The moving entities the render loop draws in every frame (see RenderPacing); call before
+  /// startRendering. Null: none.
+  void setEntities(const SceneEntities* entities) noexcept { mEntities = entities; }
   /// Moves the channel's eye on the ownship (a host's View Control; one thread). The next frame
   /// renders from it; fields warp to it at once (the warp's fallback covers the cut).
   void setViewOffset(const ViewOffset& offset) noexcept { mMotion.setOffset(offset); }
@@ -161,6 +164,7 @@ class Channel {
   std::thread mFieldThread;
   std::atomic<bool> mStopRender{false};
   const std::atomic<double>* mHazeRangeM = nullptr;
+  const SceneEntities* mEntities = nullptr;
   TerrainSwitch mTerrainSwitch;
   std::atomic<bool> mStopFields{false};
   std::atomic<bool> mFieldsDone{false};

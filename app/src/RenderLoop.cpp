@@ -32,6 +32,7 @@ RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
   request.poseTime = poseTime;
   request.display = mDisplay;
   request.frameNumber = mNextFrameNumber++;
+  if (mPacing.entities != nullptr) mPacing.entities->at(poseTime, request.entities);
   if (mSwitch != nullptr) {
     core::TileCache* wanted = mSwitch->wanted.load(std::memory_order_acquire);
     if (wanted != nullptr && wanted != mTiles) {

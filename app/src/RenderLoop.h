@@ -4,6 +4,8 @@
 // so the workers never wait for each other, and hands each finished frame to the field thread
 // through the triple buffer. The field thread never waits for it.
 
+#include "SceneEntities.h"
+
 #include <service/ServiceMetrics.h>
 
 #include <fieldcast/Intrinsics.h>
@@ -32,6 +34,8 @@ struct RenderPacing {
   /// When set: the display window's frustum for the frames submitted from then on (the CIGI
   /// host's View Definition); read before each frame. Its size must stay the display's.
   const SeqLock<Intrinsics>* display = nullptr;
+  /// When set: the moving entities, posed for each frame's instant and drawn into it.
+  const SceneEntities* entities = nullptr;
 };
 
 /// A database switch (Channel::switchTerrain): the render loop renders each frame from `wanted`

@@ -7,6 +7,7 @@
 #include "HostSession.h"
 #include "KeyboardFlight.h"
 #include "MemoryLock.h"
+#include "SceneEntities.h"
 #include "TerrainCeiling.h"
 #include "ThreadScheduling.h"
 
@@ -15,6 +16,7 @@
 #include <io_bridge/InputSources.h>
 #include <io_bridge/StickInput.h>
 #include <io_bridge/StickProfile.h>
+#include <motion/FlightFile.h>
 #include <motion/FlightModel.h>
 #include <motion/ScriptedTrajectory.h>
 #include <prp_warp/FieldClock.h>
@@ -147,6 +149,7 @@ struct Service::Parts {
   std::shared_ptr<core::TileCache> terrain;  // null once HostDatabases owns it: see currentTerrain()
   std::unique_ptr<motion::ScriptedTrajectory> flight;
   std::unique_ptr<FlownFlight> flown;
+  std::unique_ptr<SceneEntities> entities;  // a flight's scripted entities; null: none
   std::unique_ptr<motion::FlightModel> flightModel;
   // motion.source = "host": the link's thread feeds the session, the session the host motion.
   // Declared in that order so the link stops first.
@@ -243,10 +246,12 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
   p.metrics.setVisibility(visibility);
 
   std::shared_ptr<const core::Georeference> georeference;  // motion.source = "host": where the database lies
+  std::vector<motion::ScriptedEntity> scriptedEntities;    // motion.source = "flight": its [[entity]] tables
   if (config.motion.source == motion::MotionKind::Flight) {
     try {
-      p.flight =
-          std::make_unique<motion::ScriptedTrajectory>(motion::ScriptedTrajectory::load(config.motion.flightPath));
+      motion::FlightFile file = motion::readFlightFile(config.motion.flightPath);
+      p.flight = std::make_unique<motion::ScriptedTrajectory>(std::move(file.ownship));
+      scriptedEntities = std::move(file.entities);
     } catch (const std::exception& e) {
       throw std::runtime_error(std::string("motion.flight: ") + e.what());
     }
@@ -256,6 +261,11 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
     const int level = p.terrain->stats().pinnedFromLevel;
     p.flight->setTerrainFloor([view, level](double x, double y) { return terrainCeilingM(*view, level, x, y); });
     p.flown = std::make_unique<FlownFlight>(*p.flight);
+    if (!scriptedEntities.empty()) {
+      p.entities = std::make_unique<SceneEntities>(
+          scriptedEntities, *view, [flown = p.flown.get()](TimePoint t) { return toSeconds(t - flown->start()); });
+      spdlog::info("entities: {} scripted by the flight", p.entities->size());
+    }
     // Reset: time 0 of the flight is now.
     p.cockpit = std::make_unique<CockpitActions>(*p.flown, io::CockpitButtons{},
                                                  [flown = p.flown.get()](TimePoint now) { flown->setStart(now); });
@@ -374,6 +384,7 @@ void Service::start() {
   if (p.hostLink) p.hostLink->start();
 
   if (p.hostSession) p.channel->setHazeRange(&p.hostSession->hazeRangeM());  // the host's visibility
+  if (p.entities) p.channel->setEntities(p.entities.get());
   p.channel->startRendering();
   p.started.store(true);
   const TimePoint giveUp = p.clock.now() + kFirstFrameTimeout;

@@ -15,6 +15,9 @@
 // furnished terrain against the same land bare (spec.objects = false), frames alternated in one
 // run, 720×486 on 2 threads: objects_ms, bare_ms (medians) and their ratio.
 //
+// render_entities: the four poses over the village with ten vans (config/models/van.vox) on the
+// ground in view, against the same frames without them, alternated: entities_ms, without_ms, ratio.
+//
 // Counters: frame_ms (per frame), ns_per_px (frame time / frame pixels), steps_per_px (height
 // samples per pixel), ref_ns_per_px (reference renderer, one thread, sampled pixels), speedup
 // (reference ns/px over this run's ns/px × threads: the per-core speed-up).
@@ -25,6 +28,7 @@
 #include <ig_core/Renderer.h>
 #include <ig_core/SyntheticTerrain.h>
 #include <ig_core/ViewGeometry.h>
+#include <ig_core/VoxFile.h>
 
 #include <fieldcast/Conventions.h>
 
@@ -33,6 +37,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -254,7 +259,73 @@ void BM_RenderObjects(benchmark::State& state) {
   state.counters["ratio"] = objectsMs / bareMs;
 }
 
+// ---- Entities -------------------------------------------------------------------------------------
+
+// Ten vans (config/models/van.vox) on the ground the view sees, over the village of the built-in
+// terrain: frames with them and without them alternated, 720×486 on 2 threads
+void BM_RenderEntities(benchmark::State& state) {
+  const BenchPose& p = kPoses[static_cast<std::size_t>(state.range(0))];
+  const ObjectArea& area = kObjectAreas[1];
+  state.SetLabel(std::string(area.name) + " " + p.name);
+  TileCache& cache = builtinCache(true);
+  ViewRequest request;
+  request.pose.positionM = {area.xM, area.yM, builtinCache(false).heightAtM(area.xM, area.yM) + p.altitudeM};
+  request.pose.headingRad = radians(p.headingDeg);
+  request.pose.pitchRad = radians(p.pitchDeg);
+  request.display = Intrinsics::fromHorizontalFov(720, 486, radians(60.0));
+  const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
+  cache.prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
+  cache.waitIdle(std::chrono::seconds(120));
+  const FrameLease lease = cache.lease();
+  RenderSettings settings;
+  settings.rangeImage = true;  // both frames have it: the comparison is of the entity pass alone
+  Renderer renderer(cache.view(), settings, 2);
+  Frame bare = renderer.render(request);
+  // A 5 × 2 grid of pixels over the display's lower half: a van where each meets the ground
+  const auto van = std::make_shared<const VoxelSolid>(readVoxFile(FIELDCAST_SOURCE_DIR "/config/models/van.vox"));
+  ViewRequest withVans = request;
+  for (int k = 0; k < 10; ++k) {
+    const glm::dvec2 px{layout.margin.x + (0.1 + 0.2 * (k % 5)) * request.display.widthPx,
+                        layout.margin.y + (k < 5 ? 0.6 : 0.85) * request.display.heightPx};
+    const float range = bare.rangeM[static_cast<std::size_t>(px.y) * static_cast<std::size_t>(bare.intrinsics.widthPx) +
+                                    static_cast<std::size_t>(px.x)];
+    if (!std::isfinite(range)) continue;
+    EntityInstance e;
+    e.id = static_cast<std::uint32_t>(k + 1);
+    e.model = van;
+    e.pose.positionM = request.pose.positionM + static_cast<double>(range) * pixelRay(bare.pose, bare.intrinsics, px);
+    e.pose.headingRad = radians(37.0 * k);
+    withVans.entities.push_back(e);
+  }
+  Frame with = renderer.render(withVans);  // warm up
+  std::vector<double> withS, withoutS;
+  const auto timed = [&](const ViewRequest& r, Frame& frame) {
+    const auto start = std::chrono::steady_clock::now();
+    frame = renderer.render(r, nullptr, std::move(frame));
+    benchmark::DoNotOptimize(frame.image.bytes().data());
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  for (auto _ : state) {
+    withS.push_back(timed(withVans, with));
+    withoutS.push_back(timed(request, bare));
+  }
+  std::sort(withS.begin(), withS.end());
+  std::sort(withoutS.begin(), withoutS.end());
+  const double withMs = 1e3 * withS[withS.size() / 2], withoutMs = 1e3 * withoutS[withoutS.size() / 2];
+  state.counters["entities"] = static_cast<double>(withVans.entities.size());
+  state.counters["entities_ms"] = withMs;
+  state.counters["without_ms"] = withoutMs;
+  state.counters["ratio"] = withMs / withoutMs;
+}
+
 void registerAll() {
+  for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
+    benchmark::RegisterBenchmark("render_entities", BM_RenderEntities)
+        ->Arg(pose)
+        ->ArgName("pose")
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
   for (int area = 0; area < static_cast<int>(kObjectAreas.size()); ++area) {
     for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
       benchmark::RegisterBenchmark("render_objects", BM_RenderObjects)

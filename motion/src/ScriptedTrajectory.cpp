@@ -1,5 +1,7 @@
 #include <motion/ScriptedTrajectory.h>
 
+#include <motion/FlightFile.h>
+
 #include <fieldcast/ConfigReader.h>
 
 #include <glm/geometric.hpp>
@@ -232,37 +234,6 @@ Pose ScriptedTrajectory::poseAtSeconds(double s) const noexcept {
 
 Pose ScriptedTrajectory::poseAt(TimePoint t) const noexcept { return poseAtSeconds(toSeconds(t - mStart)); }
 
-ScriptedTrajectory ScriptedTrajectory::load(const std::string& path) {
-  ConfigReader root = ConfigDocument::parseFile(path).root();
-  const std::string name = root.nonEmptyString("name", "unnamed flight");
-  root.string("description", "");
-  const double cameraPitchDeg = root.number("camera_pitch_deg", 0.0, -90.0, 90.0);
-  const FlightEnd end = root.choice("end", FlightEnd::Loop,
-                                    {{"loop", FlightEnd::Loop}, {"hold", FlightEnd::Hold}, {"stop", FlightEnd::Stop}});
-  const double clearanceM = root.number("clearance_m", 15.0, 0.0, 10000.0);
-  std::vector<ConfigReader> tables = root.tables("waypoint");
-  if (tables.size() < 2) root.fail("waypoint", "expected at least two [[waypoint]] tables");
-  root.finish();
-  std::vector<Waypoint> waypoints;
-  constexpr double kMaxAbs = 1e9;  // any finite value a flight file could mean
-  for (ConfigReader& t : tables) {
-    Waypoint w;
-    if (!t.has("t") || !t.has("position")) t.fail("t", "t and position are required");
-    w.timeS = t.number("t", 0.0, -kMaxAbs, kMaxAbs);
-    const std::vector<double> p = t.numbers("position", {}, 3);
-    w.positionM = {p[0], p[1], p[2]};
-    // An angle left out follows the flight path (see ScriptedTrajectory.h).
-    if (t.has("heading_deg")) w.headingRad = radians(t.number("heading_deg", 0.0, -kMaxAbs, kMaxAbs));
-    if (t.has("pitch_deg")) w.pitchRad = radians(t.number("pitch_deg", 0.0, -kMaxAbs, kMaxAbs));
-    if (t.has("roll_deg")) w.rollRad = radians(t.number("roll_deg", 0.0, -kMaxAbs, kMaxAbs));
-    t.finish();
-    waypoints.push_back(w);
-  }
-  try {
-    return ScriptedTrajectory(name, std::move(waypoints), radians(cameraPitchDeg), end, clearanceM);
-  } catch (const std::invalid_argument& e) {
-    throw ConfigError(path + ": " + e.what());
-  }
-}
+ScriptedTrajectory ScriptedTrajectory::load(const std::string& path) { return readFlightFile(path).ownship; }
 
 }  // namespace fieldcast::motion

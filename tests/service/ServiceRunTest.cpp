@@ -324,6 +324,52 @@ TEST_F(ServiceRun, TheChannelLooksWhereItsViewOffsetPoints) {
   EXPECT_EQ(summary().at("fields_black").get<int>(), 0);
 }
 
+TEST_F(ServiceRun, AFlightsScriptedEntityIsDrawnInItsFields) {
+  // The test pass with a light aircraft (config/models/aircraft.vox at three times its size, 35 m
+  // in span) hanging 60 m ahead of where the ownship is at 1 s: the fields around 1 s show it in
+  // their middle; at 1.4 s the ownship flies through it (the entity's box then covers the frame).
+  std::ofstream(mDir / "traffic.toml") << std::ifstream(mDir / "flight.toml").rdbuf() << R"(
+[[entity]]
+name = "parked in the air"
+model = ")" << FIELDCAST_SOURCE_DIR << R"(/config/models/aircraft.vox"
+scale = 3
+[[entity.waypoint]]
+t = 0
+position = [232.5, 310.6, 326.0]
+[[entity.waypoint]]
+t = 10
+position = [232.5, 310.6, 326.0]
+)";
+  const auto middleFields = [&](const std::string& flight) {
+    const RunResult r =
+        run("--config " + config() + " --set motion.flight=" + (mDir / flight).string() + " --duration 2");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(summary().at("fields_black").get<int>(), 0);
+    return lumaFrames(1);
+  };
+  const std::vector<std::string> bare = middleFields("flight.toml");
+  const std::vector<std::string> traffic = middleFields("traffic.toml");
+  ASSERT_GT(bare.size(), 33u);
+  ASSERT_GT(traffic.size(), 33u);
+  // Frames 28–32 (0.93–1.07 s): pixels of the middle third that changed by more than 40 levels
+  const auto changed = [](const std::string& a, const std::string& b) {
+    int n = 0;
+    for (int r = 80; r < 160; ++r)
+      for (int c = 107; c < 213; ++c) {
+        const std::size_t k = static_cast<std::size_t>(r) * 320 + static_cast<std::size_t>(c);
+        n += std::abs(static_cast<unsigned char>(a[k]) - static_cast<unsigned char>(b[k])) > 40;
+      }
+    return n;
+  };
+  for (std::size_t f = 28; f <= 32; ++f) {
+    const int withAircraft = changed(bare[f], traffic[f]), alone = changed(bare[f], bare[f + 1]);
+    std::printf("frame %zu: %d px of the middle changed by the aircraft, %d from one bare frame to the next\n", f,
+                withAircraft, alone);
+    EXPECT_GT(withAircraft, 600);  // seen almost edge on in a bank: the wing and the fuselage
+    EXPECT_GT(withAircraft, 3 * alone);
+  }
+}
+
 TEST_F(ServiceRun, BadConfigurationsFailWithOneClearLine) {
   struct Case {
     const char* what;

@@ -1,5 +1,5 @@
 // The drawings the shipped sculpted models were made from (config/models/README.md): a delivery
-// van and a cottage, each as the three orthographic views fieldcast-sculpt takes (Sculpt.h), drawn
+// van, a cottage and a light aircraft, each as the three orthographic views fieldcast-sculpt takes (Sculpt.h), drawn
 // to scale (100 px a metre) on a green key. Made by the project; run it to make them again:
 //   fieldcast-draw-models config/models
 #include <opencv2/imgcodecs.hpp>
@@ -122,20 +122,69 @@ void drawCottage(const std::filesystem::path& dir) {
   top.save(dir / "top.png");
 }
 
+// A high-wing light aircraft 11.5 m in span, 8 m long, 3 m to the top of its fin: a white
+// fuselage with a blue cheat line, the wing on top of the cabin, a fixed tricycle undercarriage
+void drawAircraft(const std::filesystem::path& dir) {
+  const cv::Scalar white = rgb(238, 238, 232), blue = rgb(30, 70, 160), glass = rgb(50, 66, 90), tyre = rgb(30, 30, 30),
+                   prop = rgb(70, 70, 70), wing = rgb(228, 228, 220), tip = rgb(200, 40, 30);
+  Drawing side(8.0, 3.0);  // the tail on the left, the nose on the right
+  side.polygon(
+      {{0.0, 1.55}, {0.0, 1.85}, {4.4, 2.0}, {6.6, 2.0}, {7.6, 1.75}, {7.9, 1.4}, {7.6, 0.9}, {5.0, 0.7}, {1.0, 1.3}},
+      white);
+  side.polygon({{0.0, 1.8}, {0.35, 3.0}, {1.2, 3.0}, {1.9, 1.8}}, white);  // the fin
+  side.box(0.2, 2.55, 1.0, 2.95, blue);
+  side.box(4.6, 2.0, 6.2, 2.4, wing);                                       // the wing, edge on
+  side.polygon({{6.2, 1.95}, {6.6, 1.95}, {7.3, 1.6}, {6.4, 1.6}}, glass);  // the windscreen
+  side.box(4.7, 1.55, 6.1, 1.95, glass);                                    // the cabin's side windows
+  side.line(0.3, 1.5, 7.8, 1.3, blue, 8);                                   // the cheat line
+  side.box(7.9, 0.6, 8.0, 2.2, prop);
+  side.line(5.6, 0.9, 5.3, 0.35, tyre, 6);
+  side.disc(5.2, 0.25, 0.25, tyre);
+  side.line(7.3, 0.9, 7.3, 0.35, tyre, 6);
+  side.disc(7.3, 0.22, 0.22, tyre);
+  side.save(dir / "side.png");
+
+  Drawing front(11.5, 3.0);  // the aircraft's right on the left; the fin one voxel wide on the middle
+  front.box(0.0, 2.0, 11.5, 2.4, wing);
+  front.box(0.0, 2.0, 0.4, 2.4, tip);
+  front.box(11.1, 2.0, 11.5, 2.4, tip);
+  front.box(4.15, 1.5, 7.35, 1.8, white);  // the tailplane behind
+  front.box(5.5, 2.4, 6.0, 3.0, white);    // the fin above the wing
+  front.polygon({{5.15, 0.8}, {6.35, 0.8}, {6.45, 2.0}, {5.05, 2.0}}, white);
+  front.box(5.25, 1.6, 6.25, 1.95, glass);
+  front.disc(5.75, 1.4, 0.8, prop);  // the propeller's disc
+  front.box(5.6, 1.25, 5.9, 1.55, white);
+  for (double x : {4.35, 5.6, 6.85}) front.box(x, 0.0, x + 0.3, 0.5, tyre);
+  front.line(4.5, 0.45, 5.15, 0.9, tyre, 6);
+  front.line(7.0, 0.45, 6.35, 0.9, tyre, 6);
+  front.save(dir / "front.png");
+
+  Drawing top(11.5, 8.0);  // the nose up
+  top.polygon({{5.45, 0.0}, {6.05, 0.0}, {6.3, 6.0}, {6.15, 7.9}, {5.35, 7.9}, {5.2, 6.0}}, white);
+  top.box(4.15, 0.1, 7.35, 1.1, white);  // the tailplane
+  top.box(0.0, 4.6, 11.5, 6.2, wing);
+  top.box(0.0, 4.6, 0.4, 6.2, tip);
+  top.box(11.1, 4.6, 11.5, 6.2, tip);
+  top.line(5.75, 0.2, 5.75, 4.5, blue, 8);  // the spine's stripe
+  top.box(5.35, 6.3, 6.15, 7.2, glass);
+  top.save(dir / "top.png");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc != 2) {
-    std::fprintf(stderr,
-                 "usage: fieldcast-draw-models <folder>   (writes <folder>/van/*.png, <folder>/cottage/*.png)\n");
+    std::fprintf(stderr, "usage: fieldcast-draw-models <folder>   (writes <folder>/{van,cottage,aircraft}/*.png)\n");
     return 2;
   }
   try {
     const std::filesystem::path root = argv[1];
     std::filesystem::create_directories(root / "van");
     std::filesystem::create_directories(root / "cottage");
+    std::filesystem::create_directories(root / "aircraft");
     drawVan(root / "van");
     drawCottage(root / "cottage");
+    drawAircraft(root / "aircraft");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fieldcast-draw-models: %s\n", e.what());
     return 1;

@@ -27,7 +27,7 @@ sculpt_model() {
 # The shipped models, from the shipped drawings and from drawings made again (the heights are
 # config/models/README.md's)
 "$draw" "$work/drawn" > /dev/null 2>&1 || fail "fieldcast-draw-models failed"
-for model in van:2.4 cottage:8; do
+for model in van:2.4 cottage:8 aircraft:3; do
   name=${model%%:*}
   height=${model#*:}
   sculpt_model "$models" "$name" "$height" "$work/$name.vox" || fail "sculpting the shipped $name failed"
