@@ -323,11 +323,67 @@ void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) no
   }
 }
 
+namespace {
+
+// The crossing of the ray eye + t·d (descending) with the bilinear surface of `level` between
+// depths tLo (above it) and tHi (below it), by bisection: for a ray that moves less than a voxel
+// or two sideways there, where the surface under it is single-valued. False when tLo is not above.
+bool bisectSurface(const CasterFrame& f, const glm::dvec3& d, double tLo, double tHi, int level,
+                   CastResult& out) noexcept {
+  const TerrainGeometry& g = f.view->geometry();
+  const glm::dvec3 eye = f.geo->pose().positionM;
+  const auto above = [&](double depth) {
+    const glm::dvec3 p = eye + depth * d;
+    return p.z > f.view->heightAtM(p.x, p.y, level);
+  };
+  if (!above(tLo) || above(tHi)) return false;
+  for (int k = 0; k < 48; ++k) {
+    const double mid = 0.5 * (tLo + tHi);
+    (above(mid) ? tLo : tHi) = mid;
+  }
+  out.hit = true;
+  out.depthM = tHi;
+  out.level = level;
+  out.pointM = eye + tHi * d;
+  const double cell = g.spacingM * static_cast<double>(1 << level);
+  out.colour = f.view
+                   ->sample(level, static_cast<int>(std::lround((out.pointM.x - g.originM.x) / cell)),
+                            static_cast<int>(std::lround((out.pointM.y - g.originM.y) / cell)))
+                   .colour;
+  return true;
+}
+
+// A descending ray whose base-plane point lies over the grid meets the terrain (it is above the
+// base plane everywhere). One too steep to cross a grid line on the way (looking straight down)
+// gives the line march nothing to test: its hit between the terrain's ceiling and the base plane.
+bool steepHit(const CasterFrame& f, const glm::dvec3& d, CastResult& out) noexcept {
+  if (!(d.z < 0.0) || !(f.baseAboveM > 0.0)) return false;
+  const TerrainGeometry& g = f.view->geometry();
+  const double tBase = f.baseAboveM / -d.z;
+  const glm::dvec3 base = f.geo->pose().positionM + tBase * d;
+  const bool overGrid = base.x >= g.originM.x && base.y >= g.originM.y &&
+                        base.x <= g.originM.x + (g.widthVox - 1) * g.spacingM &&
+                        base.y <= g.originM.y + (g.heightVox - 1) * g.spacingM;
+  if (!overGrid) return false;
+  const double tCeiling = std::max(0.0, (f.baseAboveM - f.ceilingQ / f.quantaPerM) / -d.z);
+  return bisectSurface(f, d, tCeiling, tBase, f.geo->lodLevel(0.5 * (tCeiling + tBase), d), out);
+}
+
+}  // namespace
+
 CastResult castRay(const CasterFrame& f, double u, double v, CasterThread& t) noexcept {
   const glm::dvec3 d = f.geo->ray(u, v);
   RayLine r;
   CastResult out;
   const MarchHit h = setupLine(f, d, r) ? ray_march::march(f, t, r, firstHitStart(f, r)) : MarchHit{};
+  if (!h.hit && steepHit(f, d, out)) return out;
+  // A steep ray whose first grid line is already below the surface retraces back to where it
+  // entered the terrain's height slab and stops there, at the ceiling: the crossing lies between
+  // that entry and the line
+  if (h.hit && h.m <= r.mEnter && d.z < 0.0 &&
+      bisectSurface(f, d, r.mEnter / r.aMaj, lineM(r, h.at.i, h.at.level) / r.aMaj, h.at.level, out)) {
+    return out;
+  }
   if (!h.hit) {
     // The base plane beyond the edge is a surface too (the warp fits to it), or the sky.
     const double rangeM = basePlaneRangeM(f.baseAboveM, d.z, glm::length(d));

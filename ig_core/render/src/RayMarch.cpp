@@ -160,6 +160,8 @@ MarchHit retrace(const CasterFrame& f, CasterThread& t, const RayLine& r, Cursor
 
 // The functions RayMarch.h declares, in its order.
 
+double lineM(const RayLine& r, int i, int level) noexcept { return mAt(r, i, level); }
+
 bool setupLine(const CasterFrame& f, const glm::dvec3& d, RayLine& r) noexcept {
   const double dx = d.x * f.unitsPerM;
   const double dy = d.y * f.unitsPerM;

@@ -62,6 +62,9 @@ inline double levelIndex(double x, int level) noexcept { return (x + 0.5) * pow2
 /// terrain's box entirely.
 bool setupLine(const CasterFrame& f, const glm::dvec3& d, RayLine& r) noexcept;
 
+/// Where along the line (its parameter m) it crosses grid line `i` of `level`. RT-safe.
+double lineM(const RayLine& r, int i, int level) noexcept;
+
 /// Tile of (level, tx, ty) through the worker's one-entry-per-level cache; null when missing or
 /// outside the grid.
 /// (Out of line: inlined into the plane march's tile windows it cost 2–4% more instructions.)

@@ -390,3 +390,29 @@ TEST(FrameTimeController, DisabledWithoutTarget) {
 
 }  // namespace
 }  // namespace fieldcast::core::test
+
+namespace fieldcast::core::test {
+namespace {
+
+// Looking straight down, the control rays are too steep to cross a grid line before the base
+// plane: they must still meet the terrain (they once fell through to the base plane, and the warp
+// fitted to points hundreds of metres below the ground).
+TEST(Renderer, ControlRaysLookingStraightDownMeetTheGround) {
+  const TerrainView& view = hills().view();
+  Renderer renderer(view, RenderSettings{}, 1);
+  for (const double pitchDeg : {-90.0, -89.9, -89.0}) {
+    ViewRequest request;
+    request.pose = poseAbove(view, 500.0, 500.0, 200.0, 30.0, pitchDeg);
+    request.display = Intrinsics::fromHorizontalFov(64, 48, radians(30.0));
+    const Frame frame = renderer.render(request);
+    const ControlPoint& middle = frame.controlPoints[4];
+    ASSERT_EQ(middle.kind, ControlPointKind::Surface) << pitchDeg;
+    EXPECT_NEAR(middle.world.z, view.heightAtM(middle.world.x, middle.world.y), 0.5) << pitchDeg;
+    EXPECT_NEAR(glm::length(glm::dvec2(middle.world) - glm::dvec2(500.0, 500.0)),
+                200.0 * std::tan(radians(90.0 + pitchDeg)), 1.0)
+        << pitchDeg;
+  }
+}
+
+}  // namespace
+}  // namespace fieldcast::core::test
