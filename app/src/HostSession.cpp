@@ -36,6 +36,17 @@ glm::dvec3 bodyOffset(const Pose& pose, double x, double y, double z) {
   return pose.positionM + axes.forward * x + axes.right * y - axes.up * z;
 }
 
+// An entity's Rate Control as world velocity and heading, pitch and roll rates
+void applyRates(const cigi::RateControl& rates, const Pose& pose, glm::dvec3& velocityMps, glm::dvec3& angularRadS) {
+  if (rates.frame == cigi::RateFrame::World) {
+    // CIGI's world rates are north, east, down; ours are east, north, up.
+    velocityMps = {rates.yRateMps, rates.xRateMps, -rates.zRateMps};
+  } else {
+    velocityMps = bodyOffset(pose, rates.xRateMps, rates.yRateMps, rates.zRateMps) - pose.positionM;
+  }
+  angularRadS = {radians(rates.yawRateDegps), radians(rates.pitchRateDegps), radians(rates.rollRateDegps)};
+}
+
 // CIGI's angles of a unit surface normal: azimuth clockwise from north, elevation above the horizontal.
 void normalAngles(const glm::dvec3& normal, float& azimuthDeg, float& elevationDeg) {
   azimuthDeg = static_cast<float>(degrees(std::atan2(normal.x, normal.y)));
@@ -82,6 +93,7 @@ void HostSession::onMessage(const io::HostMessage& message) {
     mModeChanges.fetch_add(1, std::memory_order_relaxed);
     if (control.igMode == cigi::IgMode::ResetStandby) {
       mEntities.clear();  // a reset forgets the scene's entities; the ownship holds its last pose
+      mEntitySamples.clear();
       mOtherEntities.store(0, std::memory_order_relaxed);
       mPeriodicHeights.clear();  // and the host's periodic requests
       mPeriodicLos.clear();
@@ -105,6 +117,7 @@ void HostSession::onMessage(const io::HostMessage& message) {
   // Requests are answered after both, so that one relative to an entity sees the message's update.
   const cigi::EntityControl* ownship = nullptr;
   const cigi::RateControl* ownshipRates = nullptr;
+  std::vector<const cigi::RateControl*> otherRates;
   std::vector<const cigi::HostPacket*> requests;
   for (const cigi::HostPacket& packet : message.packets) {
     if (const auto* entity = std::get_if<cigi::EntityControl>(&packet)) {
@@ -113,11 +126,18 @@ void HostSession::onMessage(const io::HostMessage& message) {
         ownship = entity;
       } else if (entity->entityState == cigi::EntityState::Active) {
         mEntities[entity->entityId] = *entity;
+        updateEntitySample(*entity, message.arrival);
       } else {
         mEntities.erase(entity->entityId);
+        mEntitySamples.erase(entity->entityId);
       }
     } else if (const auto* rates = std::get_if<cigi::RateControl>(&packet)) {
-      if (rates->entityId == 0 && !rates->applyToArticulatedPart) ownshipRates = rates;
+      if (rates->applyToArticulatedPart) continue;
+      if (rates->entityId == 0) {
+        ownshipRates = rates;
+      } else if (operate) {
+        otherRates.push_back(rates);
+      }
     } else if (std::holds_alternative<cigi::HatHotRequest>(packet) ||
                std::holds_alternative<cigi::LosSegmentRequest>(packet) ||
                std::holds_alternative<cigi::LosVectorRequest>(packet)) {
@@ -136,6 +156,20 @@ void HostSession::onMessage(const io::HostMessage& message) {
     }
   }
   mOtherEntities.store(mEntities.size(), std::memory_order_relaxed);
+  for (const cigi::RateControl* rates : otherRates) {
+    const auto it = mEntitySamples.find(rates->entityId);
+    if (it == mEntitySamples.end()) continue;
+    // New rates from now on: the entity goes on from where its old ones have taken it
+    HostEntitySample& sample = it->second;
+    sample.pose = extrapolateEntity(sample, message.arrival);
+    sample.at = message.arrival;
+    applyRates(*rates, sample.pose, sample.velocityMps, sample.angularRateRadS);
+  }
+  {
+    const std::lock_guard lock(mPublishedMutex);
+    mPublishedEntities.clear();
+    for (const auto& [id, sample] : mEntitySamples) mPublishedEntities.push_back(sample);
+  }
   if (ownship != nullptr) applyOwnship(*ownship, ownshipRates, hostTimeS, message.arrival, control.hostFrameNumber);
   for (const cigi::HostPacket* packet : requests) {
     if (const auto* request = std::get_if<cigi::HatHotRequest>(packet)) {
@@ -234,14 +268,7 @@ void HostSession::applyOwnship(const cigi::EntityControl& entity, const cigi::Ra
   sample.smooth = mSmoothing && entity.extrapolationEnabled;  // CIGI: the global enable, then the entity's
   if (rates != nullptr) {
     sample.hasRates = true;
-    if (rates->frame == cigi::RateFrame::World) {
-      // CIGI's world rates are north, east, down; ours are east, north, up.
-      sample.velocityMps = {rates->yRateMps, rates->xRateMps, -rates->zRateMps};
-    } else {
-      sample.velocityMps = bodyOffset(sample.pose, rates->xRateMps, rates->yRateMps, rates->zRateMps) - *position;
-    }
-    sample.angularRateRadS = {radians(rates->yawRateDegps), radians(rates->pitchRateDegps),
-                              radians(rates->rollRateDegps)};
+    applyRates(*rates, sample.pose, sample.velocityMps, sample.angularRateRadS);
   }
   mOwnship.addSample(sample);
   mOwnshipUpdates.fetch_add(1, std::memory_order_relaxed);
@@ -298,6 +325,29 @@ void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) 
     return;
   }
   respond(pending);
+}
+
+void HostSession::updateEntitySample(const cigi::EntityControl& entity, TimePoint arrival) {
+  // An attached entity's position is offsets from its parent, not resolved yet: not drawn
+  const std::optional<glm::dvec3> position =
+      entity.attachState == cigi::AttachState::Attached
+          ? std::nullopt
+          : mGeoreference->toWorld({entity.latitudeDegOrXM, entity.longitudeDegOrYM, entity.altitudeMOrZM});
+  if (!position) {
+    mEntitySamples.erase(entity.entityId);
+    return;
+  }
+  HostEntitySample& sample = mEntitySamples[entity.entityId];  // its rates carry on until new ones come
+  sample.id = entity.entityId;
+  sample.type = entity.entityType;
+  sample.pose = Pose{*position, radians(entity.yawDeg), radians(entity.pitchDeg), radians(entity.rollDeg)};
+  sample.at = arrival;
+  sample.extrapolate = mSmoothing && entity.extrapolationEnabled;
+}
+
+void HostSession::copyEntities(std::vector<HostEntitySample>& out) const {
+  const std::lock_guard lock(mPublishedMutex);
+  out.assign(mPublishedEntities.begin(), mPublishedEntities.end());
 }
 
 std::optional<Pose> HostSession::entityPose(std::uint16_t entityId, TimePoint at) const {

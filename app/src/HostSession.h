@@ -14,6 +14,7 @@
 // the same way for the level-0 tiles under their whole segment (or vector, to its maximum range).
 
 #include "HostDatabases.h"
+#include "SceneEntities.h"
 
 #include <fieldcast/Conventions.h>
 #include <fieldcast/Intrinsics.h>
@@ -32,6 +33,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <variant>
 #include <vector>
@@ -102,6 +104,9 @@ class HostSession final : public io::HostHandler {
   /// visibility range), at least 1 m; 0 until the host sends one. The render loop reads it before
   /// each frame. Any thread.
   const std::atomic<double>& hazeRangeM() const noexcept { return mHazeRangeM; }
+  /// The host's entities other than the ownship as last sent (detached ones: an attached entity's
+  /// parent offsets are not resolved), into `out`. Any thread (the render loop, once a frame).
+  void copyEntities(std::vector<HostEntitySample>& out) const;
 
  private:
   double unwrapHostTime(std::uint32_t ticks);
@@ -110,6 +115,7 @@ class HostSession final : public io::HostHandler {
   bool addressesThisView(std::uint16_t viewId, std::uint8_t groupId) const noexcept;
   void applyViewControl(const io::cigi::ViewControl& control);
   void applyViewDefinition(const io::cigi::ViewDefinition& definition);
+  void updateEntitySample(const io::cigi::EntityControl& entity, TimePoint arrival);
   void applyOwnship(const io::cigi::EntityControl& entity, const io::cigi::RateControl* rates, double hostTimeS,
                     TimePoint arrival, std::uint32_t hostFrame);
   // A height request whose answer waits for the full-resolution tiles under its point.
@@ -180,6 +186,7 @@ class HostSession final : public io::HostHandler {
   std::uint32_t mLastTicks = 0;
   double mHostTimeS = 0.0;
   std::map<std::uint16_t, io::cigi::EntityControl> mEntities;  // active entities other than the ownship
+  std::map<std::uint16_t, HostEntitySample> mEntitySamples;    // the detached ones placed, with their rates
   std::vector<PendingHeight> mHeightsWaiting;
   std::vector<io::cigi::HatHotResponse> mHatHotDue;
   std::vector<io::cigi::HatHotExtendedResponse> mHatHotExtendedDue;
@@ -194,6 +201,8 @@ class HostSession final : public io::HostHandler {
       mViewDefinitionsIgnored{0}, mPeriodicRequests{0}, mPeriodicAnswers{0}, mPeriodicRefused{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
   std::atomic<double> mHazeRangeM{0.0};
+  mutable std::mutex mPublishedMutex;  // the render loop's copy of mEntitySamples
+  std::vector<HostEntitySample> mPublishedEntities;
 };
 
 }  // namespace fieldcast::app

@@ -2,20 +2,45 @@
 
 #include <ig_core/VoxFile.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace fieldcast::app {
 
-SceneEntities::SceneEntities(const std::vector<motion::ScriptedEntity>& scripted, const core::TerrainView& ground,
+Pose extrapolateEntity(const HostEntitySample& sample, TimePoint t) noexcept {
+  Pose pose = sample.pose;
+  if (!sample.extrapolate) return pose;
+  const double dt = toSeconds(std::clamp(t - sample.at, Nanoseconds{0}, kMaxEntityExtrapolation));
+  pose.positionM += sample.velocityMps * dt;
+  pose.headingRad += sample.angularRateRadS.x * dt;
+  pose.pitchRad += sample.angularRateRadS.y * dt;
+  pose.rollRad += sample.angularRateRadS.z * dt;
+  return pose;
+}
+
+SceneEntities::SceneEntities(const std::vector<motion::ScriptedEntity>& scripted, const core::TerrainView* ground,
                              FlightClock clock)
     : mScripts(scripted), mGround(ground), mClock(std::move(clock)) {
   for (const motion::ScriptedEntity& s : mScripts) {
+    if (s.onGround && mGround == nullptr)
+      throw std::runtime_error("entity '" + s.name + "': on the ground of no terrain");
     try {
       mEntities.push_back({&s, std::make_shared<const core::VoxelSolid>(core::readVoxFile(s.model))});
     } catch (const std::exception& e) {
       throw std::runtime_error("entity '" + s.name + "': " + e.what());
     }
   }
+}
+
+void SceneEntities::setHost(HostEntities entities, const std::vector<HostEntityModel>& models) {
+  for (const HostEntityModel& m : models) {
+    try {
+      mHostModels[m.type] = {std::make_shared<const core::VoxelSolid>(core::readVoxFile(m.model)), m.scale};
+    } catch (const std::exception& e) {
+      throw std::runtime_error("host.entity_model type " + std::to_string(m.type) + ": " + e.what());
+    }
+  }
+  mHost = std::move(entities);
 }
 
 void SceneEntities::at(TimePoint t, std::vector<core::EntityInstance>& out) const {
@@ -30,9 +55,21 @@ void SceneEntities::at(TimePoint t, std::vector<core::EntityInstance>& out) cons
     instance.pose = e.script->path.poseAtSeconds(seconds);
     if (e.script->onGround) {
       // On the ground under it, level (a vehicle does not bank)
-      instance.pose.positionM.z = mGround.heightAtM(instance.pose.positionM.x, instance.pose.positionM.y);
+      instance.pose.positionM.z = mGround->heightAtM(instance.pose.positionM.x, instance.pose.positionM.y);
       instance.pose.pitchRad = instance.pose.rollRad = 0.0;
     }
+    out.push_back(std::move(instance));
+  }
+  if (!mHost) return;
+  mHost(mHostScratch);
+  for (const HostEntitySample& sample : mHostScratch) {
+    const auto model = mHostModels.find(sample.type);
+    if (model == mHostModels.end()) continue;
+    core::EntityInstance instance;
+    instance.id = 0x10000u + sample.id;  // apart from the scripted ones
+    instance.model = model->second.model;
+    instance.scale = model->second.scale;
+    instance.pose = extrapolateEntity(sample, t);
     out.push_back(std::move(instance));
   }
 }

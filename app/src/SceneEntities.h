@@ -2,17 +2,39 @@
 // The moving entities of the scene (ig_core/Entities.h): what a flight file scripts, posed on
 // the flight's clock for the instant each frame is rendered for.
 
+#include <service/ServiceConfig.h>
+
 #include <ig_core/Entities.h>
 #include <ig_core/TerrainView.h>
 #include <motion/FlightFile.h>
 
 #include <fieldcast/Time.h>
 
+#include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <vector>
 
 namespace fieldcast::app {
+
+/// A host's entity (CIGI Entity Control, an id other than the ownship's) as last sent.
+struct HostEntitySample {
+  std::uint16_t id = 0;
+  std::uint16_t type = 0;
+  Pose pose;                        ///< world, at `at`
+  glm::dvec3 velocityMps{0.0};      ///< world (its Rate Control; zero without one)
+  glm::dvec3 angularRateRadS{0.0};  ///< heading, pitch, roll rates
+  TimePoint at{};                   ///< when the pose holds (its message's arrival)
+  bool extrapolate = true;          ///< the entity's and IG Control's extrapolation enables
+};
+
+/// How far a host entity is extrapolated past its last sample at most (then it holds).
+inline constexpr Nanoseconds kMaxEntityExtrapolation = std::chrono::milliseconds(500);
+
+/// The host entity's pose at `t`: its sample moved on by its rates (at most
+/// kMaxEntityExtrapolation, and not at all when it may not be extrapolated). RT-safe.
+Pose extrapolateEntity(const HostEntitySample& sample, TimePoint t) noexcept;
 
 class SceneEntities {
  public:
@@ -20,11 +42,18 @@ class SceneEntities {
   using FlightClock = std::function<double(TimePoint)>;
 
   /// Reads each entity's model (a .vox file; throws std::runtime_error naming the entity and the
-  /// file). `ground` gives the height of entities on the ground and must outlive this.
-  SceneEntities(const std::vector<motion::ScriptedEntity>& scripted, const core::TerrainView& ground,
+  /// file). `ground` gives the height of entities on the ground and must outlive this (null: no
+  /// entity may be on the ground).
+  SceneEntities(const std::vector<motion::ScriptedEntity>& scripted, const core::TerrainView* ground,
                 FlightClock clock);
 
   std::size_t size() const noexcept { return mEntities.size(); }
+
+  /// The host's entities as last sent, into the vector given (Any thread; HostSession::copyEntities).
+  using HostEntities = std::function<void(std::vector<HostEntitySample>&)>;
+  /// A model per CIGI entity type (a .vox file, read here; throws std::runtime_error naming the
+  /// type and the file) for the host's entities; an entity of another type is not drawn.
+  void setHost(HostEntities entities, const std::vector<HostEntityModel>& models);
 
   /// Every entity at instant `t`, in `out` (cleared first; its capacity is kept). Render thread.
   void at(TimePoint t, std::vector<core::EntityInstance>& out) const;
@@ -34,9 +63,16 @@ class SceneEntities {
     const motion::ScriptedEntity* script;
     std::shared_ptr<const core::VoxelSolid> model;
   };
+  struct HostModel {
+    std::shared_ptr<const core::VoxelSolid> model;
+    double scale = 1.0;
+  };
+  HostEntities mHost;
+  std::map<std::uint16_t, HostModel> mHostModels;
+  mutable std::vector<HostEntitySample> mHostScratch;  // render thread only
   std::vector<motion::ScriptedEntity> mScripts;
   std::vector<Entity> mEntities;
-  const core::TerrainView& mGround;
+  const core::TerrainView* mGround;
   FlightClock mClock;
 };
 

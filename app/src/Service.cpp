@@ -263,7 +263,7 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
     p.flown = std::make_unique<FlownFlight>(*p.flight);
     if (!scriptedEntities.empty()) {
       p.entities = std::make_unique<SceneEntities>(
-          scriptedEntities, *view, [flown = p.flown.get()](TimePoint t) { return toSeconds(t - flown->start()); });
+          scriptedEntities, view, [flown = p.flown.get()](TimePoint t) { return toSeconds(t - flown->start()); });
       spdlog::info("entities: {} scripted by the flight", p.entities->size());
     }
     // Reset: time 0 of the flight is now.
@@ -288,6 +288,14 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
         spdlog::info("{}", applyScheduling("fc-host-link", ThreadScheduling{realtime, 45, -5, -1}));
       };
       p.hostLink = std::make_unique<io::HostLink>(link, p.clock, *p.hostSession);
+      if (!config.host.entityModels.empty()) {
+        p.entities = std::make_unique<SceneEntities>(std::vector<motion::ScriptedEntity>{}, nullptr,
+                                                     [](TimePoint) { return 0.0; });
+        p.entities->setHost(
+            [session = p.hostSession.get()](std::vector<HostEntitySample>& out) { session->copyEntities(out); },
+            config.host.entityModels);
+        spdlog::info("host: entities of {} types drawn", config.host.entityModels.size());
+      }
     } catch (const std::exception& e) {
       throw std::runtime_error(std::string("host: ") + e.what());
     }

@@ -50,6 +50,20 @@ HostConfig readHostConfig(ConfigReader& t) {
     database.terrain = core::readTerrainConfig(d);
     h.databases.push_back(std::move(database));
   }
+  for (ConfigReader& m : t.tables("entity_model")) {
+    HostEntityModel entity;
+    if (!m.has("type") || !m.has("model"))
+      m.fail("type", "expected the entity type (0 to 65535) and its model (a .vox file)");
+    entity.type = static_cast<std::uint16_t>(m.integer("type", 0, 0, 65535));
+    if (std::any_of(h.entityModels.begin(), h.entityModels.end(),
+                    [&](const HostEntityModel& other) { return other.type == entity.type; })) {
+      m.fail("type", "expected a type no other entity_model has");
+    }
+    entity.model = m.path("model", {});
+    entity.scale = m.number("scale", 1.0, 0.25, 4.0);
+    m.finish();
+    h.entityModels.push_back(std::move(entity));
+  }
   t.finish();
   return h;
 }

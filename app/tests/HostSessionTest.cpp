@@ -8,6 +8,7 @@
 #include <fieldcast/Conventions.h>
 #include <ig_core/LineOfSight.h>
 #include <ig_core/OpenTerrain.h>
+#include <ig_core/VoxFile.h>
 #include <io_bridge/cigi/DatagramDecoder.h>
 
 #include <gtest/gtest.h>
@@ -678,6 +679,100 @@ TEST_F(HostSessionTest, TheRenderLoopRendersTheNewFrustum) {
   EXPECT_NEAR(frame.intrinsics.fyPx, narrow.fyPx, 1e-9);
   EXPECT_NEAR(frame.intrinsics.cxPx - frame.margin.x, narrow.cxPx, 1e-9);
   EXPECT_NEAR(frame.intrinsics.cyPx - frame.margin.y, narrow.cyPx, 1e-9);
+}
+
+// ---- Entities other than the ownship ------------------------------------------------------------
+
+TEST_F(HostSessionTest, HostEntitiesArePublishedWithTheirRatesAndExtrapolated) {
+  cigi::EntityControl van = entityAt(5, {200.0, 200.0, 300.0}, 90.0f);
+  van.entityType = 3;
+  cigi::RateControl rates;
+  rates.entityId = 5;
+  rates.frame = cigi::RateFrame::World;
+  rates.xRateMps = 10.0f;  // north
+  cigi::EntityControl attached = entityAt(6, {0.0, 0.0, 0.0});
+  attached.attachState = cigi::AttachState::Attached;
+  send({rates, van, attached}, 1.0);
+  std::vector<HostEntitySample> entities;
+  mSession.copyEntities(entities);
+  ASSERT_EQ(entities.size(), 1u);  // the attached one waits for its parent's offsets
+  const HostEntitySample& e = entities[0];
+  EXPECT_EQ(e.id, 5u);
+  EXPECT_EQ(e.type, 3u);
+  EXPECT_NEAR(e.pose.positionM.y, 200.0, 1e-3);
+  EXPECT_NEAR(e.pose.headingRad, radians(90.0), 1e-6);
+  EXPECT_NEAR(e.velocityMps.y, 10.0, 1e-6);
+  EXPECT_NEAR(extrapolateEntity(e, e.at + 200ms).positionM.y, 202.0, 1e-3);
+  EXPECT_NEAR(extrapolateEntity(e, e.at + 3s).positionM.y, 205.0, 1e-3);  // at most 0.5 s ahead
+  EXPECT_NEAR(extrapolateEntity(e, e.at - 1s).positionM.y, 200.0, 1e-3);  // never back
+
+  // A later Entity Control alone keeps the rates; with extrapolation off it is shown as sent
+  van.extrapolationEnabled = false;
+  send({van}, 1.1);
+  mSession.copyEntities(entities);
+  ASSERT_EQ(entities.size(), 1u);
+  EXPECT_NEAR(entities[0].velocityMps.y, 10.0, 1e-6);
+  EXPECT_NEAR(extrapolateEntity(entities[0], entities[0].at + 200ms).positionM.y, 200.0, 1e-3);
+
+  // Removed by the host; forgotten at a reset
+  van.entityState = cigi::EntityState::Inactive;
+  send({van}, 1.2);
+  mSession.copyEntities(entities);
+  EXPECT_TRUE(entities.empty());
+  send({entityAt(7, {10.0, 10.0, 10.0})}, 1.3);
+  mSession.copyEntities(entities);
+  EXPECT_EQ(entities.size(), 1u);
+  send({}, 1.4, cigi::IgMode::ResetStandby);
+  mSession.copyEntities(entities);
+  EXPECT_TRUE(entities.empty());
+}
+
+TEST_F(HostSessionTest, TheRenderLoopDrawsTheHostsEntitiesOfAModelledType) {
+  // The ownship 200 m above (250, 250) looking 80° down; where the middle of its view meets the
+  // ground the host puts an entity of type 3 (a block 8 × 8 m and 20 m tall), and one of type 4
+  // (no model) beside it: the middle's control point then lies on the block's top
+  const auto dir = *sDir / "entities";
+  std::filesystem::create_directories(dir);
+  core::VoxelSolid block = core::emptySolid(4, 4, 10);
+  std::fill(block.rgba.begin(), block.rgba.end(), 0xFF2020E0u);
+  core::writeVoxFile(dir / "block.vox", block);
+  cigi::EntityControl eye = entityAt(0, {250.0, 250.0, level0(250.0, 250.0) + 200.0});
+  eye.pitchDeg = -80.0f;
+  send({eye}, 1.0);
+
+  const auto middlePoint = [&](const SceneEntities* entities) {
+    core::Renderer renderer(sTerrain->view(), core::RenderSettings{}, 1);
+    warp::FrameHandover frames;
+    ServiceMetrics metrics;
+    RenderPacing pacing;
+    pacing.entities = entities;
+    RenderLoop loop(renderer, mOwnship, Intrinsics::fromHorizontalFov(64, 48, radians(30.0)), frames, metrics, pacing);
+    std::atomic<bool> stop{false};
+    std::thread thread([&] { loop.run(stop); });
+    while (loop.framesPublished() < 2) std::this_thread::sleep_for(1ms);
+    stop = true;
+    thread.join();
+    EXPECT_TRUE(frames.update());
+    return frames.front().controlPoints[4].world;
+  };
+  const glm::dvec3 ground = middlePoint(nullptr);
+  cigi::EntityControl tower = entityAt(9, ground), other = entityAt(10, ground + glm::dvec3(30.0, 0.0, 0.0));
+  tower.entityType = 3;
+  other.entityType = 4;
+  send({eye, tower, other}, 1.1);
+  SceneEntities scene({}, nullptr, [](TimePoint) { return 0.0; });
+  scene.setHost([this](std::vector<HostEntitySample>& out) { mSession.copyEntities(out); },
+                {{3, dir / "block.vox", 4.0}});
+  const glm::dvec3 top = middlePoint(&scene);
+  EXPECT_NEAR(top.z, ground.z + 20.0, 0.01);
+  EXPECT_LT(glm::length(glm::dvec2(top - ground)), 4.0);
+  try {
+    SceneEntities missing({}, nullptr, [](TimePoint) { return 0.0; });
+    missing.setHost([](std::vector<HostEntitySample>&) {}, {{4, dir / "none.vox", 1.0}});
+    ADD_FAILURE() << "a missing model was taken";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("host.entity_model type 4: "), std::string::npos) << e.what();
+  }
 }
 
 // ---- Atmosphere ---------------------------------------------------------------------------------

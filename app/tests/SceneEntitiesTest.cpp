@@ -35,7 +35,7 @@ TEST(SceneEntities, PosesEachEntityOnTheFlightsClock) {
   const TimePoint start{std::chrono::seconds(100)};
   SceneEntities scene({scripted("van", dir / "box.vox", true, {100, 100, 0}, {300, 100, 0}),
                        scripted("plane", dir / "box.vox", false, {0, 400, 500}, {0, 200, 500})},
-                      ground, [start](TimePoint t) { return toSeconds(t - start); });
+                      &ground, [start](TimePoint t) { return toSeconds(t - start); });
   std::vector<core::EntityInstance> out(7);  // cleared first
   scene.at(start + std::chrono::seconds(5), out);
   ASSERT_EQ(out.size(), 2u);
@@ -55,7 +55,7 @@ TEST(SceneEntities, PosesEachEntityOnTheFlightsClock) {
   EXPECT_NE(van.id, plane.id);
 
   try {
-    SceneEntities broken({scripted("lorry", dir / "lorry.vox", true, {0, 0, 0}, {1, 1, 0})}, ground,
+    SceneEntities broken({scripted("lorry", dir / "lorry.vox", true, {0, 0, 0}, {1, 1, 0})}, &ground,
                          [](TimePoint) { return 0.0; });
     ADD_FAILURE() << "a missing model was taken";
   } catch (const std::runtime_error& e) {

@@ -40,6 +40,13 @@ struct HostDatabase {
   core::TerrainConfig terrain;  ///< read like [terrain]
 };
 
+/// [[host.entity_model]]: the model drawn for a CIGI entity type.
+struct HostEntityModel {
+  std::uint16_t type = 0;       ///< Entity Control's entity type
+  std::filesystem::path model;  ///< a .vox file
+  double scale = 1.0;           ///< a voxel is 0.5 m × scale
+};
+
 /// [host]: the CIGI host link, used when motion.source = "host".
 struct HostConfig {
   io::HostLinkConfig link;
@@ -49,6 +56,7 @@ struct HostConfig {
   core::GeodeticOrigin origin = core::kBuiltinTerrainOrigin;  ///< world (0, 0) of a database without a CRS
   std::uint16_t viewId = 0;                                   ///< the view View Control addresses as this IG's
   std::uint8_t viewGroup = 0;                                 ///< the view group it belongs to (0: none)
+  std::vector<HostEntityModel> entityModels;                  ///< what the host's entities look like, by type
 };
 
 /// [threads]: scheduling.
