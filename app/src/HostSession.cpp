@@ -456,9 +456,26 @@ void HostSession::answerWaitingLos(TimePoint now) {
 }
 
 void HostSession::respond(const PendingLos& pending) {
-  const core::LineOfSightHit hit = pending.valid ? core::lineOfSight(mTerrain->view(), pending.fromM, pending.direction,
-                                                                     pending.minRangeM, pending.maxRangeM)
-                                                 : core::LineOfSightHit{};
+  core::LineOfSightHit hit = pending.valid ? core::lineOfSight(mTerrain->view(), pending.fromM, pending.direction,
+                                                               pending.minRangeM, pending.maxRangeM)
+                                           : core::LineOfSightHit{};
+  // An entity nearer than the terrain's crossing (or on a ray that met no terrain) is what it meets
+  core::EntityRayHit entity;
+  if (pending.valid && mEntityScene) {
+    mEntityScene(mClock.now(), mEntityScratch);
+    entity = core::castEntities(mEntityScratch, pending.fromM, pending.direction, pending.minRangeM,
+                                hit.hit ? hit.rangeM : pending.maxRangeM);
+  }
+  if (entity.hit) {
+    hit.hit = true;
+    hit.rangeM = entity.rangeM;
+    hit.pointM = entity.pointM;
+    hit.normal = entity.normal;
+    hit.colourRgba = entity.rgba;
+  }
+  // Host entities by their CIGI id; a scripted entity has none to report
+  const bool entityIdValid = entity.hit && entity.id <= 0xFFFFu;
+  const auto entityId = static_cast<std::uint16_t>(entityIdValid ? entity.id : 0u);
   if (hit.hit) mLosHits.fetch_add(1, std::memory_order_relaxed);
   const auto frameLsn = static_cast<std::uint8_t>(mLastHostFrame.load(std::memory_order_relaxed) & 0x0F);
   // One answer per request (the first crossing). Valid: the ray met the terrain; Visible (Segment):
@@ -468,6 +485,8 @@ void HostSession::respond(const PendingLos& pending) {
     response.losId = pending.losId;
     response.valid = hit.hit;
     response.visible = pending.valid && !hit.hit && pending.segment;
+    response.entityIdValid = entityIdValid;
+    response.entityId = entityId;
     response.hostFrameNumberLsn = frameLsn;
     response.responseCount = 1;
     response.rangeM = hit.rangeM;
@@ -479,6 +498,8 @@ void HostSession::respond(const PendingLos& pending) {
   response.valid = hit.hit;
   response.rangeValid = hit.hit;
   response.visible = pending.valid && !hit.hit && pending.segment;
+  response.entityIdValid = entityIdValid;
+  response.entityId = entityId;
   response.hostFrameNumberLsn = frameLsn;
   response.responseCount = 1;
   if (hit.hit) {

@@ -107,6 +107,10 @@ class HostSession final : public io::HostHandler {
   /// The host's entities other than the ownship as last sent (detached ones: an attached entity's
   /// parent offsets are not resolved), into `out`. Any thread (the render loop, once a frame).
   void copyEntities(std::vector<HostEntitySample>& out) const;
+  /// The scene's drawn entities at an instant (SceneEntities::at): line-of-sight answers meet them
+  /// as the pictures show them. Set before the link starts; empty: terrain only.
+  using EntityScene = std::function<void(TimePoint, std::vector<core::EntityInstance>&)>;
+  void setEntityScene(EntityScene scene) { mEntityScene = std::move(scene); }
 
  private:
   double unwrapHostTime(std::uint32_t ticks);
@@ -180,6 +184,8 @@ class HostSession final : public io::HostHandler {
 
   // Link thread only.
   HostView mView;
+  EntityScene mEntityScene;
+  std::vector<core::EntityInstance> mEntityScratch;
   std::optional<FrustumAngles> mFrustum;  // the host's View Definition so far (nothing: the configured one)
   bool mSmoothing = true;                 // IG Control's extrapolation/interpolation enable, as last received
   bool mHaveTime = false;

@@ -46,10 +46,10 @@ void SceneEntities::setHost(HostEntities entities, const std::vector<HostEntityM
 void SceneEntities::at(TimePoint t, std::vector<core::EntityInstance>& out) const {
   out.clear();
   const double seconds = mClock(t);
-  std::uint32_t id = 0;
+  std::uint32_t id = 0x10000u;  // apart from the host's ids
   for (const Entity& e : mEntities) {
     core::EntityInstance instance;
-    instance.id = ++id;
+    instance.id = id++;
     instance.model = e.model;
     instance.scale = e.script->scale;
     instance.pose = e.script->path.poseAtSeconds(seconds);
@@ -61,12 +61,13 @@ void SceneEntities::at(TimePoint t, std::vector<core::EntityInstance>& out) cons
     out.push_back(std::move(instance));
   }
   if (!mHost) return;
-  mHost(mHostScratch);
-  for (const HostEntitySample& sample : mHostScratch) {
+  std::vector<HostEntitySample> host;
+  mHost(host);
+  for (const HostEntitySample& sample : host) {
     const auto model = mHostModels.find(sample.type);
     if (model == mHostModels.end()) continue;
     core::EntityInstance instance;
-    instance.id = 0x10000u + sample.id;  // apart from the scripted ones
+    instance.id = sample.id;
     instance.model = model->second.model;
     instance.scale = model->second.scale;
     instance.pose = extrapolateEntity(sample, t);

@@ -55,7 +55,8 @@ class SceneEntities {
   /// type and the file) for the host's entities; an entity of another type is not drawn.
   void setHost(HostEntities entities, const std::vector<HostEntityModel>& models);
 
-  /// Every entity at instant `t`, in `out` (cleared first; its capacity is kept). Render thread.
+  /// Every entity at instant `t`, in `out` (cleared first; its capacity is kept): a host entity
+  /// with its CIGI id, a scripted one with an id from 0x10000 on. Any thread.
   void at(TimePoint t, std::vector<core::EntityInstance>& out) const;
 
  private:
@@ -69,7 +70,6 @@ class SceneEntities {
   };
   HostEntities mHost;
   std::map<std::uint16_t, HostModel> mHostModels;
-  mutable std::vector<HostEntitySample> mHostScratch;  // render thread only
   std::vector<motion::ScriptedEntity> mScripts;
   std::vector<Entity> mEntities;
   const core::TerrainView* mGround;

@@ -295,6 +295,10 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
             [session = p.hostSession.get()](std::vector<HostEntitySample>& out) { session->copyEntities(out); },
             config.host.entityModels);
         spdlog::info("host: entities of {} types drawn", config.host.entityModels.size());
+        p.hostSession->setEntityScene(
+            [entities = p.entities.get()](TimePoint t, std::vector<core::EntityInstance>& out) {
+              entities->at(t, out);
+            });
       }
     } catch (const std::exception& e) {
       throw std::runtime_error(std::string("host: ") + e.what());

@@ -775,6 +775,53 @@ TEST_F(HostSessionTest, TheRenderLoopDrawsTheHostsEntitiesOfAModelledType) {
   }
 }
 
+TEST_F(HostSessionTest, ALineOfSightMeetsAHostEntityInItsWay) {
+  // A block 8 m wide and 20 m tall (type 3, entity 9) on the ground at (250, 250); a segment 3 m
+  // above the highest ground under it, from 20 m west of the block's centre to 20 m east, meets
+  // its west face at 16 m
+  const auto dir = *sDir / "los-entities";
+  std::filesystem::create_directories(dir);
+  core::VoxelSolid block = core::emptySolid(4, 4, 10);
+  std::fill(block.rgba.begin(), block.rgba.end(), 0xFF2020E0u);
+  core::writeVoxFile(dir / "block.vox", block);
+  SceneEntities scene({}, nullptr, [](TimePoint) { return 0.0; });
+  scene.setHost([this](std::vector<HostEntitySample>& out) { mSession.copyEntities(out); },
+                {{3, dir / "block.vox", 4.0}});
+  mSession.setEntityScene([&scene](TimePoint t, std::vector<core::EntityInstance>& out) { scene.at(t, out); });
+  const double ground = level0(250.0, 250.0);
+  cigi::EntityControl tower = entityAt(9, {250.0, 250.0, ground});
+  tower.entityType = 3;
+  double z = ground;
+  for (double x = 230.0; x <= 270.0; x += 0.5) z = std::max(z, level0(x, 250.0) + 3.0);
+  ASSERT_LT(z, ground + 19.0);  // under the block's top
+  const glm::dvec3 from{230.0, 250.0, z}, to{270.0, 250.0, z};
+  const bool clearWithout = !core::lineOfSight(sTerrain->view(), from, glm::normalize(to - from), 0.0, 40.0).hit;
+  EXPECT_TRUE(clearWithout);
+  send({tower, segmentRequest(21, from, to), segmentRequest(22, from, to, cigi::LosRequestType::Extended)});
+  const std::vector<cigi::IgPacket> answers = field(1, mClock.now());
+  const auto basic = only<cigi::LosResponse>(answers);
+  const auto extended = only<cigi::LosExtendedResponse>(answers);
+  ASSERT_EQ(basic.size(), 1u);
+  ASSERT_EQ(extended.size(), 1u);
+  EXPECT_TRUE(basic[0].valid);
+  EXPECT_FALSE(basic[0].visible);
+  EXPECT_TRUE(basic[0].entityIdValid);
+  EXPECT_EQ(basic[0].entityId, 9u);
+  EXPECT_NEAR(basic[0].rangeM, 16.0, 0.01);
+  EXPECT_TRUE(extended[0].entityIdValid);
+  EXPECT_NEAR(extended[0].normalAzimuthDeg, -90.0, 1e-3);  // the west face
+  EXPECT_EQ(extended[0].red, 0xE0);                        // the block's colour, R in the low byte
+  if (clearWithout) {
+    // Without the entity the segment passes: the terrain alone did not stop it
+    tower.entityState = cigi::EntityState::Destroyed;
+    send({tower, segmentRequest(23, from, to)});
+    const auto after = only<cigi::LosResponse>(field(2, mClock.now()));
+    ASSERT_EQ(after.size(), 1u);
+    EXPECT_TRUE(after[0].visible);
+    EXPECT_FALSE(after[0].entityIdValid);
+  }
+}
+
 // ---- Atmosphere ---------------------------------------------------------------------------------
 
 TEST_F(HostSessionTest, AtmosphereVisibilityBecomesTheHazeRange) {

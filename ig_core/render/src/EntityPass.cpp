@@ -140,6 +140,19 @@ bool castEntity(const EntityInstance& entity, const glm::dvec3& origin, const gl
   return castModel(*entity.model, modelFrame(entity), origin, ray, maxDepthM, hit);
 }
 
+EntityRayHit castEntities(std::span<const EntityInstance> entities, const glm::dvec3& originM,
+                          const glm::dvec3& direction, double minRangeM, double maxRangeM) noexcept {
+  EntityRayHit nearest;
+  double limit = maxRangeM;
+  for (const EntityInstance& e : entities) {
+    EntityHit hit;
+    if (!castEntity(e, originM, direction, limit, hit) || hit.depthM < minRangeM) continue;
+    limit = hit.depthM;  // a unit direction: the ray's parameter is the range
+    nearest = {true, e.id, hit.depthM, originM + hit.depthM * direction, hit.normal, hit.rgba};
+  }
+  return nearest;
+}
+
 std::size_t drawEntities(std::span<const EntityInstance> entities, const ViewGeometry& geometry, const Shading& shading,
                          Frame& frame) noexcept {
   const PixelShader shader = shading.pixelShader();

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 
 namespace fieldcast::core {
 
@@ -25,5 +26,21 @@ struct EntityInstance {
   Pose pose;
   double scale = 1.0;
 };
+
+/// Where a line of sight meets the nearest of a set of entities.
+struct EntityRayHit {
+  bool hit = false;
+  std::uint32_t id = 0;  ///< the entity's EntityInstance::id
+  double rangeM = 0.0;   ///< along the ray
+  glm::dvec3 pointM{0.0};
+  glm::dvec3 normal{0.0, 0.0, 1.0};  ///< world normal of the voxel face it meets
+  std::uint32_t rgba = 0;            ///< the voxel's colour
+};
+
+/// The first voxel of any of `entities` on the ray from `originM` along the unit `direction`,
+/// with a range in [minRangeM, maxRangeM] (an entity nearer than minRangeM is not seen, even where
+/// it reaches past it). The same grid walk as the entity pass. RT-safe.
+EntityRayHit castEntities(std::span<const EntityInstance> entities, const glm::dvec3& originM,
+                          const glm::dvec3& direction, double minRangeM, double maxRangeM) noexcept;
 
 }  // namespace fieldcast::core
