@@ -116,6 +116,21 @@ class HostSessionTest : public ::testing::Test {
 
   static double level0(double x, double y) { return sTerrain->heightAtM(x, y, 0); }
 
+  // The host's entities of type 3 drawn as a block 8 × 8 m and 20 m tall (4 × 4 × 10 voxels at
+  // scale 4, colour RGB e0 20 20), the session's entities their source
+  std::unique_ptr<SceneEntities> blockScene() {
+    const auto dir = *sDir / "entity-models";
+    std::filesystem::create_directories(dir);
+    core::VoxelSolid block = core::emptySolid(4, 4, 10);
+    std::fill(block.rgba.begin(), block.rgba.end(), 0xFF2020E0u);
+    core::writeVoxFile(dir / "block.vox", block);
+    auto scene =
+        std::make_unique<SceneEntities>(std::vector<motion::ScriptedEntity>{}, nullptr, [](TimePoint) { return 0.0; });
+    scene->setHost([this](std::vector<HostEntitySample>& out) { mSession.copyEntities(out); },
+                   {{3, dir / "block.vox", 4.0}});
+    return scene;
+  }
+
   static std::filesystem::path* sDir;
   static core::TileCache* sTerrain;
 
@@ -731,11 +746,6 @@ TEST_F(HostSessionTest, TheRenderLoopDrawsTheHostsEntitiesOfAModelledType) {
   // The ownship 200 m above (250, 250) looking 80° down; where the middle of its view meets the
   // ground the host puts an entity of type 3 (a block 8 × 8 m and 20 m tall), and one of type 4
   // (no model) beside it: the middle's control point then lies on the block's top
-  const auto dir = *sDir / "entities";
-  std::filesystem::create_directories(dir);
-  core::VoxelSolid block = core::emptySolid(4, 4, 10);
-  std::fill(block.rgba.begin(), block.rgba.end(), 0xFF2020E0u);
-  core::writeVoxFile(dir / "block.vox", block);
   cigi::EntityControl eye = entityAt(0, {250.0, 250.0, level0(250.0, 250.0) + 200.0});
   eye.pitchDeg = -80.0f;
   send({eye}, 1.0);
@@ -760,15 +770,13 @@ TEST_F(HostSessionTest, TheRenderLoopDrawsTheHostsEntitiesOfAModelledType) {
   tower.entityType = 3;
   other.entityType = 4;
   send({eye, tower, other}, 1.1);
-  SceneEntities scene({}, nullptr, [](TimePoint) { return 0.0; });
-  scene.setHost([this](std::vector<HostEntitySample>& out) { mSession.copyEntities(out); },
-                {{3, dir / "block.vox", 4.0}});
-  const glm::dvec3 top = middlePoint(&scene);
+  const auto scene = blockScene();
+  const glm::dvec3 top = middlePoint(scene.get());
   EXPECT_NEAR(top.z, ground.z + 20.0, 0.01);
   EXPECT_LT(glm::length(glm::dvec2(top - ground)), 4.0);
   try {
     SceneEntities missing({}, nullptr, [](TimePoint) { return 0.0; });
-    missing.setHost([](std::vector<HostEntitySample>&) {}, {{4, dir / "none.vox", 1.0}});
+    missing.setHost([](std::vector<HostEntitySample>&) {}, {{4, *sDir / "none.vox", 1.0}});
     ADD_FAILURE() << "a missing model was taken";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("host.entity_model type 4: "), std::string::npos) << e.what();
@@ -779,15 +787,8 @@ TEST_F(HostSessionTest, ALineOfSightMeetsAHostEntityInItsWay) {
   // A block 8 m wide and 20 m tall (type 3, entity 9) on the ground at (250, 250); a segment 3 m
   // above the highest ground under it, from 20 m west of the block's centre to 20 m east, meets
   // its west face at 16 m
-  const auto dir = *sDir / "los-entities";
-  std::filesystem::create_directories(dir);
-  core::VoxelSolid block = core::emptySolid(4, 4, 10);
-  std::fill(block.rgba.begin(), block.rgba.end(), 0xFF2020E0u);
-  core::writeVoxFile(dir / "block.vox", block);
-  SceneEntities scene({}, nullptr, [](TimePoint) { return 0.0; });
-  scene.setHost([this](std::vector<HostEntitySample>& out) { mSession.copyEntities(out); },
-                {{3, dir / "block.vox", 4.0}});
-  mSession.setEntityScene([&scene](TimePoint t, std::vector<core::EntityInstance>& out) { scene.at(t, out); });
+  const auto scene = blockScene();
+  mSession.setEntityScene([&scene](TimePoint t, std::vector<core::EntityInstance>& out) { scene->at(t, out); });
   const double ground = level0(250.0, 250.0);
   cigi::EntityControl tower = entityAt(9, {250.0, 250.0, ground});
   tower.entityType = 3;
