@@ -94,6 +94,7 @@ void HostSession::onMessage(const io::HostMessage& message) {
     if (control.igMode == cigi::IgMode::ResetStandby) {
       mEntities.clear();  // a reset forgets the scene's entities; the ownship holds its last pose
       mEntitySamples.clear();
+      publishEntities();
       mOtherEntities.store(0, std::memory_order_relaxed);
       mPeriodicHeights.clear();  // and the host's periodic requests
       mPeriodicLos.clear();
@@ -158,18 +159,17 @@ void HostSession::onMessage(const io::HostMessage& message) {
   mOtherEntities.store(mEntities.size(), std::memory_order_relaxed);
   for (const cigi::RateControl* rates : otherRates) {
     const auto it = mEntitySamples.find(rates->entityId);
-    if (it == mEntitySamples.end()) continue;
+    const bool finite = std::isfinite(rates->xRateMps) && std::isfinite(rates->yRateMps) &&
+                        std::isfinite(rates->zRateMps) && std::isfinite(rates->rollRateDegps) &&
+                        std::isfinite(rates->pitchRateDegps) && std::isfinite(rates->yawRateDegps);
+    if (it == mEntitySamples.end() || !finite) continue;  // rates that are not numbers are not applied
     // New rates from now on: the entity goes on from where its old ones have taken it
     HostEntitySample& sample = it->second;
     sample.pose = extrapolateEntity(sample, message.arrival);
     sample.at = message.arrival;
     applyRates(*rates, sample.pose, sample.velocityMps, sample.angularRateRadS);
   }
-  {
-    const std::lock_guard lock(mPublishedMutex);
-    mPublishedEntities.clear();
-    for (const auto& [id, sample] : mEntitySamples) mPublishedEntities.push_back(sample);
-  }
+  publishEntities();
   if (ownship != nullptr) applyOwnship(*ownship, ownshipRates, hostTimeS, message.arrival, control.hostFrameNumber);
   for (const cigi::HostPacket* packet : requests) {
     if (const auto* request = std::get_if<cigi::HatHotRequest>(packet)) {
@@ -329,11 +329,15 @@ void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) 
 
 void HostSession::updateEntitySample(const cigi::EntityControl& entity, TimePoint arrival) {
   // An attached entity's position is offsets from its parent, not resolved yet: not drawn
+  const bool anglesFinite =
+      std::isfinite(entity.yawDeg) && std::isfinite(entity.pitchDeg) && std::isfinite(entity.rollDeg);
   const std::optional<glm::dvec3> position =
-      entity.attachState == cigi::AttachState::Attached
+      entity.attachState == cigi::AttachState::Attached || !anglesFinite
           ? std::nullopt
           : mGeoreference->toWorld({entity.latitudeDegOrXM, entity.longitudeDegOrYM, entity.altitudeMOrZM});
-  if (!position) {
+  const bool finite =
+      position && std::isfinite(position->x) && std::isfinite(position->y) && std::isfinite(position->z);
+  if (!finite) {
     mEntitySamples.erase(entity.entityId);
     return;
   }
@@ -343,6 +347,12 @@ void HostSession::updateEntitySample(const cigi::EntityControl& entity, TimePoin
   sample.pose = Pose{*position, radians(entity.yawDeg), radians(entity.pitchDeg), radians(entity.rollDeg)};
   sample.at = arrival;
   sample.extrapolate = mSmoothing && entity.extrapolationEnabled;
+}
+
+void HostSession::publishEntities() {
+  const std::lock_guard lock(mPublishedMutex);
+  mPublishedEntities.clear();
+  for (const auto& [id, sample] : mEntitySamples) mPublishedEntities.push_back(sample);
 }
 
 void HostSession::copyEntities(std::vector<HostEntitySample>& out) const {
@@ -383,6 +393,10 @@ void HostSession::answer(const cigi::LosSegmentRequest& request, TimePoint arriv
   if (request.responseCoordinateSystem == cigi::CoordinateSystem::Entity) {
     pending.responseEntity = entityPose(request.entityId, arrival);
   }
+  if (request.sourceCoordinateSystem == cigi::CoordinateSystem::Entity ||
+      request.destinationCoordinateSystem == cigi::CoordinateSystem::Entity) {
+    pending.fromEntity = request.entityId;
+  }
   if (from && to && glm::length(*to - *from) > 0.0) {
     pending.valid = true;
     pending.fromM = *from;
@@ -406,6 +420,7 @@ void HostSession::answer(const cigi::LosVectorRequest& request, TimePoint arriva
           ? entityPose(request.entityId, arrival)
           : std::nullopt;
   if (request.responseCoordinateSystem == cigi::CoordinateSystem::Entity) pending.responseEntity = entity;
+  if (entityRelative) pending.fromEntity = request.entityId;
   // Azimuth clockwise from true north (entity-relative: from the entity's x axis, in its body
   // axes), elevation up from the horizontal (from its x-y plane).
   const double az = radians(request.azimuthDeg), el = radians(request.elevationDeg);
@@ -464,7 +479,7 @@ void HostSession::respond(const PendingLos& pending) {
   if (pending.valid && mEntityScene) {
     mEntityScene(mClock.now(), mEntityScratch);
     entity = core::castEntities(mEntityScratch, pending.fromM, pending.direction, pending.minRangeM,
-                                hit.hit ? hit.rangeM : pending.maxRangeM);
+                                hit.hit ? hit.rangeM : pending.maxRangeM, pending.fromEntity);
   }
   if (entity.hit) {
     hit.hit = true;
@@ -611,6 +626,11 @@ void HostSession::switchTo(OpenDatabase database) {
   }
   // The ownship's kept samples are in the old world's metres: the pose follows the next sample.
   mOwnship.startNewHistory();
+  // So are the other entities': placed again in the new world from their geodetic positions
+  mEntitySamples.clear();
+  const TimePoint now = mClock.now();
+  for (const auto& [id, entity] : mEntities) updateEntitySample(entity, now);
+  publishEntities();
 }
 
 HostSessionFigures HostSession::figures() const noexcept {

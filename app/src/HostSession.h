@@ -120,6 +120,7 @@ class HostSession final : public io::HostHandler {
   void applyViewControl(const io::cigi::ViewControl& control);
   void applyViewDefinition(const io::cigi::ViewDefinition& definition);
   void updateEntitySample(const io::cigi::EntityControl& entity, TimePoint arrival);
+  void publishEntities();  // mEntitySamples to the render loop's copy
   void applyOwnship(const io::cigi::EntityControl& entity, const io::cigi::RateControl* rates, double hostTimeS,
                     TimePoint arrival, std::uint32_t hostFrame);
   // A height request whose answer waits for the full-resolution tiles under its point.
@@ -137,7 +138,8 @@ class HostSession final : public io::HostHandler {
     bool segment = false;  ///< a Segment request (visible = the destination is)
     bool valid = false;    ///< the source (and destination) could be placed
     io::cigi::CoordinateSystem responseSystem = io::cigi::CoordinateSystem::Geodetic;
-    std::optional<Pose> responseEntity;  ///< entity-relative answers: the source entity's pose
+    std::optional<Pose> responseEntity;       ///< entity-relative answers: the source entity's pose
+    std::optional<std::uint16_t> fromEntity;  ///< a ray from an entity does not meet that entity
     glm::dvec3 fromM{0.0};
     glm::dvec3 direction{0.0};  ///< unit
     double minRangeM = 0.0, maxRangeM = 0.0;

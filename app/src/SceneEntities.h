@@ -47,6 +47,9 @@ class SceneEntities {
   SceneEntities(const std::vector<motion::ScriptedEntity>& scripted, const core::TerrainView* ground,
                 FlightClock clock);
 
+  SceneEntities(const SceneEntities&) = delete;  // it points into its own scripts
+  SceneEntities& operator=(const SceneEntities&) = delete;
+
   std::size_t size() const noexcept { return mEntities.size(); }
 
   /// The host's entities as last sent, into the vector given (Any thread; HostSession::copyEntities).

@@ -729,6 +729,17 @@ TEST_F(HostSessionTest, HostEntitiesArePublishedWithTheirRatesAndExtrapolated) {
   EXPECT_NEAR(entities[0].velocityMps.y, 10.0, 1e-6);
   EXPECT_NEAR(extrapolateEntity(entities[0], entities[0].at + 200ms).positionM.y, 200.0, 1e-3);
 
+  // Angles or rates that are not numbers are not taken
+  cigi::EntityControl broken = entityAt(8, {300.0, 300.0, 300.0});
+  broken.yawDeg = std::numeric_limits<float>::quiet_NaN();
+  cigi::RateControl wild = rates;
+  wild.xRateMps = std::numeric_limits<float>::infinity();
+  send({broken, wild}, 1.15);
+  mSession.copyEntities(entities);
+  ASSERT_EQ(entities.size(), 1u);
+  EXPECT_EQ(entities[0].id, 5u);
+  EXPECT_NEAR(entities[0].velocityMps.y, 10.0, 1e-6);
+
   // Removed by the host; forgotten at a reset
   van.entityState = cigi::EntityState::Inactive;
   send({van}, 1.2);
@@ -812,11 +823,22 @@ TEST_F(HostSessionTest, ALineOfSightMeetsAHostEntityInItsWay) {
   EXPECT_TRUE(extended[0].entityIdValid);
   EXPECT_NEAR(extended[0].normalAzimuthDeg, -90.0, 1e-3);  // the west face
   EXPECT_EQ(extended[0].red, 0xE0);                        // the block's colour, R in the low byte
+  // A segment from the block itself (10 m above its base, to the same destination) does not meet
+  // the block it starts from
+  cigi::LosSegmentRequest fromTower = segmentRequest(24, from, to);
+  fromTower.entityId = 9;
+  fromTower.sourceCoordinateSystem = cigi::CoordinateSystem::Entity;
+  fromTower.sourceLatitudeDegOrXM = fromTower.sourceLongitudeDegOrYM = 0.0;
+  fromTower.sourceAltitudeMOrZM = -10.0;  // CIGI body axes: z down
+  send({fromTower}, 1.05);
+  const auto own = only<cigi::LosResponse>(field(2, mClock.now()));
+  ASSERT_EQ(own.size(), 1u);
+  EXPECT_FALSE(own[0].entityIdValid && own[0].entityId == 9u);
   if (clearWithout) {
     // Without the entity the segment passes: the terrain alone did not stop it
     tower.entityState = cigi::EntityState::Destroyed;
     send({tower, segmentRequest(23, from, to)});
-    const auto after = only<cigi::LosResponse>(field(2, mClock.now()));
+    const auto after = only<cigi::LosResponse>(field(3, mClock.now()));
     ASSERT_EQ(after.size(), 1u);
     EXPECT_TRUE(after[0].visible);
     EXPECT_FALSE(after[0].entityIdValid);

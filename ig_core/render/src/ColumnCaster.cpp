@@ -345,11 +345,11 @@ bool bisectSurface(const CasterFrame& f, const glm::dvec3& d, double tLo, double
   out.depthM = tHi;
   out.level = level;
   out.pointM = eye + tHi * d;
-  const double cell = g.spacingM * static_cast<double>(1 << level);
-  out.colour = f.view
-                   ->sample(level, static_cast<int>(std::lround((out.pointM.x - g.originM.x) / cell)),
-                            static_cast<int>(std::lround((out.pointM.y - g.originM.y) / cell)))
-                   .colour;
+  // The level's voxel whose area holds the point (voxel j's centre: origin + ((j + ½)·2^L − ½)·spacing)
+  const auto voxel = [&](double offsetM) {
+    return static_cast<int>(std::floor((offsetM / g.spacingM + 0.5) / static_cast<double>(1 << level)));
+  };
+  out.colour = f.view->sample(level, voxel(out.pointM.x - g.originM.x), voxel(out.pointM.y - g.originM.y)).colour;
   return true;
 }
 
@@ -380,9 +380,14 @@ CastResult castRay(const CasterFrame& f, double u, double v, CasterThread& t) no
   // A steep ray whose first grid line is already below the surface retraces back to where it
   // entered the terrain's height slab and stops there, at the ceiling: the crossing lies between
   // that entry and the line
-  if (h.hit && h.m <= r.mEnter && d.z < 0.0 &&
-      bisectSurface(f, d, r.mEnter / r.aMaj, lineM(r, h.at.i, h.at.level) / r.aMaj, h.at.level, out)) {
-    return out;
+  if (h.hit && h.m <= r.mEnter && d.z < 0.0) {
+    const double tLo = r.mEnter / r.aMaj, tHi = lineM(r, h.at.i, h.at.level) / r.aMaj;
+    const int level = f.geo->lodLevel(tHi, d);
+    // Only where the ray moves less than two of that level's voxels sideways in between (so the
+    // crossing found is the first); otherwise the line march's answer stands
+    const double sideways = std::hypot(d.x, d.y) * (tHi - tLo);
+    const double cell = f.view->geometry().spacingM * static_cast<double>(1 << level);
+    if (sideways < 2.0 * cell && bisectSurface(f, d, tLo, tHi, level, out)) return out;
   }
   if (!h.hit) {
     // The base plane beyond the edge is a surface too (the warp fits to it), or the sky.

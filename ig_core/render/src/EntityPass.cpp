@@ -86,6 +86,10 @@ bool castModel(const VoxelSolid& m, const ModelFrame& mf, const glm::dvec3& orig
                double maxDepthM, EntityHit& hit) noexcept {
   const glm::dvec3 o = mf.toModel(origin, m);
   const glm::dvec3 d = mf.directionToModel(ray);
+  const auto finite = [](const glm::dvec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
+  if (!finite(o) || !finite(d)) return false;  // a pose or scale from outside that is not a place
   const std::array<int, 3> size{m.sizeX, m.sizeY, m.sizeZ};
   // Where the ray is inside the model's box (slabs)
   double tEnter = 0.0, tExit = maxDepthM;
@@ -136,15 +140,17 @@ bool castModel(const VoxelSolid& m, const ModelFrame& mf, const glm::dvec3& orig
 
 bool castEntity(const EntityInstance& entity, const glm::dvec3& origin, const glm::dvec3& ray, double maxDepthM,
                 EntityHit& hit) noexcept {
-  if (!entity.model || entity.model->rgba.empty()) return false;
+  if (!entity.model || entity.model->rgba.empty() || !(entity.scale > 0.0)) return false;
   return castModel(*entity.model, modelFrame(entity), origin, ray, maxDepthM, hit);
 }
 
 EntityRayHit castEntities(std::span<const EntityInstance> entities, const glm::dvec3& originM,
-                          const glm::dvec3& direction, double minRangeM, double maxRangeM) noexcept {
+                          const glm::dvec3& direction, double minRangeM, double maxRangeM,
+                          std::optional<std::uint32_t> excludeId) noexcept {
   EntityRayHit nearest;
   double limit = maxRangeM;
   for (const EntityInstance& e : entities) {
+    if (excludeId && e.id == *excludeId) continue;
     EntityHit hit;
     if (!castEntity(e, originM, direction, limit, hit) || hit.depthM < minRangeM) continue;
     limit = hit.depthM;  // a unit direction: the ray's parameter is the range

@@ -161,6 +161,47 @@ TEST(EntityRender, HeadingTurnsTheModel) {
   EXPECT_GT(east.u1 - east.u0, 3 * (east.v1 - east.v0));      // across it
 }
 
+TEST(EntityRender, HeadingIsClockwiseFromNorthAndTheModelsRightIsPlusX) {
+  // A model 4 wide (x) and 8 long (y): its front half red, its back half blue, and a white marker
+  // on its front right corner. Seen from straight above (image up north, right east) at heading
+  // 90° its front points east (red on the right) and its right side south (the marker low right);
+  // at 270° the front points west
+  auto s = std::make_shared<VoxelSolid>(emptySolid(4, 8, 1));
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 4; ++x) s->rgba[s->index(x, y, 0)] = y >= 4 ? 0xFF2020E0u : 0xFFE02020u;
+  s->rgba[s->index(3, 7, 0)] = 0xFFFFFFFFu;
+  const auto land = flatLand(false);
+  Renderer renderer(land->view(), RenderSettings{}, 1);
+  ViewRequest r;
+  r.pose.positionM = {256.0, 256.0, kGroundM + 100.0};
+  r.pose.pitchRad = radians(-90.0);
+  r.display = Intrinsics::fromHorizontalFov(200, 200, radians(40.0));
+  // Where a colour is in the frame: the mean pixel of the pixels nearest to it
+  const auto centreOf = [](const Frame& f, int channel) {
+    double su = 0.0, sv = 0.0;
+    int n = 0;
+    for (int v = 0; v < f.intrinsics.heightPx; ++v)
+      for (int u = 0; u < f.intrinsics.widthPx; ++u) {
+        const std::uint8_t* p = f.image.row(v) + 3 * u;
+        const bool white = p[0] > 200 && p[1] > 200 && p[2] > 200;
+        const bool match = channel < 0 ? white
+                                       : !white && p[channel] > 2 * p[(channel + 1) % 3] + 40 &&
+                                             p[channel] > 2 * p[(channel + 2) % 3] + 40;
+        if (match) su += u, sv += v, ++n;
+      }
+    return glm::dvec2(su / std::max(n, 1), sv / std::max(n, 1));
+  };
+  for (const double heading : {90.0, 270.0}) {
+    r.entities = {entityAt(s, 256.0, 256.0, heading, 4.0)};  // 8 × 16 m
+    const Frame f = renderer.render(r);
+    const glm::dvec2 red = centreOf(f, 0), blue = centreOf(f, 2), marker = centreOf(f, -1);
+    const double east = heading == 90.0 ? 1.0 : -1.0;      // where the front points along the image's u
+    EXPECT_GT(east * (red.x - blue.x), 20.0) << heading;   // the front half ahead of the back half
+    EXPECT_GT(east * (marker.y - red.y), 5.0) << heading;  // the right side south (down) at 90°, north at 270°
+    EXPECT_GT(east * (marker.x - red.x), 5.0) << heading;  // the marker at the front
+  }
+}
+
 TEST(EntityRender, AControlRayThatMeetsAnEntityRecordsItsPoint) {
   const auto land = flatLand(false);
   Renderer renderer(land->view(), RenderSettings{}, 1);

@@ -115,12 +115,13 @@ VoxelSolid readVoxFile(const std::filesystem::path& path) {
     if (id == "SIZE") {
       if (++sizes > 1) throw fail("several models (SIZE chunks); fieldcast reads a file of one");
       if (content < 12) throw fail("a SIZE chunk of " + std::to_string(content) + " bytes");
-      for (std::size_t c = 0; c < 3; ++c)
-        size[c] = static_cast<int>(std::min<std::uint32_t>(readU32(bytes, body + 4 * c), 1u << 20));
-      if (std::any_of(size.begin(), size.end(), [](int n) { return n < 1 || n > kMaxVoxSide; })) {
-        throw fail("a model of " + std::to_string(size[0]) + " × " + std::to_string(size[1]) + " × " +
-                   std::to_string(size[2]) + " voxels (each side 1 … 256)");
+      const std::array<std::uint32_t, 3> given{readU32(bytes, body), readU32(bytes, body + 4),
+                                               readU32(bytes, body + 8)};
+      if (std::any_of(given.begin(), given.end(), [](std::uint32_t n) { return n < 1 || n > kMaxVoxSide; })) {
+        throw fail("a model of " + std::to_string(given[0]) + " × " + std::to_string(given[1]) + " × " +
+                   std::to_string(given[2]) + " voxels (each side 1 … 256)");
       }
+      for (std::size_t c = 0; c < 3; ++c) size[c] = static_cast<int>(given[c]);
     } else if (id == "XYZI") {
       if (content < 4) throw fail("an XYZI chunk of " + std::to_string(content) + " bytes");
       const std::uint64_t count = readU32(bytes, body);

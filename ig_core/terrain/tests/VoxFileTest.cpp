@@ -134,7 +134,7 @@ TEST(VoxFile, DamagedFilesAreRefusedWithTheReason) {
   std::vector<unsigned char> huge = good;
   huge[32] = 0, huge[33] = 2;  // x size 512
   writeBytes(dir.path() / "huge.vox", huge);
-  expectRefused(dir.path() / "huge.vox", "each side 1 … 256");
+  expectRefused(dir.path() / "huge.vox", "a model of 512 × 3 × 5 voxels (each side 1 … 256)");
 
   writeBytes(dir.path() / "text.vox", {'h', 'e', 'l', 'l', 'o'});
   expectRefused(dir.path() / "text.vox", "not a MagicaVoxel .vox file");

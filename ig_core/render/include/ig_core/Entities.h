@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 
 namespace fieldcast::core {
@@ -37,10 +38,12 @@ struct EntityRayHit {
   std::uint32_t rgba = 0;            ///< the voxel's colour
 };
 
-/// The first voxel of any of `entities` on the ray from `originM` along the unit `direction`,
-/// with a range in [minRangeM, maxRangeM] (an entity nearer than minRangeM is not seen, even where
-/// it reaches past it). The same grid walk as the entity pass. RT-safe.
+/// The first voxel of any of `entities` but `excludeId` (the entity a line of sight starts from)
+/// on the ray from `originM` along the unit `direction`, with a range in [minRangeM, maxRangeM]
+/// (an entity nearer than minRangeM is not seen, even where it reaches past it). The same grid
+/// walk as the entity pass. RT-safe.
 EntityRayHit castEntities(std::span<const EntityInstance> entities, const glm::dvec3& originM,
-                          const glm::dvec3& direction, double minRangeM, double maxRangeM) noexcept;
+                          const glm::dvec3& direction, double minRangeM, double maxRangeM,
+                          std::optional<std::uint32_t> excludeId = std::nullopt) noexcept;
 
 }  // namespace fieldcast::core
