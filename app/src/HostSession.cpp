@@ -119,6 +119,7 @@ void HostSession::onMessage(const io::HostMessage& message) {
   const cigi::EntityControl* ownship = nullptr;
   const cigi::RateControl* ownshipRates = nullptr;
   std::vector<const cigi::RateControl*> otherRates;
+  bool entitiesChanged = false;  // the render loop's copy is made again only then
   std::vector<const cigi::HostPacket*> requests;
   for (const cigi::HostPacket& packet : message.packets) {
     if (const auto* entity = std::get_if<cigi::EntityControl>(&packet)) {
@@ -128,9 +129,10 @@ void HostSession::onMessage(const io::HostMessage& message) {
       } else if (entity->entityState == cigi::EntityState::Active) {
         mEntities[entity->entityId] = *entity;
         updateEntitySample(*entity, message.arrival);
+        entitiesChanged = true;
       } else {
         mEntities.erase(entity->entityId);
-        mEntitySamples.erase(entity->entityId);
+        entitiesChanged |= mEntitySamples.erase(entity->entityId) > 0;
       }
     } else if (const auto* rates = std::get_if<cigi::RateControl>(&packet)) {
       if (rates->applyToArticulatedPart) continue;
@@ -168,8 +170,9 @@ void HostSession::onMessage(const io::HostMessage& message) {
     sample.pose = extrapolateEntity(sample, message.arrival);
     sample.at = message.arrival;
     applyRates(*rates, sample.pose, sample.velocityMps, sample.angularRateRadS);
+    entitiesChanged = true;
   }
-  publishEntities();
+  if (entitiesChanged) publishEntities();
   if (ownship != nullptr) applyOwnship(*ownship, ownshipRates, hostTimeS, message.arrival, control.hostFrameNumber);
   for (const cigi::HostPacket* packet : requests) {
     if (const auto* request = std::get_if<cigi::HatHotRequest>(packet)) {

@@ -116,6 +116,19 @@ class HostSessionTest : public ::testing::Test {
 
   static double level0(double x, double y) { return sTerrain->heightAtM(x, y, 0); }
 
+  // Runs a render loop over the test terrain from the ownship until it has published `frames`
+  // frames; the newest is in `handover`
+  void renderFrames(core::Renderer& renderer, const RenderPacing& pacing, const Intrinsics& display,
+                    warp::FrameHandover& handover, std::uint64_t frames) {
+    ServiceMetrics metrics;
+    RenderLoop loop(renderer, mOwnship, display, handover, metrics, pacing);
+    std::atomic<bool> stop{false};
+    std::thread thread([&] { loop.run(stop); });
+    while (loop.framesPublished() < frames) std::this_thread::sleep_for(1ms);
+    stop = true;
+    thread.join();
+  }
+
   // The host's entities of type 3 drawn as a block 8 × 8 m and 20 m tall (4 × 4 × 10 voxels at
   // scale 4, colour RGB e0 20 20), the session's entities their source
   std::unique_ptr<SceneEntities> blockScene() {
@@ -764,15 +777,9 @@ TEST_F(HostSessionTest, TheRenderLoopDrawsTheHostsEntitiesOfAModelledType) {
   const auto middlePoint = [&](const SceneEntities* entities) {
     core::Renderer renderer(sTerrain->view(), core::RenderSettings{}, 1);
     warp::FrameHandover frames;
-    ServiceMetrics metrics;
     RenderPacing pacing;
     pacing.entities = entities;
-    RenderLoop loop(renderer, mOwnship, Intrinsics::fromHorizontalFov(64, 48, radians(30.0)), frames, metrics, pacing);
-    std::atomic<bool> stop{false};
-    std::thread thread([&] { loop.run(stop); });
-    while (loop.framesPublished() < 2) std::this_thread::sleep_for(1ms);
-    stop = true;
-    thread.join();
+    renderFrames(renderer, pacing, Intrinsics::fromHorizontalFov(64, 48, radians(30.0)), frames, 2);
     EXPECT_TRUE(frames.update());
     return frames.front().controlPoints[4].world;
   };
@@ -868,15 +875,9 @@ TEST_F(HostSessionTest, TheRenderLoopRendersWithTheHostsHaze) {
   settings.hazeRangeM = 12000.0;
   core::Renderer renderer(sTerrain->view(), settings, 1);
   warp::FrameHandover frames;
-  ServiceMetrics metrics;
   RenderPacing pacing;
   pacing.hazeRangeM = &mSession.hazeRangeM();
-  RenderLoop loop(renderer, mOwnship, Intrinsics::fromHorizontalFov(64, 48, radians(60.0)), frames, metrics, pacing);
-  std::atomic<bool> stop{false};
-  std::thread thread([&] { loop.run(stop); });
-  while (loop.framesPublished() < 1) std::this_thread::sleep_for(1ms);
-  stop = true;
-  thread.join();
+  renderFrames(renderer, pacing, Intrinsics::fromHorizontalFov(64, 48, radians(60.0)), frames, 1);
   EXPECT_EQ(renderer.settings().hazeRangeM, hazeRangeForVisibility(2500.0));
 }
 

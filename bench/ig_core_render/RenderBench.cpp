@@ -38,6 +38,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <string>
@@ -220,23 +221,29 @@ TileCache& builtinCache(bool objects) {
   return *cache;
 }
 
+// A 720×486 view from pose `p` over `area`, at its height above the bare ground (so the camera is
+// never inside an object), with every tile it needs paged into `caches`
+ViewRequest areaRequest(const BenchPose& p, const ObjectArea& area, std::initializer_list<TileCache*> caches) {
+  ViewRequest request;
+  request.pose.positionM = {area.xM, area.yM, builtinCache(false).heightAtM(area.xM, area.yM) + p.altitudeM};
+  request.pose.headingRad = radians(p.headingDeg);
+  request.pose.pitchRad = radians(p.pitchDeg);
+  request.display = Intrinsics::fromHorizontalFov(720, 486, radians(60.0));
+  const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
+  for (TileCache* cache : caches) {
+    cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
+    cache->waitIdle(std::chrono::seconds(120));
+  }
+  return request;
+}
+
 void BM_RenderObjects(benchmark::State& state) {
   const BenchPose& p = kPoses[static_cast<std::size_t>(state.range(0))];
   const ObjectArea& area = kObjectAreas[static_cast<std::size_t>(state.range(1))];
   state.SetLabel(std::string(area.name) + " " + p.name);
   TileCache& furnished = builtinCache(true);
   TileCache& bare = builtinCache(false);
-  ViewRequest request;
-  // Both at the same height above the bare ground, so the camera is never inside an object
-  request.pose.positionM = {area.xM, area.yM, bare.heightAtM(area.xM, area.yM) + p.altitudeM};
-  request.pose.headingRad = radians(p.headingDeg);
-  request.pose.pitchRad = radians(p.pitchDeg);
-  request.display = Intrinsics::fromHorizontalFov(720, 486, radians(60.0));
-  const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
-  for (TileCache* cache : {&furnished, &bare}) {
-    cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
-    cache->waitIdle(std::chrono::seconds(120));
-  }
+  const ViewRequest request = areaRequest(p, area, {&furnished, &bare});
   const FrameLease leaseFurnished = furnished.lease(), leaseBare = bare.lease();
   Renderer withObjects(furnished.view(), RenderSettings{}, 2), without(bare.view(), RenderSettings{}, 2);
   Frame a = withObjects.render(request), b = without.render(request);  // warm up
@@ -268,14 +275,8 @@ void BM_RenderEntities(benchmark::State& state) {
   const ObjectArea& area = kObjectAreas[1];
   state.SetLabel(std::string(area.name) + " " + p.name);
   TileCache& cache = builtinCache(true);
-  ViewRequest request;
-  request.pose.positionM = {area.xM, area.yM, builtinCache(false).heightAtM(area.xM, area.yM) + p.altitudeM};
-  request.pose.headingRad = radians(p.headingDeg);
-  request.pose.pitchRad = radians(p.pitchDeg);
-  request.display = Intrinsics::fromHorizontalFov(720, 486, radians(60.0));
+  const ViewRequest request = areaRequest(p, area, {&cache});
   const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
-  cache.prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
-  cache.waitIdle(std::chrono::seconds(120));
   const FrameLease lease = cache.lease();
   RenderSettings settings;
   settings.rangeImage = true;  // both frames have it: the comparison is of the entity pass alone
