@@ -73,7 +73,7 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
   ceilingQ = ceiling;
   baseAboveM = p.z - g.heightBaseM;
   baseColourRgba = baseRgba;
-  baseColour = unpackRgb(baseRgba);
+  baseColour = Rgb{unpackRgb(baseRgba).v * shading.light().flat()};  // a plane: lit as level ground
 }
 
 namespace {

@@ -56,7 +56,7 @@ struct CasterFrame {
   double invLodDepth0M;               ///< 1 / ViewGeometry::lodDepth0M()
   double baseAboveM;                  ///< camera height over the base plane (quantised height 0)
   std::uint32_t baseColourRgba;       ///< the base plane's colour, RGBA8
-  Rgb baseColour;                     ///< the same, unpacked
+  Rgb baseColour;                     ///< the same, unpacked and lit by the frame's sun
   /// The columns of a staging block march in step, in depth bands this ratio deep (see
   /// castColumns; below 1 acts as 1). Any value gives the same image; tests set it near 1 to pause
   /// at almost every crossing, and to infinity to march each column to its end.

@@ -19,12 +19,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// The light the models are shaded with: the built-in colours' sun (north-west, 40° up;
-// TerrainColour.h), and the share of the light that comes from the sky whatever the face
-constexpr double kAmbient = 0.55;
-const glm::dvec3 kToSun =
-    glm::normalize(glm::dvec3(-0.7071067811865476, 0.7071067811865476, 0.8390996311772800));  // tan 40°
-
 // An entity's axes and scale: world point p is model point ((p − base)·right / s + sizeX/2,
 // (p − base)·forward / s + sizeY/2, (p − base)·up / s) in voxels
 struct ModelFrame {
@@ -178,8 +172,8 @@ std::size_t drawEntities(std::span<const EntityInstance> entities, const ViewGeo
             frame.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)];
         EntityHit hit;
         if (!castModel(*e.model, mf, eye, ray, static_cast<double>(rangeM) / length, hit)) continue;
-        // Lit by the sun and the sky, then hazed by range as the terrain is
-        const double light = kAmbient + (1.0 - kAmbient) * std::max(0.0, glm::dot(hit.normal, kToSun));
+        // Lit by the frame's sun and sky (TerrainLight::model), then hazed by range as the terrain is
+        const double light = shading.light().model(hit.normal);
         rangeM = static_cast<float>(hit.depthM * length);
         const Rgb lit(unpackRgb(hit.rgba).v * static_cast<float>(light));
         shader.storePixel(row + (shading.grey() ? u : 3 * u), shader.terrain(lit, rangeM), 1.0f);

@@ -21,6 +21,7 @@ using ray_march::ceilToInt;
 using ray_march::colourAt;
 using ray_march::floorToInt;
 using ray_march::heightAt;
+using ray_march::lightAt;
 using ray_march::levelIndex;
 using ray_march::pow2;
 using ray_march::stickAt;
@@ -86,6 +87,17 @@ inline std::uint32_t windowColour(const CasterFrame& f, CasterThread& t, TileWin
   x.colour = mix(x.colour, mix(lo, hi, fy), static_cast<float>(blend));
 }
 
+// Scales a crossing's colour by the frame's sun (TerrainLight.h): its segment's two voxels'
+// factors, linear along it as the colours are. Called only for a relit frame.
+void relightCrossing(const CasterFrame& f, CasterThread& t, const ColumnPlane& c, Crossing& x) noexcept {
+  const int vx = c.xMajor ? x.i : x.j;
+  const int vy = c.xMajor ? x.j : x.i;
+  const bool alongX = c.xMajor == x.onMinorLine;  // the segment's second voxel lies east, else north
+  const float l0 = lightAt(f, t, x.level, vx, vy);
+  const float l1 = lightAt(f, t, x.level, alongX ? vx + 1 : vx, alongX ? vy : vy + 1);
+  x.colour.v *= l0 + (l1 - l0) * static_cast<float>(x.phi);
+}
+
 // A crossing's stick (StickShading.h): the one of its segment's two voxels that colours it (a
 // minor-line crossing's segment runs along the major axis), and the crossing's height in quanta.
 StickVoxel crossingStick(const CasterFrame& f, CasterThread& t, const ColumnPlane& c, const Crossing& x,
@@ -137,7 +149,7 @@ inline bool segmentHasStick(const CasterFrame& f, CasterThread& t, TileWindows& 
   const StickVoxel& s = far.id != 0 ? far : near;
   if (s.id == 0) return false;
   const StickSpan stick{f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, fromZ, f.stickUnitsPerQ),
-                        stickTexelCoordinate(s, toZ, f.stickUnitsPerQ)};
+                        stickTexelCoordinate(s, toZ, f.stickUnitsPerQ), f.shading.light().flat()};
   const StickSpanPixel texels{stick};
   if (sink.s != 1) {
     const PixelShader shading = column.shading;
@@ -175,9 +187,11 @@ __attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFram
   }
   x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
   x.haveColour = true;
-  if (!f.blend || l + 1 >= f.levels) return x.colour;
-  const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
-  if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
+  if (f.blend && l + 1 < f.levels) {
+    const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
+    if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
+  }
+  if (f.shading.light().relit()) relightCrossing(f, t, c, x);
   return x.colour;
 }
 
@@ -192,9 +206,11 @@ __attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFram
   const std::uint32_t c1 = c.xMajor ? windowColour(f, t, w, l, vx + 1, vy) : windowColour(f, t, w, l, vx, vy + 1);
   x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
   x.haveColour = true;
-  if (!f.blend || l + 1 >= f.levels) return;
-  const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
-  if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
+  if (f.blend && l + 1 < f.levels) {
+    const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
+    if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
+  }
+  if (f.shading.light().relit()) relightCrossing(f, t, c, x);
 }
 
 // Fills the sub-rows of a supersampled column (several per pixel) between two crossings, as

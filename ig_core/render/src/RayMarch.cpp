@@ -237,6 +237,16 @@ std::uint32_t colourAt(const CasterFrame& f, CasterThread& t, int level, int x, 
   return tile->colourRgba[((y & f.tileMask) << f.tileShift) | (x & f.tileMask)];
 }
 
+float lightAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept {
+  // Quanta per voxel step to metres per metre at this level.
+  const auto scale = static_cast<float>(1.0 / (f.quantaPerM * pow2(level)) * f.unitsPerM);
+  const auto h = [&](int dx, int dy) { return static_cast<float>(heightAt(f, t, level, x + dx, y + dy)); };
+  const float here = h(0, 0);
+  const float dzdx = minmodSlope(here - h(-1, 0), h(1, 0) - here) * scale;
+  const float dzdy = minmodSlope(here - h(0, -1), h(0, 1) - here) * scale;
+  return f.shading.light().terrain(dzdx, dzdy);
+}
+
 StickVoxel stickAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept {
   if (f.sticks == nullptr) return {};
   x = std::clamp(x, 0, f.levelWidth[static_cast<std::size_t>(level)] - 1);
@@ -379,28 +389,37 @@ Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const Mar
                                   : colouringStick(stickAt(f, t, c.level, j, c.i), stickAt(f, t, c.level, j + 1, c.i));
     if (s.id != 0) {
       const double zQ = f.camZq + r.zPer * h.m;
-      return unpackRgb(stickTexel(f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, zQ, f.stickUnitsPerQ)));
+      const Rgb texel =
+          unpackRgb(stickTexel(f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, zQ, f.stickUnitsPerQ)));
+      return Rgb{texel.v * f.shading.light().flat()};
     }
   }
   const std::uint32_t c0 = r.xMajor ? colourAt(f, t, c.level, c.i, j) : colourAt(f, t, c.level, j, c.i);
   const std::uint32_t c1 = r.xMajor ? colourAt(f, t, c.level, c.i, j + 1) : colourAt(f, t, c.level, j + 1, c.i);
   Rgb colour = mix(unpackRgb(c0), unpackRgb(c1), frac);
-  if (!f.blend) return colour;
-  const double w = f.geo->levelBlend(depthM * r.lodStretch, c.level);
-  if (w <= 0.0) return colour;
-  // The same point on the next level: continuous index there, bilinear over four voxels.
-  const int up = c.level + 1;
-  const double xMaj = lineCoord(c.i, c.level);
-  const double xMin = (static_cast<double>(c.y) / kMinorOne + 0.5) * pow2(c.level) - 0.5;
-  const double ux = levelIndex(r.xMajor ? xMaj : xMin, up);
-  const double uy = levelIndex(r.xMajor ? xMin : xMaj, up);
-  const int x0 = floorToInt(ux);
-  const int y0 = floorToInt(uy);
-  const auto fx = static_cast<float>(ux - x0);
-  const auto fy = static_cast<float>(uy - y0);
-  const Rgb a = mix(unpackRgb(colourAt(f, t, up, x0, y0)), unpackRgb(colourAt(f, t, up, x0 + 1, y0)), fx);
-  const Rgb b = mix(unpackRgb(colourAt(f, t, up, x0, y0 + 1)), unpackRgb(colourAt(f, t, up, x0 + 1, y0 + 1)), fx);
-  return mix(colour, mix(a, b, fy), static_cast<float>(w));
+  const double w = f.blend ? f.geo->levelBlend(depthM * r.lodStretch, c.level) : 0.0;
+  if (w > 0.0) {
+    // The same point on the next level: continuous index there, bilinear over four voxels.
+    const int up = c.level + 1;
+    const double xMaj = lineCoord(c.i, c.level);
+    const double xMin = (static_cast<double>(c.y) / kMinorOne + 0.5) * pow2(c.level) - 0.5;
+    const double ux = levelIndex(r.xMajor ? xMaj : xMin, up);
+    const double uy = levelIndex(r.xMajor ? xMin : xMaj, up);
+    const int x0 = floorToInt(ux);
+    const int y0 = floorToInt(uy);
+    const auto fx = static_cast<float>(ux - x0);
+    const auto fy = static_cast<float>(uy - y0);
+    const Rgb a = mix(unpackRgb(colourAt(f, t, up, x0, y0)), unpackRgb(colourAt(f, t, up, x0 + 1, y0)), fx);
+    const Rgb b = mix(unpackRgb(colourAt(f, t, up, x0, y0 + 1)), unpackRgb(colourAt(f, t, up, x0 + 1, y0 + 1)), fx);
+    colour = mix(colour, mix(a, b, fy), static_cast<float>(w));
+  }
+  if (f.shading.light().relit()) {
+    // The segment's two voxels' factors, linear along it as the colours are.
+    const float l0 = r.xMajor ? lightAt(f, t, c.level, c.i, j) : lightAt(f, t, c.level, j, c.i);
+    const float l1 = r.xMajor ? lightAt(f, t, c.level, c.i, j + 1) : lightAt(f, t, c.level, j + 1, c.i);
+    colour.v *= l0 + (l1 - l0) * frac;
+  }
+  return colour;
 }
 
 glm::dvec3 worldPoint(const CasterFrame& f, const RayLine& r, double m) noexcept {

@@ -78,6 +78,11 @@ std::uint32_t colourAt(const CasterFrame& f, CasterThread& t, int level, int x, 
 /// clamped to the grid, from the coarser level that stands in when the tile is missing.
 StickVoxel stickAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept;
 
+/// The factor the frame's sun scales the terrain colour of voxel (x, y) of `level` by
+/// (TerrainLight::terrain of its slope there); call only when the frame is relit. Out of line: a
+/// frame lit by the colours' own sun never calls it.
+[[gnu::noinline]] float lightAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept;
+
 /// The march state at one grid line of one level.
 struct Cursor {
   int level = 0;

@@ -32,6 +32,32 @@ Rgb bilinearColour(const TerrainView& view, int level, double x, double y) {
   return mix(a, b, ty);
 }
 
+// The frame's sun on the terrain colour at level-0 continuous coordinates (x, y): the factors of
+// the four voxels of `level` around it (from their slopes, minmod of their neighbours, as the
+// caster does), bilinear as the colours are.
+float terrainLight(const TerrainView& view, const TerrainLight& light, int level, double x, double y) {
+  const TerrainGeometry& g = view.geometry();
+  const int w = g.levelWidthVox(level), h = g.levelHeightVox(level);
+  const auto height = [&](int a, int b) {
+    return static_cast<float>(view.heightQ(level, std::clamp(a, 0, w - 1), std::clamp(b, 0, h - 1)));
+  };
+  const auto scale = static_cast<float>(g.heightStepM / std::ldexp(g.spacingM, level));
+  const auto at = [&](int i, int j) {
+    const float here = height(i, j);
+    return light.terrain(minmodSlope(here - height(i - 1, j), height(i + 1, j) - here) * scale,
+                         minmodSlope(here - height(i, j - 1), height(i, j + 1) - here) * scale);
+  };
+  const double fx = std::ldexp(x + 0.5, -level) - 0.5;
+  const double fy = std::ldexp(y + 0.5, -level) - 0.5;
+  const int i = static_cast<int>(std::floor(fx));
+  const int j = static_cast<int>(std::floor(fy));
+  const auto tx = static_cast<float>(fx - i);
+  const auto ty = static_cast<float>(fy - j);
+  const float a = at(i, j) + (at(i + 1, j) - at(i, j)) * tx;
+  const float b = at(i, j + 1) + (at(i + 1, j + 1) - at(i, j + 1)) * tx;
+  return a + (b - a) * ty;
+}
+
 // On a stick's side or top (StickShading.h): the colour, at height zM, of the tallest stick among
 // the four voxels of `level` around level-0 continuous coordinates (x, y); nothing when none of
 // them carries one.
@@ -148,18 +174,19 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
         Rgb colour;
         if (h.basePlane) {
           const auto range = static_cast<float>(h.depthM * length);
-          colour = shading.terrain(unpackRgb(mBaseColourRgba), range);
+          colour = shading.terrain(Rgb{unpackRgb(mBaseColourRgba).v * shading.light().flat()}, range);
           if (sub == s / 2) rangePx = range;
         } else if (h.hit) {
           const TerrainGeometry& g = mView.geometry();
           const double x = (h.pointM.x - g.originM.x) / g.spacingM;
           const double y = (h.pointM.y - g.originM.y) / g.spacingM;
           if (const std::optional<Rgb> stick = stickColour(mView, h.level, x, y, h.pointM.z)) {
-            colour = *stick;
+            colour = Rgb{stick->v * shading.light().flat()};
           } else {
             colour = bilinearColour(mView, h.level, x, y);
             const double blend = settings.blendLevels ? geo.levelBlend(h.depthM * geo.lodStretch(d), h.level) : 0.0;
             if (blend > 0.0) colour = mix(colour, bilinearColour(mView, h.level + 1, x, y), static_cast<float>(blend));
+            if (shading.light().relit()) colour.v *= terrainLight(mView, shading.light(), h.level, x, y);
           }
           const auto range = static_cast<float>(h.depthM * length);
           colour = shading.terrain(colour, range);

@@ -23,6 +23,12 @@ RenderConfig readRenderConfig(ConfigReader& t, int defaultWidthPx, int defaultHe
   c.heightPx = static_cast<int>(t.integer("height", defaultHeightPx, 16, 8192));
   c.visibilityGiven = t.has("visibility_m");
   if (c.visibilityGiven) s.hazeRangeM = t.number("visibility_m", s.hazeRangeM, 0.0, 1e7);
+  s.colourSun.azimuthDeg = t.number("colour_sun_azimuth_deg", s.colourSun.azimuthDeg, -360.0, 360.0);
+  s.colourSun.elevationDeg = t.number("colour_sun_elevation_deg", s.colourSun.elevationDeg, 1.0, 90.0);
+  s.colourHillshade = t.number("colour_hillshade", s.colourHillshade, 0.0, 1.0);
+  // Without a sun of its own the frame is lit as the colours were: drawn as stored.
+  s.sun.azimuthDeg = t.number("sun_azimuth_deg", s.colourSun.azimuthDeg, -360.0, 360.0);
+  s.sun.elevationDeg = t.number("sun_elevation_deg", s.colourSun.elevationDeg, -90.0, 90.0);
   t.finish();
   return c;
 }

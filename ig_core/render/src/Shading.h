@@ -3,6 +3,8 @@
 // next level blended in, haze toward the horizon colour with range, the sky gradient, and what a
 // ray that misses the terrain sees (the base plane beyond the edge, or the sky).
 
+#include "TerrainLight.h"
+
 #include <ig_core/RenderSettings.h>
 
 #include <fieldcast/Image.h>
@@ -117,14 +119,18 @@ struct PixelShader {
   }
 };
 
-/// Haze and sky for one frame's settings. Built once per frame (a small table); RT-safe to use.
+/// Haze, sky and light for one frame's settings. Built once per frame (a small table); RT-safe to
+/// use. The sky and the haze colour are dimmed by the daylight the frame's sun leaves.
 class Shading {
  public:
   explicit Shading(const RenderSettings& s) noexcept
-      : mZenith{static_cast<float>(s.skyZenithRgb.x), static_cast<float>(s.skyZenithRgb.y),
-                static_cast<float>(s.skyZenithRgb.z)},
-        mHorizon{static_cast<float>(s.skyHorizonRgb.x), static_cast<float>(s.skyHorizonRgb.y),
-                 static_cast<float>(s.skyHorizonRgb.z)},
+      : mLight(s),
+        mZenith{Float4{static_cast<float>(s.skyZenithRgb.x), static_cast<float>(s.skyZenithRgb.y),
+                       static_cast<float>(s.skyZenithRgb.z), 0.0f} *
+                mLight.sky()},
+        mHorizon{Float4{static_cast<float>(s.skyHorizonRgb.x), static_cast<float>(s.skyHorizonRgb.y),
+                        static_cast<float>(s.skyHorizonRgb.z), 0.0f} *
+                 mLight.sky()},
         mGrey(s.colourMode == FrameColour::Grey) {
     // Haze fraction 1 − exp(−r/R) tabulated over [0, 8R]: a table lookup per pixel instead of exp.
     mHazeOn = s.hazeRangeM > 0.0;
@@ -159,6 +165,8 @@ class Shading {
   }
 
   bool grey() const noexcept { return mGrey; }
+  /// The frame's sun against the colours' (TerrainLight.h).
+  const TerrainLight& light() const noexcept { return mLight; }
 
   /// Writes `c` × `scale` (the mean of the sub-ray colours) to the pixel at `pixel`. RT-safe.
   void storePixel(std::uint8_t* pixel, const Rgb& c, float scale) const noexcept {
@@ -173,6 +181,7 @@ class Shading {
 
  private:
   static constexpr int kTable = 1024;
+  TerrainLight mLight;
   Rgb mZenith;
   Rgb mHorizon;
   bool mGrey;

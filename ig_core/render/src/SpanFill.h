@@ -75,11 +75,12 @@ struct TerrainSpanPixel {
   }
 };
 
-/// A span on a stick's side or top (StickShading.h): the stick's texels at its level, and the
-/// near and the far crossing's texel coordinates on it.
+/// A span on a stick's side or top (StickShading.h): the stick's texels at its level, the near
+/// and the far crossing's texel coordinates on it, and the light its texels are scaled by.
 struct StickSpan {
   std::span<const std::uint32_t> texels;
   float s0 = 0.0f, s1 = 0.0f;
+  float light = 1.0f;  ///< the frame's sun on colours without light of their own (TerrainLight::flat)
 };
 
 /// What sub-row q of a span on a stick sees: the texel at its place between the crossings (the far
@@ -90,7 +91,7 @@ struct StickSpanPixel {
                        int q) const noexcept {
     const SpanPoint p = spanPoint(span, column, q);
     const std::uint32_t texel = stickTexel(stick.texels, stick.s0 + (stick.s1 - stick.s0) * p.tw);
-    return {shading.terrain(unpackRgb(texel), p.rangeM), p.rangeM};
+    return {shading.terrain(Rgb{unpackRgb(texel).v * stick.light}, p.rangeM), p.rangeM};
   }
 };
 

@@ -21,6 +21,14 @@ enum class FrameColour : std::uint8_t {
   Grey,  ///< PixelFormat::Grey8, BT.601 luma of the colour
 };
 
+/// A direction towards the sun: azimuth clockwise from grid north (world +y), elevation above the
+/// horizon, degrees.
+struct SunDirection {
+  double azimuthDeg = 315.0;
+  double elevationDeg = 40.0;
+  bool operator==(const SunDirection&) const = default;
+};
+
 /// Settings of the renderer. Plain values; changing them between frames is cheap.
 struct RenderSettings {
   /// Pixel-to-voxel ratio: a level-L voxel is used while it projects to at least `quality` pixels,
@@ -41,6 +49,15 @@ struct RenderSettings {
   glm::dvec3 skyZenithRgb{62, 104, 178};    ///< sky colour straight up, sRGB 0..255
   glm::dvec3 skyHorizonRgb{196, 210, 226};  ///< sky colour at the horizon and haze colour, sRGB 0..255
   double hazeRangeM = 12000.0;              ///< range (m) where haze covers 63% of the terrain; 0 = none
+  /// The sun the frame is lit by (a host's time of day). While it is colourSun the terrain's
+  /// colours are drawn as stored; otherwise each is scaled by the light its surface gets now over
+  /// the light it was baked with (TerrainLight.h), and sky, haze, sticks and entities follow.
+  SunDirection sun;
+  /// The sun the terrain's colours were baked with, and the share of their light that is
+  /// hillshade: the procedural colours' defaults (ProceduralColourOptions). An orthophoto's
+  /// colours are taken to be lit the same way.
+  SunDirection colourSun;
+  double colourHillshade = 0.7;
   double marginFraction = 0.10;             ///< frame margin on each side, fraction of each display dimension
   int controlPointsPerSide = 3;             ///< control points: a perSide × perSide grid over the display
 };
