@@ -16,6 +16,7 @@ build_packages=(
   libzstd-dev libxxhash-dev
   libtiff-dev  # GeoTIFF tags for terrain import (ig_core)
   libproj-dev  # PROJ: geographic DEMs reprojected at import, the database georeference (ig_core)
+  libnova-dev  # the sun's position for a CIGI host's date and time of day (app)
   nlohmann-json3-dev  # the JSON run summary
   gnuplot-nox  # the plots of fieldcast-latency's report (tools/latency)
 )

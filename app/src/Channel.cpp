@@ -72,6 +72,7 @@ void Channel::renderMain() noexcept {
     pacing.controller = render.controller;
     pacing.initialQuality = render.settings.quality;
     pacing.hazeRangeM = mHazeRangeM;
+    pacing.sun = mSun;
     pacing.entities = mEntities;
     pacing.display = &mDisplay;
     RenderLoop loop(renderer, mMotion, mSettings.view.display, mFrames, mMetrics, pacing, &mTerrain, &mTerrainSwitch);

@@ -94,6 +94,8 @@ class Channel {
   /// Where the render loop reads a runtime haze range (HostSession::hazeRangeM; see RenderPacing);
   /// call before startRendering. Null: the configured haze throughout.
   void setHazeRange(const std::atomic<double>* rangeM) noexcept { mHazeRangeM = rangeM; }
+  /// Where the render loop reads a runtime sun (HostSession::sun; see RenderPacing). Before start().
+  void setSun(const SeqLock<std::optional<core::SunDirection>>* sun) noexcept { mSun = sun; }
   /// The moving entities the render loop draws in every frame (see RenderPacing); call before
   /// startRendering. Null: none.
   void setEntities(const SceneEntities* entities) noexcept { mEntities = entities; }
@@ -164,6 +166,7 @@ class Channel {
   std::thread mFieldThread;
   std::atomic<bool> mStopRender{false};
   const std::atomic<double>* mHazeRangeM = nullptr;
+  const SeqLock<std::optional<core::SunDirection>>* mSun = nullptr;
   const SceneEntities* mEntities = nullptr;
   TerrainSwitch mTerrainSwitch;
   std::atomic<bool> mStopFields{false};

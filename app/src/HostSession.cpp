@@ -152,6 +152,14 @@ void HostSession::onMessage(const io::HostMessage& message) {
         mHazeRangeM.store(std::max(1.0, hazeRangeForVisibility(atmosphere->visibilityRangeM)),
                           std::memory_order_relaxed);
       }
+    } else if (const auto* celestial = std::get_if<cigi::CelestialSphereControl>(&packet)) {
+      // Not an entity update either: applies in every mode.
+      if (mCelestial.apply(*celestial, message.arrival) == CelestialClock::Applied::Refused) {
+        mCelestialRefused.fetch_add(1, std::memory_order_relaxed);
+      } else {
+        mCelestialControls.fetch_add(1, std::memory_order_relaxed);
+        publishSun(message.arrival);
+      }
     } else if (const auto* view = std::get_if<cigi::ViewControl>(&packet)) {
       if (operate) applyViewControl(*view);  // a view update: ignored outside operate, as entity updates are
     } else if (const auto* definition = std::get_if<cigi::ViewDefinition>(&packet)) {
@@ -590,6 +598,8 @@ bool HostSession::onField(const io::FieldAnnouncement& field, cigi::IgMessageBui
   if (mDatabases != nullptr) {
     if (std::optional<OpenDatabase> loaded = mDatabases->switchIfLoaded()) switchTo(std::move(*loaded));
   }
+  // The sun moves a quarter of a degree in a minute: once a second is plenty.
+  if (now - mSunPublishedAt >= std::chrono::seconds(1)) publishSun(now);
   answerPeriodic(now);
   answerWaitingHeights(now);
   answerWaitingLos(now);
@@ -634,6 +644,22 @@ void HostSession::switchTo(OpenDatabase database) {
   const TimePoint now = mClock.now();
   for (const auto& [id, entity] : mEntities) updateEntitySample(entity, now);
   publishEntities();
+  publishSun(now);  // another place on the Earth
+}
+
+void HostSession::publishSun(TimePoint now) {
+  const std::optional<double> jd = mCelestial.julianDayAt(now);
+  if (!jd) return;
+  mSunPublishedAt = now;
+  const core::TerrainGeometry& g = mTerrain->geometry();
+  const glm::dvec3 centre{g.originM.x + 0.5 * (g.widthVox - 1) * g.spacingM,
+                          g.originM.y + 0.5 * (g.heightVox - 1) * g.spacingM, 0.0};
+  const std::optional<core::GeodeticPosition> place = mGeoreference->toGeodetic(centre);
+  const std::optional<double> north = trueNorthInGrid(*mGeoreference, centre);
+  if (!place || !north) return;  // a CRS that cannot place its own centre: the sun stays
+  core::SunDirection sun = sunSeenFrom({place->latitudeDeg, place->longitudeDeg}, *jd);
+  sun.azimuthDeg += *north;
+  mSun.store(sun);
 }
 
 HostSessionFigures HostSession::figures() const noexcept {
@@ -653,6 +679,8 @@ HostSessionFigures HostSession::figures() const noexcept {
   f.periodicRequests = mPeriodicRequests.load(std::memory_order_relaxed);
   f.periodicAnswers = mPeriodicAnswers.load(std::memory_order_relaxed);
   f.periodicRefused = mPeriodicRefused.load(std::memory_order_relaxed);
+  f.celestialControls = mCelestialControls.load(std::memory_order_relaxed);
+  f.celestialRefused = mCelestialRefused.load(std::memory_order_relaxed);
   return f;
 }
 

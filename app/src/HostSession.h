@@ -4,7 +4,8 @@
 // two fields), the ownship's pose and rates (entity 0) into the
 // host motion source, other entities into a table, HAT/HOT requests answered from the terrain,
 // Line of Sight Segment and Vector requests answered by a level-0 march (core::lineOfSight),
-// Atmosphere Control's visibility published as the haze range; and, once per field, the Start of
+// Atmosphere Control's visibility published as the haze range, Celestial Sphere Control's date and
+// time as the sun (CelestialClock.h) over the database's centre; and, once per field, the Start of
 // Frame with the answers due. Runs on the HostLink's thread.
 //
 // Heights are those of the surface the renderer draws at full resolution (bilinear between the
@@ -13,11 +14,13 @@
 // level answers), so an answer may come one or more fields after its request. LOS requests wait
 // the same way for the level-0 tiles under their whole segment (or vector, to its maximum range).
 
+#include "CelestialClock.h"
 #include "HostDatabases.h"
 #include "SceneEntities.h"
 
 #include <fieldcast/Conventions.h>
 #include <fieldcast/Intrinsics.h>
+#include <fieldcast/SeqLock.h>
 #include <fieldcast/Time.h>
 #include <ig_core/Georeference.h>
 #include <ig_core/TileCache.h>
@@ -63,6 +66,8 @@ struct HostSessionFigures {
   std::uint64_t viewControlsIgnored = 0;     ///< addressed to it but not applicable (another entity, not finite)
   std::uint64_t viewDefinitions = 0;         ///< View Definitions addressed to this IG's view and applied
   std::uint64_t viewDefinitionsIgnored = 0;  ///< addressed to it but not a frustum this IG renders
+  std::uint64_t celestialControls = 0;       ///< Celestial Sphere Controls that set or ran the time of day
+  std::uint64_t celestialRefused = 0;        ///< with Date/Time Valid set but not a date (13/40/2024)
 };
 
 /// The view this IG renders as a host addresses it with View Control, and how to move it.
@@ -93,6 +98,9 @@ class HostSession final : public io::HostHandler {
   void setDatabases(HostDatabases* databases) noexcept { mDatabases = databases; }
   /// The view View Control may move (without one, View Controls are ignored). Set before the link starts.
   void setView(HostView view) { mView = std::move(view); }
+  /// The time zone the host's Celestial Sphere Control hour and minute are in: hours east of UTC
+  /// ([host] celestial_utc_offset_h; 0 until set). Set before the link starts.
+  void setUtcOffset(double hours) noexcept { mCelestial = CelestialClock(hours); }
 
   void onMessage(const io::HostMessage& message) override;
   bool onField(const io::FieldAnnouncement& field, io::cigi::IgMessageBuilder& out) override;
@@ -104,6 +112,10 @@ class HostSession final : public io::HostHandler {
   /// visibility range), at least 1 m; 0 until the host sends one. The render loop reads it before
   /// each frame. Any thread.
   const std::atomic<double>& hazeRangeM() const noexcept { return mHazeRangeM; }
+  /// The sun of the host's time of day over the database's centre (grid north); empty until the
+  /// host sends a date and time. Moves on once a second of the IG's clock while the host's
+  /// ephemeris model runs. The render loop reads it before each frame. Any thread.
+  const SeqLock<std::optional<core::SunDirection>>& sun() const noexcept { return mSun; }
   /// The host's entities other than the ownship as last sent (detached ones: an attached entity's
   /// parent offsets are not resolved), into `out`. Any thread (the render loop, once a frame).
   void copyEntities(std::vector<HostEntitySample>& out) const;
@@ -121,6 +133,7 @@ class HostSession final : public io::HostHandler {
   void applyViewDefinition(const io::cigi::ViewDefinition& definition);
   void updateEntitySample(const io::cigi::EntityControl& entity, TimePoint arrival);
   void publishEntities();  // mEntitySamples to the render loop's copy
+  void publishSun(TimePoint now);  // the celestial clock's sun over the database's centre to mSun
   void applyOwnship(const io::cigi::EntityControl& entity, const io::cigi::RateControl* rates, double hostTimeS,
                     TimePoint arrival, std::uint32_t hostFrame);
   // A height request whose answer waits for the full-resolution tiles under its point.
@@ -203,12 +216,16 @@ class HostSession final : public io::HostHandler {
   std::vector<io::cigi::LosExtendedResponse> mLosExtendedDue;
   std::map<std::uint16_t, Periodic<io::cigi::HatHotRequest>> mPeriodicHeights;
   std::map<std::uint16_t, Periodic<LosRequest>> mPeriodicLos;
+  CelestialClock mCelestial{0.0};
+  TimePoint mSunPublishedAt{};
 
   std::atomic<std::uint64_t> mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0}, mLosRequests{0}, mLosHits{0},
       mOtherEntities{0}, mModeChanges{0}, mViewControls{0}, mViewControlsIgnored{0}, mViewDefinitions{0},
-      mViewDefinitionsIgnored{0}, mPeriodicRequests{0}, mPeriodicAnswers{0}, mPeriodicRefused{0};
+      mViewDefinitionsIgnored{0}, mPeriodicRequests{0}, mPeriodicAnswers{0}, mPeriodicRefused{0},
+      mCelestialControls{0}, mCelestialRefused{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
   std::atomic<double> mHazeRangeM{0.0};
+  SeqLock<std::optional<core::SunDirection>> mSun;
   mutable std::mutex mPublishedMutex;  // the render loop's copy of mEntitySamples
   std::vector<HostEntitySample> mPublishedEntities;
 };

@@ -57,6 +57,14 @@ RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
       mRenderer.setSettings(settings);  // applies to this frame on: in-flight frames keep theirs
     }
   }
+  if (mPacing.sun != nullptr) {
+    const std::optional<core::SunDirection> sun = mPacing.sun->load();
+    if (sun && !(*sun == mRenderer.settings().sun)) {
+      core::RenderSettings settings = mRenderer.settings();
+      settings.sun = *sun;
+      mRenderer.setSettings(settings);
+    }
+  }
   // The producer's spare slot holds a frame the field thread has let go of: its buffers are reused.
   frame.ticket = mRenderer.submit(request, std::move(mFrames.back()));
   return frame;

@@ -31,6 +31,9 @@ struct RenderPacing {
   /// When set and > 0: the haze range (m) of the frames submitted from then on (the CIGI host's
   /// visibility, HostSession::hazeRangeM); read before each frame.
   const std::atomic<double>* hazeRangeM = nullptr;
+  /// When set and holding a sun: the sun of the frames submitted from then on (the CIGI host's
+  /// time of day, HostSession::sun); read before each frame.
+  const SeqLock<std::optional<core::SunDirection>>* sun = nullptr;
   /// When set: the display window's frustum for the frames submitted from then on (the CIGI
   /// host's View Definition); read before each frame. Its size must stay the display's.
   const SeqLock<Intrinsics>* display = nullptr;

@@ -96,7 +96,9 @@ nlohmann::json hostSummary(const io::HostLinkCounters& link, const HostSessionFi
           {"view_controls", session.viewControls},
           {"view_controls_ignored", session.viewControlsIgnored},
           {"view_definitions", session.viewDefinitions},
-          {"view_definitions_ignored", session.viewDefinitionsIgnored}};
+          {"view_definitions_ignored", session.viewDefinitionsIgnored},
+          {"celestial_controls", session.celestialControls},
+          {"celestial_refused", session.celestialRefused}};
 }
 
 std::unique_ptr<io::StickInput> openStick(const io::InputConfig& config, Clock& clock) {
@@ -337,6 +339,7 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
     p.hostSession->setDatabases(p.hostDatabases.get());
   }
   if (p.hostSession) {
+    p.hostSession->setUtcOffset(config.host.celestialUtcOffsetH);
     p.hostSession->setView(HostView{config.host.viewId, config.host.viewGroup, config.view,
                                     [&p](const ViewOffset& offset) { p.channel->setViewOffset(offset); },
                                     p.channel->settings().view.display,
@@ -395,7 +398,10 @@ void Service::start() {
   if (p.gpio) p.gpio->start();
   if (p.hostLink) p.hostLink->start();
 
-  if (p.hostSession) p.channel->setHazeRange(&p.hostSession->hazeRangeM());  // the host's visibility
+  if (p.hostSession) {
+    p.channel->setHazeRange(&p.hostSession->hazeRangeM());  // the host's visibility
+    p.channel->setSun(&p.hostSession->sun());               // and time of day
+  }
   if (p.entities) p.channel->setEntities(p.entities.get());
   p.channel->startRendering();
   p.started.store(true);

@@ -39,6 +39,7 @@ HostConfig readHostConfig(ConfigReader& t) {
     t.fail("origin_deg", "expected [latitude within ±89, longitude within ±180]");
   }
   h.origin = {origin[0], origin[1]};
+  h.celestialUtcOffsetH = t.number("celestial_utc_offset_h", h.celestialUtcOffsetH, -12.0, 14.0);
   for (ConfigReader& d : t.tables("database")) {
     HostDatabase database;
     if (!d.has("number")) d.fail("number", "expected the database's number (1 to 127)");

@@ -881,5 +881,68 @@ TEST_F(HostSessionTest, TheRenderLoopRendersWithTheHostsHaze) {
   EXPECT_EQ(renderer.settings().hazeRangeM, hazeRangeForVisibility(2500.0));
 }
 
+// ---- Celestial Sphere --------------------------------------------------------------------------
+
+cigi::CelestialSphereControl timeOfDay(int hour, int minute, bool running) {
+  cigi::CelestialSphereControl c;
+  c.dateMMDDYYYY = 6212024;  // 21 June 2024
+  c.hour = static_cast<std::uint8_t>(hour);
+  c.minute = static_cast<std::uint8_t>(minute);
+  c.dateTimeValid = true;
+  c.ephemerisModelEnabled = running;
+  c.sunEnabled = true;
+  return c;
+}
+
+TEST_F(HostSessionTest, CelestialSphereControlPutsItsSunOverTheDatabase) {
+  EXPECT_FALSE(mSession.sun().load());  // nothing from the host yet: the configured sun
+  send({timeOfDay(12, 0, false)}, 1.0, cigi::IgMode::ResetStandby);  // not an entity update: any mode
+  const std::optional<core::SunDirection> noon = mSession.sun().load();
+  ASSERT_TRUE(noon);
+  // The terrain's centre lies at the tangent plane's origin (46° N, 7° E) plus 255 m each way.
+  const auto centre = core::Georeference::tangentPlane().toGeodetic({255.0, 255.0, 0.0});
+  const core::SunDirection expected =
+      sunSeenFrom({centre->latitudeDeg, centre->longitudeDeg}, *julianDayUtc({2024, 6, 21, 12, 0}));
+  EXPECT_NEAR(noon->azimuthDeg, expected.azimuthDeg, 0.01);  // grid north is true north here
+  EXPECT_NEAR(noon->elevationDeg, expected.elevationDeg, 0.01);
+  EXPECT_GT(noon->elevationDeg, 60.0);  // half an hour past local noon in June at 46° N: high,
+  EXPECT_GT(noon->azimuthDeg, 185.0);   // just west of south
+  EXPECT_LT(noon->azimuthDeg, 215.0);
+
+  send({timeOfDay(22, 30, false)}, 2.0);
+  EXPECT_LT(mSession.sun().load()->elevationDeg, -10.0);  // night
+  EXPECT_EQ(mSession.figures().celestialControls, 2u);
+
+  cigi::CelestialSphereControl notADate = timeOfDay(12, 0, false);
+  notADate.dateMMDDYYYY = 2302024;  // 30 February
+  send({notADate}, 3.0);
+  EXPECT_EQ(mSession.figures().celestialRefused, 1u);
+  EXPECT_LT(mSession.sun().load()->elevationDeg, -10.0);  // unchanged
+}
+
+TEST_F(HostSessionTest, WhileTheEphemerisModelRunsTheSunMovesFieldByField) {
+  send({timeOfDay(17, 0, true)}, 1.0);
+  const core::SunDirection before = *mSession.sun().load();
+  field(1, mClock.now());
+  mClock.advance(std::chrono::minutes(30));
+  field(2, mClock.now());
+  const core::SunDirection after = *mSession.sun().load();
+  // Half an hour of a June evening: the sun sinks by several degrees and moves west.
+  EXPECT_LT(after.elevationDeg, before.elevationDeg - 4.0);
+  EXPECT_GT(after.azimuthDeg, before.azimuthDeg + 3.0);
+}
+
+TEST_F(HostSessionTest, TheRenderLoopRendersWithTheHostsSun) {
+  send({timeOfDay(4, 0, false)});
+  core::Renderer renderer(sTerrain->view(), core::RenderSettings{}, 1);
+  warp::FrameHandover frames;
+  RenderPacing pacing;
+  pacing.sun = &mSession.sun();
+  renderFrames(renderer, pacing, Intrinsics::fromHorizontalFov(64, 48, radians(60.0)), frames, 1);
+  EXPECT_EQ(renderer.settings().sun, *mSession.sun().load());
+  EXPECT_LT(renderer.settings().sun.elevationDeg, 10.0);  // 04:00 UT in June at 7° E: just after sunrise
+  EXPECT_GT(renderer.settings().sun.elevationDeg, 0.0);
+}
+
 }  // namespace
 }  // namespace fieldcast::app

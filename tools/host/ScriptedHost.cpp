@@ -321,6 +321,8 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     rates.pitchRateDegps = rateDegps(before.pitchRad, after.pitchRad);
     rates.rollRateDegps = rateDegps(before.rollRad, after.rollRad);
     message.add(rates);
+    const auto framesPerSecond = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::lround(options.rateHz)));
+    if (options.timeOfDay && frame % framesPerSecond == 0) message.add(*options.timeOfDay);
     if (options.requestHeights) {
       cigi::HatHotRequest request;
       request.hatHotId = static_cast<std::uint16_t>(frame);

@@ -4,7 +4,7 @@
 // a HAT/HOT request under the ownship (and, on request, a Line of Sight Segment request from the
 // ownship to the ground ahead); it reads back the IG's Start of Frame messages and answers and
 // measures them — Start of Frame rate, answer latency, height and range errors against its own
-// query of the same terrain. Faults on request: jitter, loss, byte swapping, a host clock offset,
+// query of the same terrain. On request it sets the IG's date and time of day. Faults on request: jitter, loss, byte swapping, a host clock offset,
 // a silent spell. It can record both directions as a pcap capture and log what it sent.
 
 #include <ig_core/Georeference.h>
@@ -12,8 +12,10 @@
 #include <motion/ScriptedTrajectory.h>
 
 #include <io_bridge/PcapWriter.h>
+#include <io_bridge/cigi/Packets.h>
 
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -38,6 +40,9 @@ struct ScriptedHostOptions {
   /// meet the ground and some do not); every other one asks for the Extended Response.
   bool requestLineOfSight = false;
   double waitForIgS = 0.0;  ///< first send IG Control alone until the IG answers (or this long)
+  /// When set: a Celestial Sphere Control (the date and time of day, the ephemeris model running)
+  /// with the first host frame and once a second after.
+  std::optional<io::cigi::CelestialSphereControl> timeOfDay;
   std::uint32_t seed = 1;
 };
 

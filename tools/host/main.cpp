@@ -8,6 +8,7 @@
 //   --los            a Line of Sight Segment request each frame, to the ground ahead and below
 //   --pcap FILE      both directions as a classic pcap capture (Wireshark: decode the IG's port as CIGI)
 //   --sent-log FILE  the ownship's Entity Control values of each host frame sent, tab-separated
+//   --time-of-day 2024-06-21T19:30   the date and time of day (Celestial Sphere Control), running
 #include "ScriptedHost.h"
 
 #include <service/ServiceConfig.h>
@@ -20,8 +21,32 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
+
+namespace {
+
+// "2024-06-21T19:30" as a Celestial Sphere Control: date and time valid, the ephemeris model
+// running, the sun on. Nothing when the text is not of that form (the IG judges the date itself).
+std::optional<fieldcast::io::cigi::CelestialSphereControl> celestialControlOf(const std::string& text) {
+  int year = 0, month = 0, day = 0, hour = 0, minute = 0, used = 0;
+  if (std::sscanf(text.c_str(), "%4d-%2d-%2dT%2d:%2d%n", &year, &month, &day, &hour, &minute, &used) != 5 ||
+      used != static_cast<int>(text.size()) || year < 1 || month < 1 || month > 12 || day < 1 || day > 31 ||
+      hour > 23 || minute > 59 || hour < 0 || minute < 0) {
+    return std::nullopt;
+  }
+  fieldcast::io::cigi::CelestialSphereControl c;
+  c.hour = static_cast<std::uint8_t>(hour);
+  c.minute = static_cast<std::uint8_t>(minute);
+  c.dateMMDDYYYY = static_cast<std::uint32_t>(month * 1000000 + day * 10000 + year);
+  c.dateTimeValid = true;
+  c.ephemerisModelEnabled = true;
+  c.sunEnabled = true;
+  return c;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace fieldcast;
@@ -62,11 +87,18 @@ int main(int argc, char** argv) {
                "clear IG Control's extrapolation/interpolation enable: the IG shows each pose as sent");
   app.add_flag("--los", options.requestLineOfSight,
                "request line of sight each frame to the ground ahead and check the ranges");
+  std::string timeOfDay;
+  app.add_option("--time-of-day", timeOfDay,
+                 "send this date and time (YYYY-MM-DDTHH:MM, the IG's celestial_utc_offset_h time zone), running")
+      ->check([](const std::string& text) -> std::string {
+        return celestialControlOf(text) ? "" : "expected YYYY-MM-DDTHH:MM, e.g. 2024-06-21T19:30";
+      });
   app.add_option("--pcap", pcapPath, "record every datagram sent and received as a pcap file");
   app.add_option("--sent-log", sentLogPath, "log the ownship values sent each host frame (tab-separated)");
   app.add_option("--summary", summaryPath, "write the report as JSON here");
   CLI11_PARSE(app, argc, argv);
   options.igAddress = ig;
+  if (!timeOfDay.empty()) options.timeOfDay = celestialControlOf(timeOfDay);
 
   try {
     // The recordings are opened first, so an unwritable path fails at once.

@@ -57,6 +57,7 @@ struct HostConfig {
   std::uint16_t viewId = 0;                                   ///< the view View Control addresses as this IG's
   std::uint8_t viewGroup = 0;                                 ///< the view group it belongs to (0: none)
   std::vector<HostEntityModel> entityModels;                  ///< what the host's entities look like, by type
+  double celestialUtcOffsetH = 0.0;  ///< Celestial Sphere Control's hour and minute are local time this far east of UTC
 };
 
 /// [threads]: scheduling.
