@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -124,6 +125,39 @@ TEST_F(HostRun, AByteSwappedJitteryHostDrivesTheService) {
   for (std::size_t k = 60; k + 60 < last - 120; k += 30)
     largest = std::max(largest, meanAbsoluteDifference(video[k], video[k + 60]));
   EXPECT_GT(largest, 10.0);  // flying: a second apart, the picture moved
+}
+
+double meanLuma(const std::string& luma) {
+  double sum = 0.0;
+  for (const char c : luma) sum += static_cast<unsigned char>(c);
+  return sum / static_cast<double>(luma.size());
+}
+
+TEST_F(HostRun, TheHostsTimeOfDayLightsTheFields) {
+  // Until the host speaks the fields are lit by the configured sun (the colours' own); from its
+  // first message on, by the sun of its date and time: late evening in June, after sunset.
+  const std::string config = (mDir / "fieldcast.toml").string();
+  auto service = std::async(std::launch::async, [&] {
+    return fieldcast::testing::runFieldcast("--config " + config + " --duration 8", 120);
+  });
+  const RunResult host = runHost("--config " + config + " --flight " + (mDir / "flight.toml").string() +
+                                     " --duration 3 --time-of-day 2024-06-21T21:30 --wait-for-ig 60",
+                                 120);
+  const RunResult run = service.get();
+  ASSERT_EQ(host.exitCode, 0) << host.output;
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const nlohmann::json s = nlohmann::json::parse(std::ifstream(mDir / "out/summary.json"));
+  EXPECT_GE(s["host"]["celestial_controls"].get<int>(), 3) << s["host"].dump();  // once a second
+  EXPECT_EQ(s["host"]["celestial_refused"].get<int>(), 0);
+  const std::vector<std::string> video = frames();
+  ASSERT_GT(video.size(), 400u);
+  // Above video black (16 in the Y4M's BT.601 range):
+  const double day = meanLuma(video.front()) - 16.0;
+  const double dusk = meanLuma(video.back()) - 16.0;
+  std::printf("mean luma above black: first field %.1f (configured sun), last %.1f (21:30 UT, 21 June)\n", day,
+              dusk);
+  EXPECT_GT(day, 60.0);  // terrain and sky by day
+  EXPECT_LT(dusk, 0.1 * day);
 }
 
 }  // namespace

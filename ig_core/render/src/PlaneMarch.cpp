@@ -21,7 +21,7 @@ using ray_march::ceilToInt;
 using ray_march::colourAt;
 using ray_march::floorToInt;
 using ray_march::heightAt;
-using ray_march::lightAt;
+using ray_march::segmentLight;
 using ray_march::levelIndex;
 using ray_march::pow2;
 using ray_march::stickAt;
@@ -87,15 +87,13 @@ inline std::uint32_t windowColour(const CasterFrame& f, CasterThread& t, TileWin
   x.colour = mix(x.colour, mix(lo, hi, fy), static_cast<float>(blend));
 }
 
-// Scales a crossing's colour by the frame's sun (TerrainLight.h): its segment's two voxels'
-// factors, linear along it as the colours are. Called only for a relit frame.
+// Scales a crossing's colour by the frame's sun (TerrainLight.h) where it lies on its segment.
+// Called only for a relit frame.
 void relightCrossing(const CasterFrame& f, CasterThread& t, const ColumnPlane& c, Crossing& x) noexcept {
   const int vx = c.xMajor ? x.i : x.j;
   const int vy = c.xMajor ? x.j : x.i;
   const bool alongX = c.xMajor == x.onMinorLine;  // the segment's second voxel lies east, else north
-  const float l0 = lightAt(f, t, x.level, vx, vy);
-  const float l1 = lightAt(f, t, x.level, alongX ? vx + 1 : vx, alongX ? vy : vy + 1);
-  x.colour.v *= l0 + (l1 - l0) * static_cast<float>(x.phi);
+  x.colour.v *= segmentLight(f, t, x.level, vx, vy, alongX, static_cast<float>(x.phi));
 }
 
 // A crossing's stick (StickShading.h): the one of its segment's two voxels that colours it (a

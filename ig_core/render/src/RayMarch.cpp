@@ -237,14 +237,39 @@ std::uint32_t colourAt(const CasterFrame& f, CasterThread& t, int level, int x, 
   return tile->colourRgba[((y & f.tileMask) << f.tileShift) | (x & f.tileMask)];
 }
 
-float lightAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept {
+float segmentLight(const CasterFrame& f, CasterThread& t, int level, int x, int y, bool alongX, float phi) noexcept {
+  // Along the segment: the voxel before it, its two voxels, the one after; beside each of its two
+  // voxels, the one below and the one above across it. From one tile when they lie in it (most
+  // do), else one by one.
+  const int ax = alongX ? 1 : 0, ay = alongX ? 0 : 1;  // along
+  const int ux = ay, uy = ax;                          // across
+  float before, h0, h1, after, below0, below1, above0, above1;
+  const int lx = x & f.tileMask, ly = y & f.tileMask;
+  const TerrainTile* tile = nullptr;
+  if (lx > 0 && lx + 2 < f.tileMask && ly > 0 && ly + 2 < f.tileMask && x > 0 && y > 0 &&
+      x + 2 < f.levelWidth[static_cast<std::size_t>(level)] && y + 2 < f.levelHeight[static_cast<std::size_t>(level)]) {
+    tile = tileAt(f, t, level, x >> f.tileShift, y >> f.tileShift);
+  }
+  if (tile != nullptr) {
+    const std::ptrdiff_t row = std::ptrdiff_t{1} << f.tileShift;
+    const std::uint16_t* p = tile->heightQ + ((ly << f.tileShift) | lx);
+    const std::ptrdiff_t along = ay * row + ax, across = uy * row + ux;
+    before = p[-along], h0 = p[0], h1 = p[along], after = p[2 * along];
+    below0 = p[-across], below1 = p[along - across], above0 = p[across], above1 = p[along + across];
+  } else {
+    const auto h = [&](int dx, int dy) { return static_cast<float>(heightAt(f, t, level, x + dx, y + dy)); };
+    before = h(-ax, -ay), h0 = h(0, 0), h1 = h(ax, ay), after = h(2 * ax, 2 * ay);
+    below0 = h(-ux, -uy), below1 = h(ax - ux, ay - uy), above0 = h(ux, uy), above1 = h(ax + ux, ay + uy);
+  }
   // Quanta per voxel step to metres per metre at this level.
   const auto scale = static_cast<float>(1.0 / (f.quantaPerM * pow2(level)) * f.unitsPerM);
-  const auto h = [&](int dx, int dy) { return static_cast<float>(heightAt(f, t, level, x + dx, y + dy)); };
-  const float here = h(0, 0);
-  const float dzdx = minmodSlope(here - h(-1, 0), h(1, 0) - here) * scale;
-  const float dzdy = minmodSlope(here - h(0, -1), h(0, 1) - here) * scale;
-  return f.shading.light().terrain(dzdx, dzdy);
+  const TerrainLight& light = f.shading.light();
+  const auto factor = [&](float along, float across) {
+    return alongX ? light.terrain(along * scale, across * scale) : light.terrain(across * scale, along * scale);
+  };
+  const float l0 = factor(minmodSlope(h0 - before, h1 - h0), minmodSlope(h0 - below0, above0 - h0));
+  const float l1 = factor(minmodSlope(h1 - h0, after - h1), minmodSlope(h1 - below1, above1 - h1));
+  return l0 + (l1 - l0) * phi;
 }
 
 StickVoxel stickAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept {
@@ -414,10 +439,8 @@ Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const Mar
     colour = mix(colour, mix(a, b, fy), static_cast<float>(w));
   }
   if (f.shading.light().relit()) {
-    // The segment's two voxels' factors, linear along it as the colours are.
-    const float l0 = r.xMajor ? lightAt(f, t, c.level, c.i, j) : lightAt(f, t, c.level, j, c.i);
-    const float l1 = r.xMajor ? lightAt(f, t, c.level, c.i, j + 1) : lightAt(f, t, c.level, j + 1, c.i);
-    colour.v *= l0 + (l1 - l0) * frac;
+    // The segment runs along the minor axis: north on an x-major line, else east.
+    colour.v *= r.xMajor ? segmentLight(f, t, c.level, c.i, j, false, frac) : segmentLight(f, t, c.level, j, c.i, true, frac);
   }
   return colour;
 }

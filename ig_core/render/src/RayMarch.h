@@ -78,10 +78,13 @@ std::uint32_t colourAt(const CasterFrame& f, CasterThread& t, int level, int x, 
 /// clamped to the grid, from the coarser level that stands in when the tile is missing.
 StickVoxel stickAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept;
 
-/// The factor the frame's sun scales the terrain colour of voxel (x, y) of `level` by
-/// (TerrainLight::terrain of its slope there); call only when the frame is relit. Out of line: a
-/// frame lit by the colours' own sun never calls it.
-[[gnu::noinline]] float lightAt(const CasterFrame& f, CasterThread& t, int level, int x, int y) noexcept;
+/// The factor the frame's sun scales the terrain colour at fraction `phi` of the grid segment from
+/// voxel (x, y) of `level` to its east (alongX) or north neighbour by: each voxel's
+/// TerrainLight::terrain of its slope (minmod of the differences to its neighbours on each axis),
+/// linear between them as the colours are. Call only for a relit frame. Out of line: a frame lit
+/// by the colours' own sun never calls it.
+[[gnu::noinline]] float segmentLight(const CasterFrame& f, CasterThread& t, int level, int x, int y, bool alongX,
+                                     float phi) noexcept;
 
 /// The march state at one grid line of one level.
 struct Cursor {

@@ -31,8 +31,9 @@ inline glm::dvec3 towardsSun(const SunDirection& sun) noexcept {
 /// else 0 (minmod). On smooth ground that is the slope; beside a stick (a roof or a tree standing
 /// on the neighbour) it is the ground's side, not a cliff.
 inline float minmodSlope(float below, float above) noexcept {
-  if ((below > 0.0f) != (above > 0.0f) || below == 0.0f || above == 0.0f) return 0.0f;
-  return std::fabs(below) < std::fabs(above) ? below : above;
+  // Selects, not branches: on rough ground the signs are a coin toss.
+  const float smaller = std::fabs(below) < std::fabs(above) ? below : above;
+  return below * above > 0.0f ? smaller : 0.0f;
 }
 
 class TerrainLight {
@@ -49,16 +50,29 @@ class TerrainLight {
     mSky = static_cast<float>(daylight(s.sun.elevationDeg));
     mDirect = sunDisc(s.sun.elevationDeg);
     mFlat = static_cast<float>(lightNow(glm::dvec3{0.0, 0.0, 1.0}) / lightBaked(glm::dvec3{0.0, 0.0, 1.0}));
+    mNowSky = static_cast<float>((1.0 - mHillshade) * mSky);
+    mNowSun = static_cast<float>(mHillshade * mDirect / mToColourSun.z);
+    mBakedSky = static_cast<float>(1.0 - mHillshade);
+    mBakedSun = static_cast<float>(mHillshade / mToColourSun.z);
+    for (int k = 0; k < 3; ++k) {
+      mSun[k] = static_cast<float>(mToSun[k]);
+      mColourSun[k] = static_cast<float>(mToColourSun[k]);
+    }
   }
 
   /// True when terrain colours are scaled (the sun is not the colours' own).
   bool relit() const noexcept { return mRelit; }
 
-  /// The factor for terrain colour on ground sloping dzdx (rise east per metre) and dzdy (north).
+  /// The factor for terrain colour on ground sloping dzdx (rise east per metre) and dzdy (north):
+  /// lightNow(n) / lightBaked(n) for n = (−dzdx, −dzdy, 1) / len, both multiplied by len (one
+  /// square root, one division; the caster asks twice per crossing it colours).
   float terrain(float dzdx, float dzdy) const noexcept {
     if (!mRelit) return 1.0f;
-    const glm::dvec3 n = glm::normalize(glm::dvec3{-dzdx, -dzdy, 1.0});
-    return static_cast<float>(lightNow(n) / lightBaked(n));
+    const float len = std::sqrt(dzdx * dzdx + dzdy * dzdy + 1.0f);
+    const float now = mNowSky * len + mNowSun * std::max(0.0f, mSun[2] - dzdx * mSun[0] - dzdy * mSun[1]);
+    const float baked = mBakedSky * len + mBakedSun * std::max(0.0f, mColourSun[2] - dzdx * mColourSun[0] -
+                                                                          dzdy * mColourSun[1]);
+    return now / std::max(baked, 0.05f * len);  // full hillshade leaves slopes facing away black
   }
 
   /// The factor for colours that carry no light of their own (sticks, the base plane): level
@@ -99,6 +113,9 @@ class TerrainLight {
   float mSky = 1.0f;
   double mDirect = 1.0;
   float mFlat = 1.0f;
+  // terrain()'s constants: the sky's and the sun's shares now and when baked, the suns in float.
+  float mNowSky = 1.0f, mNowSun = 0.0f, mBakedSky = 1.0f, mBakedSun = 0.0f;
+  float mSun[3] = {0.0f, 0.0f, 1.0f}, mColourSun[3] = {0.0f, 0.0f, 1.0f};
 };
 
 }  // namespace fieldcast::core
