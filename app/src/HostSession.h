@@ -132,7 +132,7 @@ class HostSession final : public io::HostHandler {
   void applyViewControl(const io::cigi::ViewControl& control);
   void applyViewDefinition(const io::cigi::ViewDefinition& definition);
   void updateEntitySample(const io::cigi::EntityControl& entity, TimePoint arrival);
-  void publishEntities();  // mEntitySamples to the render loop's copy
+  void publishEntities();          // mEntitySamples to the render loop's copy
   void publishSun(TimePoint now);  // the celestial clock's sun over the database's centre to mSun
   void applyOwnship(const io::cigi::EntityControl& entity, const io::cigi::RateControl* rates, double hostTimeS,
                     TimePoint arrival, std::uint32_t hostFrame);
@@ -221,8 +221,8 @@ class HostSession final : public io::HostHandler {
 
   std::atomic<std::uint64_t> mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0}, mLosRequests{0}, mLosHits{0},
       mOtherEntities{0}, mModeChanges{0}, mViewControls{0}, mViewControlsIgnored{0}, mViewDefinitions{0},
-      mViewDefinitionsIgnored{0}, mPeriodicRequests{0}, mPeriodicAnswers{0}, mPeriodicRefused{0},
-      mCelestialControls{0}, mCelestialRefused{0};
+      mViewDefinitionsIgnored{0}, mPeriodicRequests{0}, mPeriodicAnswers{0}, mPeriodicRefused{0}, mCelestialControls{0},
+      mCelestialRefused{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
   std::atomic<double> mHazeRangeM{0.0};
   SeqLock<std::optional<core::SunDirection>> mSun;

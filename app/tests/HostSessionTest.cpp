@@ -895,7 +895,7 @@ cigi::CelestialSphereControl timeOfDay(int hour, int minute, bool running) {
 }
 
 TEST_F(HostSessionTest, CelestialSphereControlPutsItsSunOverTheDatabase) {
-  EXPECT_FALSE(mSession.sun().load());  // nothing from the host yet: the configured sun
+  EXPECT_FALSE(mSession.sun().load());                               // nothing from the host yet: the configured sun
   send({timeOfDay(12, 0, false)}, 1.0, cigi::IgMode::ResetStandby);  // not an entity update: any mode
   const std::optional<core::SunDirection> noon = mSession.sun().load();
   ASSERT_TRUE(noon);

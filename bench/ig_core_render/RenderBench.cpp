@@ -339,8 +339,8 @@ void BM_RenderSun(benchmark::State& state) {
   evening.sun = {250.0, 15.0};
   Renderer relit(cache.view(), evening, 2), stored(cache.view(), RenderSettings{}, 2);
   Frame a = relit.render(request), b = stored.render(request);  // warm up
-  const auto [relitMs, storedMs] =
-      alternatedMedianMs(state, [&] { renderInto(relit, request, a); }, [&] { renderInto(stored, request, b); });
+  const auto [relitMs, storedMs] = alternatedMedianMs(
+      state, [&] { renderInto(relit, request, a); }, [&] { renderInto(stored, request, b); });
   state.counters["relit_ms"] = relitMs;
   state.counters["stored_ms"] = storedMs;
   state.counters["ratio"] = relitMs / storedMs;

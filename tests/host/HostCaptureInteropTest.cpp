@@ -97,8 +97,8 @@ position = [900.0, 500.0, 280.0]
     const RunResult host = fieldcast::testing::runProgram(
         FIELDCAST_HOST_EXE,
         "--config " + config + " --flight " + (mDir / "flight.toml").string() + " --port " + std::to_string(mHostPort) +
-            " --duration 5 --wait-for-ig 60 --los" + " --pcap " + pcap() + " --sent-log " +
-            (mDir / "sent.tsv").string() + " --summary " + (mDir / "host.json").string(),
+            " --duration 5 --wait-for-ig 60 --los --time-of-day 2024-06-21T19:30" + " --pcap " + pcap() +
+            " --sent-log " + (mDir / "sent.tsv").string() + " --summary " + (mDir / "host.json").string(),
         120);
     const RunResult run = service.get();
     ASSERT_EQ(host.exitCode, 0) << host.output;
@@ -214,9 +214,10 @@ TEST_F(HostCapture, TsharkReadsTheHostsCaptureAsWhatWasSent) {
   EXPECT_EQ(compared, static_cast<int>(sent.size())) << "every Entity Control sent was captured once";
   EXPECT_EQ(badValues, 0);
   EXPECT_EQ(notCausal, 0);
-  // Both directions, with the packets each sends: IG Control, Entity Control, Rate Control, HAT/HOT
-  // Request, LOS Segment Request; Start of Frame, HAT/HOT Response, LOS Response and Extended.
-  for (const int id : {1, 2, 8, 24, 25}) EXPECT_TRUE(hostIds.count(id)) << "no host packet " << id;
+  // Both directions, with the packets each sends: IG Control, Entity Control, Rate Control,
+  // Celestial Sphere Control, HAT/HOT Request, LOS Segment Request; Start of Frame, HAT/HOT
+  // Response, LOS Response and Extended.
+  for (const int id : {1, 2, 8, 9, 24, 25}) EXPECT_TRUE(hostIds.count(id)) << "no host packet " << id;
   for (const int id : {101, 102, 104, 105}) EXPECT_TRUE(igIds.count(id)) << "no IG packet " << id;
 
   // Start of Frame: one IG frame per field (59.94 Hz) by the capture's clock, and by its own
@@ -237,6 +238,21 @@ TEST_F(HostCapture, TsharkReadsTheHostsCaptureAsWhatWasSent) {
   EXPECT_NEAR(fieldsBetween / (last.timeS - first.timeS), 59.94, 1.0);  // capture clock, arrival jitter
   const std::uint32_t ticks = last.ticks - first.ticks;                 // they wrap at 2^32
   EXPECT_NEAR(ticks * 10e-6 / fieldsBetween, 1.0 / 59.94, 1e-5);        // display times
+}
+
+TEST_F(HostCapture, TsharkReadsTheTimeOfDayAsSent) {
+  if (!haveTshark()) GTEST_SKIP() << "tshark not installed (scripts/install-deps.sh --interop installs it)";
+  ASSERT_NO_FATAL_FAILURE(flyRecorded());
+  // --time-of-day 2024-06-21T19:30: once a second, date and time valid, the ephemeris model on.
+  const std::string table = tshark(
+      "-Y cigi.celestial_sphere_control.hour -T fields -E separator=/t -e cigi.celestial_sphere_control.hour"
+      " -e cigi.celestial_sphere_control.minute -e cigi.celestial_sphere_control.date"
+      " -e cigi.celestial_sphere_control.date_time_valid -e cigi.celestial_sphere_control.ephemeris_enable",
+      "celestial.tsv");
+  std::istringstream rows(table);
+  int packets = 0;
+  for (std::string line; std::getline(rows, line); ++packets) EXPECT_EQ(line, "19\t30\t6212024\t1\t1");
+  EXPECT_GE(packets, 5);  // 5 s of flight
 }
 
 TEST_F(HostCapture, LineOfSightRangesMatchTheHostsOwnMarch) {

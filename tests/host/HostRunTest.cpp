@@ -154,8 +154,7 @@ TEST_F(HostRun, TheHostsTimeOfDayLightsTheFields) {
   // Above video black (16 in the Y4M's BT.601 range):
   const double day = meanLuma(video.front()) - 16.0;
   const double dusk = meanLuma(video.back()) - 16.0;
-  std::printf("mean luma above black: first field %.1f (configured sun), last %.1f (21:30 UT, 21 June)\n", day,
-              dusk);
+  std::printf("mean luma above black: first field %.1f (configured sun), last %.1f (21:30 UT, 21 June)\n", day, dusk);
   EXPECT_GT(day, 60.0);  // terrain and sky by day
   EXPECT_LT(dusk, 0.1 * day);
 }

@@ -4,8 +4,8 @@
 // a HAT/HOT request under the ownship (and, on request, a Line of Sight Segment request from the
 // ownship to the ground ahead); it reads back the IG's Start of Frame messages and answers and
 // measures them — Start of Frame rate, answer latency, height and range errors against its own
-// query of the same terrain. On request it sets the IG's date and time of day. Faults on request: jitter, loss, byte swapping, a host clock offset,
-// a silent spell. It can record both directions as a pcap capture and log what it sent.
+// query of the same terrain. On request it sets the IG's date and time of day. Faults on request: jitter, loss, byte
+// swapping, a host clock offset, a silent spell. It can record both directions as a pcap capture and log what it sent.
 
 #include <ig_core/Georeference.h>
 #include <ig_core/TileCache.h>

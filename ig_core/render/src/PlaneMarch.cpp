@@ -21,9 +21,9 @@ using ray_march::ceilToInt;
 using ray_march::colourAt;
 using ray_march::floorToInt;
 using ray_march::heightAt;
-using ray_march::segmentLight;
 using ray_march::levelIndex;
 using ray_march::pow2;
+using ray_march::segmentLight;
 using ray_march::stickAt;
 using ray_march::tileAt;
 

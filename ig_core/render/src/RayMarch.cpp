@@ -440,7 +440,8 @@ Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const Mar
   }
   if (f.shading.light().relit()) {
     // The segment runs along the minor axis: north on an x-major line, else east.
-    colour.v *= r.xMajor ? segmentLight(f, t, c.level, c.i, j, false, frac) : segmentLight(f, t, c.level, j, c.i, true, frac);
+    colour.v *=
+        r.xMajor ? segmentLight(f, t, c.level, c.i, j, false, frac) : segmentLight(f, t, c.level, j, c.i, true, frac);
   }
   return colour;
 }

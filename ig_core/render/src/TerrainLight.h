@@ -45,7 +45,8 @@ class TerrainLight {
       : mRelit(!(s.sun == s.colourSun)),
         mHillshade(std::clamp(s.colourHillshade, 0.0, 1.0)),
         mToSun(towardsSun(s.sun)),
-        mToColourSun(towardsSun(SunDirection{s.colourSun.azimuthDeg, std::clamp(s.colourSun.elevationDeg, 1.0, 90.0)})) {
+        mToColourSun(
+            towardsSun(SunDirection{s.colourSun.azimuthDeg, std::clamp(s.colourSun.elevationDeg, 1.0, 90.0)})) {
     if (!mRelit) return;  // every factor stays exactly 1
     mSky = static_cast<float>(daylight(s.sun.elevationDeg));
     mDirect = sunDisc(s.sun.elevationDeg);
@@ -70,8 +71,8 @@ class TerrainLight {
     if (!mRelit) return 1.0f;
     const float len = std::sqrt(dzdx * dzdx + dzdy * dzdy + 1.0f);
     const float now = mNowSky * len + mNowSun * std::max(0.0f, mSun[2] - dzdx * mSun[0] - dzdy * mSun[1]);
-    const float baked = mBakedSky * len + mBakedSun * std::max(0.0f, mColourSun[2] - dzdx * mColourSun[0] -
-                                                                          dzdy * mColourSun[1]);
+    const float baked =
+        mBakedSky * len + mBakedSun * std::max(0.0f, mColourSun[2] - dzdx * mColourSun[0] - dzdy * mColourSun[1]);
     return now / std::max(baked, 0.05f * len);  // full hillshade leaves slopes facing away black
   }
 
@@ -89,9 +90,7 @@ class TerrainLight {
 
  private:
   // Daylight: full with the sun 10° up, falling to 5% (night) at 6° below the horizon (civil dusk).
-  static double daylight(double elevationDeg) noexcept {
-    return 0.05 + 0.95 * smoothstep(-6.0, 10.0, elevationDeg);
-  }
+  static double daylight(double elevationDeg) noexcept { return 0.05 + 0.95 * smoothstep(-6.0, 10.0, elevationDeg); }
   // What reaches the ground of the sun's disc: gone a degree below the horizon, whole 5° up.
   static double sunDisc(double elevationDeg) noexcept { return smoothstep(-1.0, 5.0, elevationDeg); }
   static double smoothstep(double a, double b, double x) noexcept {

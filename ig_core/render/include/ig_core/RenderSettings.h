@@ -58,8 +58,8 @@ struct RenderSettings {
   /// colours are taken to be lit the same way.
   SunDirection colourSun;
   double colourHillshade = 0.7;
-  double marginFraction = 0.10;             ///< frame margin on each side, fraction of each display dimension
-  int controlPointsPerSide = 3;             ///< control points: a perSide × perSide grid over the display
+  double marginFraction = 0.10;  ///< frame margin on each side, fraction of each display dimension
+  int controlPointsPerSide = 3;  ///< control points: a perSide × perSide grid over the display
 };
 
 /// The frame the IG renders for a display window: same focal length, larger by the margin, and
