@@ -67,6 +67,8 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
     mMetrics.record(Measure::FrameAge, tick.displayTime - frame.poseTime);
   } else if (status == warp::FieldStatus::NoFrame || status == warp::FieldStatus::BadFrame) {
     counters.fieldsBlack.fetch_add(1, std::memory_order_relaxed);
+  } else if (status == warp::FieldStatus::Held) {
+    counters.fieldsHeld.fetch_add(1, std::memory_order_relaxed);
   }
   if (status != warp::FieldStatus::BadOutput) {
     mSinks.publish(mField);

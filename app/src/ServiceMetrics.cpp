@@ -101,6 +101,7 @@ ServiceFigures ServiceMetrics::figures(TimePoint now) {
   f.framesRendered = counters.framesRendered.load();
   f.fieldsEmitted = counters.fieldsEmitted.load();
   f.fieldsBlack = counters.fieldsBlack.load();
+  f.fieldsHeld = counters.fieldsHeld.load();
   f.fieldsMissed = counters.fieldsMissed.load();
   f.marginViolations = counters.marginViolations.load();
   f.warpFallbacks = counters.warpFallbacks.load();
@@ -135,6 +136,7 @@ nlohmann::json toJson(const ServiceFigures& f) {
                       {"render_hz", f.durationS > 0 ? static_cast<double>(f.framesRendered) / f.durationS : 0.0},
                       {"fields_emitted", f.fieldsEmitted},
                       {"fields_black", f.fieldsBlack},
+                      {"fields_held", f.fieldsHeld},
                       {"fields_missed", f.fieldsMissed},
                       {"margin_violation_px", f.marginViolations},
                       {"warp_fallbacks", f.warpFallbacks},

@@ -1,7 +1,10 @@
 // One field: the pose at t_k → warp (with the frame flicker-filtered once per frame) → AGC → format.
 #include <prp_warp/FieldWarper.h>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -66,6 +69,17 @@ const Image& FieldWarper::flickerFiltered(const Frame& frame) noexcept {
   return mFiltered;
 }
 
+bool beyondWarpReach(const Frame& frame, const Pose& pose) noexcept {
+  double nearestSq = std::numeric_limits<double>::infinity();
+  for (const ControlPoint& cp : frame.controlPoints) {
+    if (cp.kind != ControlPointKind::Surface) continue;
+    const glm::dvec3 d = cp.world - frame.pose.positionM;
+    nearestSq = std::min(nearestSq, glm::dot(d, d));
+  }
+  const glm::dvec3 moved = pose.positionM - frame.pose.positionM;
+  return glm::dot(moved, moved) > 0.25 * nearestSq;  // |moved| > half the nearest range
+}
+
 FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const FieldSpec& spec, Field& out) noexcept {
   const int rows = fieldRowCount(spec.parity, mConfig.rasterHeightPx);
   // `out` comes from makeField(): room for a progressive field in the output format
@@ -89,6 +103,11 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
     return status;
   };
   if (frame.image.empty()) return black(FieldStatus::NoFrame);
+  if (beyondWarpReach(frame, pose)) {
+    mCounters.heldFields.fetch_add(1, std::memory_order_relaxed);
+    if (!mHaveLast) fillBlack(out.image);  // nothing shown yet to show again
+    return FieldStatus::Held;
+  }
   const PixelFormat workFormat = frame.image.format();
   if ((workFormat != PixelFormat::Rgb8 && workFormat != PixelFormat::Grey8) ||
       !reshape(mWork, mConfig.rasterWidthPx, rows, workFormat, mWorkReserved))

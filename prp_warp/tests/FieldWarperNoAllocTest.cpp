@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <vector>
 
 namespace {
 std::atomic<long> gAllocations{0};
@@ -112,6 +113,44 @@ TEST(FieldWarper, FieldCarriesItsSpecAndSource) {
   EXPECT_EQ(field.sourcePoseTime, frame.poseTime);
   EXPECT_EQ(field.rasterHeightPx, kH);
   EXPECT_EQ(field.marginViolations, 0u);
+}
+
+TEST(FieldWarper, AFieldBeyondTheFramesReachShowsThePreviousPictureAgain) {
+  FieldWarperConfig cfg;
+  cfg.rasterWidthPx = kW;
+  cfg.rasterHeightPx = kH;
+  const Frame& frame = scene();  // from 150 m up, 15° down: its nearest control point is ~300 m away
+  const auto bytes = [](const Field& f) {
+    const auto b = f.image.bytes();
+    return std::vector<std::uint8_t>(b.begin(), b.end());
+  };
+  FieldWarper warper(cfg);
+  Field field = warper.makeField();
+  const FieldSpec spec{0, TimePoint{}, FieldParity::Progressive};
+  Pose near = frame.pose;
+  near.positionM.x += 40.0;  // motion the warp extrapolates
+  ASSERT_EQ(warper.produce(frame, near, spec, field), FieldStatus::Ok);
+  const std::vector<std::uint8_t> shown = bytes(field);
+  Pose far = frame.pose;
+  far.positionM += glm::dvec3{3000.0, -2000.0, 50.0};  // a reposition
+  EXPECT_TRUE(beyondWarpReach(frame, far));
+  EXPECT_FALSE(beyondWarpReach(frame, near));
+  EXPECT_EQ(warper.produce(frame, far, FieldSpec{1, TimePoint{}, FieldParity::Progressive}, field), FieldStatus::Held);
+  EXPECT_EQ(bytes(field), shown);  // the previous picture, not the old place smeared over the new
+  EXPECT_EQ(field.fieldNumber, 1u);
+  EXPECT_EQ(warper.counters().heldFields.load(), 1u);
+  EXPECT_EQ(warper.counters().blackFields.load(), 0u);
+
+  // Nothing shown yet: black.
+  FieldWarper fresh(cfg);
+  Field first = fresh.makeField();
+  EXPECT_EQ(fresh.produce(frame, far, spec, first), FieldStatus::Held);
+  EXPECT_EQ(first.image.row(kH / 2)[1], 16);  // UYVY video black
+
+  // A frame that saw only sky is never out of reach.
+  Frame sky = frame;
+  for (ControlPoint& cp : sky.controlPoints) cp.kind = ControlPointKind::Sky;
+  EXPECT_FALSE(beyondWarpReach(sky, far));
 }
 
 }  // namespace

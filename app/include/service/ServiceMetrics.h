@@ -41,9 +41,10 @@ enum class Measure : std::uint8_t {
 /// Monotonic counters (any thread, relaxed atomics).
 struct ServiceCounters {
   std::atomic<std::uint64_t> framesRendered{0};
-  std::atomic<std::uint64_t> fieldsEmitted{0};     ///< fields handed to the sinks, black ones included
-  std::atomic<std::uint64_t> fieldsBlack{0};       ///< emitted before the first frame existed
-  std::atomic<std::uint64_t> fieldsMissed{0};      ///< deadlines passed without a field
+  std::atomic<std::uint64_t> fieldsEmitted{0};  ///< fields handed to the sinks, black ones included
+  std::atomic<std::uint64_t> fieldsBlack{0};    ///< emitted before the first frame existed
+  std::atomic<std::uint64_t> fieldsHeld{0};     ///< the previous picture again: the pose was beyond the frame's reach
+  std::atomic<std::uint64_t> fieldsMissed{0};   ///< deadlines passed without a field
   std::atomic<std::uint64_t> marginViolations{0};  ///< output pixels sampled outside the frame
   std::atomic<std::uint64_t> warpFallbacks{0};     ///< fields warped by the rotation-only fallback
   /// warpFallbacks by reason: few points, all sky, degenerate, no range image (FallbackReason − 1).
@@ -68,6 +69,7 @@ struct ServiceFigures {
   std::uint64_t framesRendered = 0;
   std::uint64_t fieldsEmitted = 0;
   std::uint64_t fieldsBlack = 0;
+  std::uint64_t fieldsHeld = 0;
   std::uint64_t fieldsMissed = 0;
   std::uint64_t marginViolations = 0;
   std::uint64_t warpFallbacks = 0;

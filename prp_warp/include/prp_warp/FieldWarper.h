@@ -47,7 +47,17 @@ enum class FieldStatus : std::uint8_t {
   NoFrame,    ///< no frame yet (empty image): black field
   BadFrame,   ///< the frame was inconsistent: black field
   BadOutput,  ///< the output Field could not take this shape without allocating: left untouched
+  /// The field's camera is beyond the frame's reach (beyondWarpReach: a reposition, such as a
+  /// host moving the ownship kilometres at once): the output's previous picture is shown again,
+  /// black when there was none, until a frame rendered near the new pose arrives.
+  Held,
 };
+
+/// True when a field's camera at `pose` is too far from where `frame` was rendered for a warp of
+/// it to mean anything: further than half the range of the nearest surface its control points saw
+/// (the warp's parallax error grows with that ratio; extrapolated motion moves a few metres
+/// between frames, a reposition kilometres). A frame that saw only sky is never out of reach. RT-safe.
+bool beyondWarpReach(const Frame& frame, const Pose& pose) noexcept;
 
 /// Running totals, readable from any thread.
 struct FieldWarperCounters {
@@ -58,6 +68,7 @@ struct FieldWarperCounters {
   std::atomic<std::uint64_t> marginViolations{0};  ///< output pixels, summed over fields
   std::atomic<std::uint64_t> fieldsWithViolations{0};
   std::atomic<std::uint64_t> blackFields{0};  ///< NoFrame or BadFrame
+  std::atomic<std::uint64_t> heldFields{0};   ///< Held: the previous picture again
 };
 
 /// Produces fields. One instance per field thread.
