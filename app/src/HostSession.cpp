@@ -172,7 +172,8 @@ void HostSession::onMessage(const io::HostMessage& message) {
     const bool finite = std::isfinite(rates->xRateMps) && std::isfinite(rates->yRateMps) &&
                         std::isfinite(rates->zRateMps) && std::isfinite(rates->rollRateDegps) &&
                         std::isfinite(rates->pitchRateDegps) && std::isfinite(rates->yawRateDegps);
-    if (it == mEntitySamples.end() || !finite) continue;  // rates that are not numbers are not applied
+    // Rates that are not numbers are not applied; an attached entity moves with its parent.
+    if (it == mEntitySamples.end() || !finite || it->second.attached) continue;
     // New rates from now on: the entity goes on from where its old ones have taken it
     HostEntitySample& sample = it->second;
     sample.pose = extrapolateEntity(sample, message.arrival);
@@ -339,25 +340,36 @@ void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) 
 }
 
 void HostSession::updateEntitySample(const cigi::EntityControl& entity, TimePoint arrival) {
-  // An attached entity's position is offsets from its parent, not resolved yet: not drawn
   const bool anglesFinite =
       std::isfinite(entity.yawDeg) && std::isfinite(entity.pitchDeg) && std::isfinite(entity.rollDeg);
+  const bool attached = entity.attachState == cigi::AttachState::Attached;
+  // Attached: x, y, z are offsets from the parent (x forward, y right, z down); else geodetic.
   const std::optional<glm::dvec3> position =
-      entity.attachState == cigi::AttachState::Attached || !anglesFinite
-          ? std::nullopt
-          : mGeoreference->toWorld({entity.latitudeDegOrXM, entity.longitudeDegOrYM, entity.altitudeMOrZM});
+      !anglesFinite ? std::nullopt
+      : attached    ? std::optional<glm::dvec3>{{entity.latitudeDegOrXM, entity.longitudeDegOrYM, entity.altitudeMOrZM}}
+                    : mGeoreference->toWorld({entity.latitudeDegOrXM, entity.longitudeDegOrYM, entity.altitudeMOrZM});
   const bool finite =
       position && std::isfinite(position->x) && std::isfinite(position->y) && std::isfinite(position->z);
-  if (!finite) {
+  if (!finite || (attached && entity.parentId == entity.entityId)) {
     mEntitySamples.erase(entity.entityId);
     return;
   }
   HostEntitySample& sample = mEntitySamples[entity.entityId];  // its rates carry on until new ones come
   sample.id = entity.entityId;
   sample.type = entity.entityType;
-  sample.pose = Pose{*position, radians(entity.yawDeg), radians(entity.pitchDeg), radians(entity.rollDeg)};
   sample.at = arrival;
   sample.extrapolate = mSmoothing && entity.extrapolationEnabled;
+  sample.attached = attached;
+  if (attached) {
+    sample.parentId = entity.parentId;
+    // The parent's body axes (x forward, y right, z down) as a view offset's (x right, y forward, z up).
+    sample.offset = ViewOffset{{position->y, position->x, -position->z},
+                               radians(entity.yawDeg),
+                               radians(entity.pitchDeg),
+                               radians(entity.rollDeg)};
+  } else {
+    sample.pose = Pose{*position, radians(entity.yawDeg), radians(entity.pitchDeg), radians(entity.rollDeg)};
+  }
 }
 
 void HostSession::publishEntities() {
@@ -372,14 +384,15 @@ void HostSession::copyEntities(std::vector<HostEntitySample>& out) const {
 }
 
 std::optional<Pose> HostSession::entityPose(std::uint16_t entityId, TimePoint at) const {
-  if (entityId == 0) return mOwnship.poseAt(at);
-  const auto it = mEntities.find(entityId);
-  // An attached entity's position is offsets from its parent, which are not resolved yet.
-  if (it == mEntities.end() || it->second.attachState == cigi::AttachState::Attached) return std::nullopt;
-  const cigi::EntityControl& e = it->second;
-  const auto base = mGeoreference->toWorld({e.latitudeDegOrXM, e.longitudeDegOrYM, e.altitudeMOrZM});
-  if (!base) return std::nullopt;
-  return Pose{*base, radians(e.yawDeg), radians(e.pitchDeg), radians(e.rollDeg)};
+  const auto ownship = [this](TimePoint t) { return mOwnship.poseAt(t); };
+  if (entityId == 0) return ownship(at);
+  const auto find = [this](std::uint16_t id) -> const HostEntitySample* {
+    const auto it = mEntitySamples.find(id);
+    return it == mEntitySamples.end() ? nullptr : &it->second;
+  };
+  const HostEntitySample* sample = find(entityId);
+  if (sample == nullptr) return std::nullopt;  // not tracked, or not placed
+  return hostEntityPose(*sample, at, ownship, find);
 }
 
 std::optional<glm::dvec3> HostSession::placePoint(cigi::CoordinateSystem system, std::uint16_t entityId, double a,

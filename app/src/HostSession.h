@@ -116,8 +116,8 @@ class HostSession final : public io::HostHandler {
   /// host sends a date and time. Moves on once a second of the IG's clock while the host's
   /// ephemeris model runs. The render loop reads it before each frame. Any thread.
   const SeqLock<std::optional<core::SunDirection>>& sun() const noexcept { return mSun; }
-  /// The host's entities other than the ownship as last sent (detached ones: an attached entity's
-  /// parent offsets are not resolved), into `out`. Any thread (the render loop, once a frame).
+  /// The host's entities other than the ownship as last sent (an attached one with its parent
+  /// and offset: hostEntityPose places it), into `out`. Any thread (the render loop, once a frame).
   void copyEntities(std::vector<HostEntitySample>& out) const;
   /// The scene's drawn entities at an instant (SceneEntities::at): line-of-sight answers meet them
   /// as the pictures show them. Set before the link starts; empty: terrain only.

@@ -18,6 +18,31 @@ Pose extrapolateEntity(const HostEntitySample& sample, TimePoint t) noexcept {
   return pose;
 }
 
+std::optional<Pose> hostEntityPose(const HostEntitySample& sample, TimePoint t, const OwnshipPose& ownship,
+                                   const FindHostEntity& find) {
+  // Up the chain of parents to a detached entity or the ownship, then back down its offsets.
+  std::vector<const ViewOffset*> offsets;
+  const HostEntitySample* at = &sample;
+  Pose base;
+  for (;;) {
+    if (!at->attached) {
+      base = extrapolateEntity(*at, t);
+      break;
+    }
+    if (offsets.size() >= static_cast<std::size_t>(kMaxAttachDepth)) return std::nullopt;
+    offsets.push_back(&at->offset);
+    if (at->parentId == 0) {
+      if (!ownship) return std::nullopt;
+      base = ownship(t);
+      break;
+    }
+    at = find(at->parentId);
+    if (at == nullptr) return std::nullopt;
+  }
+  for (auto it = offsets.rbegin(); it != offsets.rend(); ++it) base = offsetPose(base, **it);
+  return base;
+}
+
 SceneEntities::SceneEntities(const std::vector<motion::ScriptedEntity>& scripted, const core::TerrainView* ground,
                              FlightClock clock)
     : mScripts(scripted), mGround(ground), mClock(std::move(clock)) {
@@ -32,7 +57,8 @@ SceneEntities::SceneEntities(const std::vector<motion::ScriptedEntity>& scripted
   }
 }
 
-void SceneEntities::setHost(HostEntities entities, const std::vector<HostEntityModel>& models) {
+void SceneEntities::setHost(HostEntities entities, const std::vector<HostEntityModel>& models, OwnshipPose ownship) {
+  mOwnship = std::move(ownship);
   for (const HostEntityModel& m : models) {
     try {
       mHostModels[m.type] = {std::make_shared<const core::VoxelSolid>(core::readVoxFile(m.model)), m.scale};
@@ -63,14 +89,20 @@ void SceneEntities::at(TimePoint t, std::vector<core::EntityInstance>& out) cons
   if (!mHost) return;
   std::vector<HostEntitySample> host;
   mHost(host);
+  const FindHostEntity find = [&host](std::uint16_t id) -> const HostEntitySample* {
+    const auto it = std::find_if(host.begin(), host.end(), [id](const HostEntitySample& s) { return s.id == id; });
+    return it == host.end() ? nullptr : &*it;
+  };
   for (const HostEntitySample& sample : host) {
     const auto model = mHostModels.find(sample.type);
     if (model == mHostModels.end()) continue;
+    const std::optional<Pose> pose = hostEntityPose(sample, t, mOwnship, find);
+    if (!pose) continue;  // attached to an entity that is not there
     core::EntityInstance instance;
     instance.id = sample.id;
     instance.model = model->second.model;
     instance.scale = model->second.scale;
-    instance.pose = extrapolateEntity(sample, t);
+    instance.pose = *pose;
     out.push_back(std::move(instance));
   }
 }

@@ -8,12 +8,14 @@
 #include <ig_core/TerrainView.h>
 #include <motion/FlightFile.h>
 
+#include <fieldcast/Conventions.h>
 #include <fieldcast/Time.h>
 
 #include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace fieldcast::app {
@@ -22,11 +24,17 @@ namespace fieldcast::app {
 struct HostEntitySample {
   std::uint16_t id = 0;
   std::uint16_t type = 0;
-  Pose pose;                        ///< world, at `at`
+  Pose pose;                        ///< world, at `at` (a detached entity)
   glm::dvec3 velocityMps{0.0};      ///< world (its Rate Control; zero without one)
   glm::dvec3 angularRateRadS{0.0};  ///< heading, pitch, roll rates
   TimePoint at{};                   ///< when the pose holds (its message's arrival)
   bool extrapolate = true;          ///< the entity's and IG Control's extrapolation enables
+  /// Attached to entity `parentId` (0: the ownship): placed at `offset` from the parent's pose
+  /// (position in the parent's axes: x right, y forward, z up; angles after the parent's), and
+  /// moving with it; `pose` and the rates are not used.
+  bool attached = false;
+  std::uint16_t parentId = 0;
+  ViewOffset offset;
 };
 
 /// How far a host entity is extrapolated past its last sample at most (then it holds).
@@ -35,6 +43,20 @@ inline constexpr Nanoseconds kMaxEntityExtrapolation = std::chrono::milliseconds
 /// The host entity's pose at `t`: its sample moved on by its rates (at most
 /// kMaxEntityExtrapolation, and not at all when it may not be extrapolated). RT-safe.
 Pose extrapolateEntity(const HostEntitySample& sample, TimePoint t) noexcept;
+
+/// The ownship's pose at an instant (the parent of entities attached to entity 0).
+using OwnshipPose = std::function<Pose(TimePoint)>;
+/// A host entity's sample by id; null when there is none.
+using FindHostEntity = std::function<const HostEntitySample*(std::uint16_t)>;
+/// Attachments resolved at most this deep (a longer chain is a loop the host made).
+inline constexpr int kMaxAttachDepth = 8;
+
+/// The world pose at `t` of `sample`: extrapolateEntity when detached; attached, its offset from
+/// its parent's pose at `t` (the ownship's for parent 0, else the parent `find` gives, resolved
+/// the same way). Nothing when a parent is missing (or the ownship's pose is not given) or the
+/// chain is deeper than kMaxAttachDepth.
+std::optional<Pose> hostEntityPose(const HostEntitySample& sample, TimePoint t, const OwnshipPose& ownship,
+                                   const FindHostEntity& find);
 
 class SceneEntities {
  public:
@@ -56,7 +78,8 @@ class SceneEntities {
   using HostEntities = std::function<void(std::vector<HostEntitySample>&)>;
   /// A model per CIGI entity type (a .vox file, read here; throws std::runtime_error naming the
   /// type and the file) for the host's entities; an entity of another type is not drawn.
-  void setHost(HostEntities entities, const std::vector<HostEntityModel>& models);
+  /// `ownship` places the entities attached to the ownship (null: they are not drawn).
+  void setHost(HostEntities entities, const std::vector<HostEntityModel>& models, OwnshipPose ownship = {});
 
   /// Every entity at instant `t`, in `out` (cleared first; its capacity is kept): a host entity
   /// with its CIGI id, a scripted one with an id from 0x10000 on. Any thread.
@@ -72,6 +95,7 @@ class SceneEntities {
     double scale = 1.0;
   };
   HostEntities mHost;
+  OwnshipPose mOwnship;
   std::map<std::uint16_t, HostModel> mHostModels;
   std::vector<motion::ScriptedEntity> mScripts;
   std::vector<Entity> mEntities;

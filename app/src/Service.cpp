@@ -295,7 +295,8 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
                                                      [](TimePoint) { return 0.0; });
         p.entities->setHost(
             [session = p.hostSession.get()](std::vector<HostEntitySample>& out) { session->copyEntities(out); },
-            config.host.entityModels);
+            config.host.entityModels,
+            [ownship = p.hostMotion.get()](TimePoint t) { return ownship->poseAt(t); });  // its attachments
         spdlog::info("host: entities of {} types drawn", config.host.entityModels.size());
         p.hostSession->setEntityScene(
             [entities = p.entities.get()](TimePoint t, std::vector<core::EntityInstance>& out) {

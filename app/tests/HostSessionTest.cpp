@@ -140,7 +140,7 @@ class HostSessionTest : public ::testing::Test {
     auto scene =
         std::make_unique<SceneEntities>(std::vector<motion::ScriptedEntity>{}, nullptr, [](TimePoint) { return 0.0; });
     scene->setHost([this](std::vector<HostEntitySample>& out) { mSession.copyEntities(out); },
-                   {{3, dir / "block.vox", 4.0}});
+                   {{3, dir / "block.vox", 4.0}}, [this](TimePoint t) { return mOwnship.poseAt(t); });
     return scene;
   }
 
@@ -382,19 +382,37 @@ TEST_F(HostSessionTest, OutsideTheDatabaseIsNotValid) {
 
 // An attached entity's position fields are offsets from its parent, not latitude and longitude:
 // offsets that happen to read as a place in the database must not place a request there.
-TEST_F(HostSessionTest, ARequestRelativeToAnAttachedEntityIsNotValid) {
-  cigi::EntityControl attached = entityAt(6, {100.0, 120.0, 300.0});  // offsets that read as a place inside
-  attached.attachState = cigi::AttachState::Attached;
-  attached.parentId = 5;
-  cigi::HatHotRequest request;
-  request.hatHotId = 12;
-  request.requestType = cigi::HatHotRequestType::HeightOfTerrain;
-  request.coordinateSystem = cigi::CoordinateSystem::Entity;
-  request.entityId = 6;
-  send({entityAt(5, {300.0, 300.0, 400.0}), attached, request});
+TEST_F(HostSessionTest, ARequestRelativeToAnAttachedEntityIsPlacedThroughItsParent) {
+  // Entity 6 rides 40 m ahead of entity 5, which heads east: a point relative to 6 lies 40 m east
+  // of 5. Entity 8 is attached to 9, 9 to 8 (a loop); entity 7 to an entity that does not exist.
+  const auto attachedTo = [](std::uint16_t id, std::uint16_t parent, double forwardM) {
+    cigi::EntityControl e;
+    e.entityId = id;
+    e.attachState = cigi::AttachState::Attached;
+    e.parentId = parent;
+    e.latitudeDegOrXM = forwardM;  // attached: x forward, y right, z down from the parent
+    return e;
+  };
+  const auto heightUnder = [](std::uint16_t requestId, std::uint16_t entity) {
+    cigi::HatHotRequest r;
+    r.hatHotId = requestId;
+    r.requestType = cigi::HatHotRequestType::HeightOfTerrain;
+    r.coordinateSystem = cigi::CoordinateSystem::Entity;
+    r.entityId = entity;
+    return r;
+  };
+  send({entityAt(5, {300.0, 300.0, 400.0}, 90.0f), attachedTo(6, 5, 40.0), attachedTo(7, 77, 10.0),
+        attachedTo(8, 9, 10.0), attachedTo(9, 8, 10.0), heightUnder(1, 6), heightUnder(2, 7), heightUnder(3, 8)});
   const auto answers = only<cigi::HatHotResponse>(field(1, mClock.now()));
-  ASSERT_EQ(answers.size(), 1u);
-  EXPECT_FALSE(answers[0].valid);
+  ASSERT_EQ(answers.size(), 3u);
+  for (const cigi::HatHotResponse& a : answers) {
+    if (a.hatHotId == 1) {
+      EXPECT_TRUE(a.valid);
+      EXPECT_NEAR(a.heightM, level0(340.0, 300.0), 0.05);
+    } else {
+      EXPECT_FALSE(a.valid) << a.hatHotId;  // no parent; a loop
+    }
+  }
 }
 
 TEST_F(HostSessionTest, StartOfFrameCarriesFieldHostFrameAndHeldStatus) {
@@ -717,13 +735,25 @@ TEST_F(HostSessionTest, HostEntitiesArePublishedWithTheirRatesAndExtrapolated) {
   cigi::RateControl rates;
   rates.entityId = 5;
   rates.frame = cigi::RateFrame::World;
-  rates.xRateMps = 10.0f;  // north
-  cigi::EntityControl attached = entityAt(6, {0.0, 0.0, 0.0});
+  rates.xRateMps = 10.0f;        // north
+  cigi::EntityControl attached;  // 12 m behind the van, 3 m up
+  attached.entityId = 6;
   attached.attachState = cigi::AttachState::Attached;
+  attached.parentId = 5;
+  attached.latitudeDegOrXM = -12.0;
+  attached.altitudeMOrZM = -3.0;
   send({rates, van, attached}, 1.0);
   std::vector<HostEntitySample> entities;
   mSession.copyEntities(entities);
-  ASSERT_EQ(entities.size(), 1u);  // the attached one waits for its parent's offsets
+  ASSERT_EQ(entities.size(), 2u);
+  const HostEntitySample& rider = entities[1];  // by id: its offsets, in the view offset's axes
+  EXPECT_TRUE(rider.attached);
+  EXPECT_EQ(rider.parentId, 5u);
+  EXPECT_EQ(rider.offset.positionM, glm::dvec3(0.0, -12.0, 3.0));
+  attached.entityState = cigi::EntityState::Inactive;  // gone again: the van alone below
+  send({attached}, 1.05);
+  mSession.copyEntities(entities);
+  ASSERT_EQ(entities.size(), 1u);
   const HostEntitySample& e = entities[0];
   EXPECT_EQ(e.id, 5u);
   EXPECT_EQ(e.type, 3u);
@@ -799,6 +829,36 @@ TEST_F(HostSessionTest, TheRenderLoopDrawsTheHostsEntitiesOfAModelledType) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("host.entity_model type 4: "), std::string::npos) << e.what();
   }
+}
+
+TEST_F(HostSessionTest, AnAttachedEntityIsDrawnWhereItsParentCarriesIt) {
+  // A block (type 3) attached 30 m ahead of an entity without a model (type 4, heading north),
+  // and another 50 m to the ownship's right: the scene poses both at the frame's instant.
+  cigi::EntityControl carrier = entityAt(10, {200.0, 200.0, 300.0});
+  carrier.entityType = 4;
+  cigi::EntityControl towed;
+  towed.entityId = 11;
+  towed.entityType = 3;
+  towed.attachState = cigi::AttachState::Attached;
+  towed.parentId = 10;
+  towed.latitudeDegOrXM = 30.0;  // forward
+  cigi::EntityControl wingman = towed;
+  wingman.entityId = 12;
+  wingman.parentId = 0;
+  wingman.latitudeDegOrXM = 0.0;
+  wingman.longitudeDegOrYM = 50.0;  // right
+  send({entityAt(0, {100.0, 100.0, 500.0}), carrier, towed, wingman}, 1.0);
+  const auto scene = blockScene();
+  std::vector<core::EntityInstance> drawn;
+  scene->at(mClock.now(), drawn);
+  ASSERT_EQ(drawn.size(), 2u);  // the carrier has no model
+  EXPECT_EQ(drawn[0].id, 11u);
+  EXPECT_NEAR(drawn[0].pose.positionM.x, 200.0, 1e-3);
+  EXPECT_NEAR(drawn[0].pose.positionM.y, 230.0, 1e-3);
+  EXPECT_NEAR(drawn[0].pose.positionM.z, 300.0, 1e-3);
+  EXPECT_EQ(drawn[1].id, 12u);  // the ownship heads north: its right is east
+  EXPECT_NEAR(drawn[1].pose.positionM.x, 150.0, 0.1);
+  EXPECT_NEAR(drawn[1].pose.positionM.y, 100.0, 0.1);
 }
 
 TEST_F(HostSessionTest, ALineOfSightMeetsAHostEntityInItsWay) {

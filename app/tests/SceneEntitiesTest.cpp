@@ -10,7 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <vector>
 
 namespace fieldcast::app {
 namespace {
@@ -63,6 +66,64 @@ TEST(SceneEntities, PosesEachEntityOnTheFlightsClock) {
               std::string::npos)
         << e.what();
   }
+}
+
+TEST(HostEntityPose, AnAttachedEntityRidesItsParentAtItsOffset) {
+  // A tanker (entity 5) heading east at 100 m/s; a drogue (6) attached 30 m behind it and 5 m
+  // below, turned 10° right; a pod (7) 2 m to the right of the drogue; a wingman (8) attached to
+  // the ownship 50 m to its left.
+  const TimePoint t0{std::chrono::seconds(10)};
+  HostEntitySample tanker;
+  tanker.id = 5;
+  tanker.pose = Pose{{1000.0, 2000.0, 3000.0}, radians(90.0), 0.0, 0.0};
+  tanker.velocityMps = {100.0, 0.0, 0.0};
+  tanker.at = t0;
+  HostEntitySample drogue;
+  drogue.id = 6;
+  drogue.attached = true;
+  drogue.parentId = 5;
+  drogue.offset = ViewOffset{{0.0, -30.0, -5.0}, radians(10.0), 0.0, 0.0};
+  HostEntitySample pod;
+  pod.id = 7;
+  pod.attached = true;
+  pod.parentId = 6;
+  pod.offset = ViewOffset{{2.0, 0.0, 0.0}, 0.0, 0.0, 0.0};
+  HostEntitySample wingman;
+  wingman.id = 8;
+  wingman.attached = true;
+  wingman.parentId = 0;
+  wingman.offset = ViewOffset{{-50.0, 0.0, 0.0}, 0.0, 0.0, 0.0};
+  const std::vector<HostEntitySample> all{tanker, drogue, pod, wingman};
+  const FindHostEntity find = [&all](std::uint16_t id) -> const HostEntitySample* {
+    for (const HostEntitySample& s : all)
+      if (s.id == id) return &s;
+    return nullptr;
+  };
+  const OwnshipPose ownship = [](TimePoint) { return Pose{{0.0, 0.0, 500.0}, radians(180.0), 0.0, 0.0}; };
+
+  const TimePoint t = t0 + std::chrono::milliseconds(200);  // the tanker has flown 20 m east
+  const Pose d = *hostEntityPose(drogue, t, ownship, find);
+  EXPECT_NEAR(d.positionM.x, 1000.0 + 20.0 - 30.0, 1e-9);
+  EXPECT_NEAR(d.positionM.y, 2000.0, 1e-9);
+  EXPECT_NEAR(d.positionM.z, 3000.0 - 5.0, 1e-9);
+  EXPECT_NEAR(d.headingRad, radians(100.0), 1e-9);
+  const Pose p = *hostEntityPose(pod, t, ownship, find);  // 2 m right of the drogue, heading 100°
+  EXPECT_NEAR(p.positionM.x, d.positionM.x + 2.0 * std::cos(radians(100.0)), 1e-9);  // right: (cos ψ, −sin ψ)
+  EXPECT_NEAR(p.positionM.y, d.positionM.y - 2.0 * std::sin(radians(100.0)), 1e-9);
+  const Pose w = *hostEntityPose(wingman, t, ownship, find);  // the ownship heads south: its left is east
+  EXPECT_NEAR(w.positionM.x, 50.0, 1e-9);
+  EXPECT_NEAR(w.positionM.y, 0.0, 1e-9);
+
+  EXPECT_FALSE(hostEntityPose(wingman, t, {}, find));  // no ownship pose given
+  HostEntitySample orphan = pod;
+  orphan.parentId = 99;
+  EXPECT_FALSE(hostEntityPose(orphan, t, ownship, find));
+  std::vector<HostEntitySample> loop{drogue, pod};
+  loop[0].parentId = 7;  // 6 on 7, 7 on 6
+  const FindHostEntity findInLoop = [&loop](std::uint16_t id) -> const HostEntitySample* {
+    return id == 6 ? &loop[0] : id == 7 ? &loop[1] : nullptr;
+  };
+  EXPECT_FALSE(hostEntityPose(loop[1], t, ownship, findInLoop));
 }
 
 }  // namespace
