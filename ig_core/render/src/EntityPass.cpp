@@ -43,33 +43,38 @@ ModelFrame modelFrame(const EntityInstance& e) noexcept {
   return {cameraAxes(e.pose), e.pose.positionM, kSolidVoxelM * e.scale};
 }
 
-// The pixels the entity's box covers (frame pixels, clipped), or an empty box
-struct PixelBox {
-  int u0 = 0, v0 = 0, u1 = 0, v1 = 0;  // [u0, u1) × [v0, v1)
-  bool empty() const noexcept { return u0 >= u1 || v0 >= v1; }
-};
-
+// entityScreenBox, for a model frame already made
 PixelBox screenBox(const EntityInstance& e, const ModelFrame& mf, const ViewGeometry& geo) noexcept {
   const VoxelSolid& m = *e.model;
   const Intrinsics& k = geo.intrinsics();
   const CameraAxes& cam = geo.axes();
   const glm::dvec3 eye = geo.pose().positionM;
-  double uMin = kInf, vMin = kInf, uMax = -kInf, vMax = -kInf;
-  int behind = 0;
+  // The box's corners in camera coordinates (right, up, forward)
+  std::array<glm::dvec3, 8> corners;
   for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 corner = mf.toWorld({(c & 1) ? m.sizeX : 0, (c & 2) ? m.sizeY : 0, (c & 4) ? m.sizeZ : 0}, m);
-    const glm::dvec3 d = corner - eye;
-    const double zc = glm::dot(d, cam.forward);
-    if (zc <= 1e-3) {
-      ++behind;
-      continue;
-    }
-    const double u = k.cxPx + k.fxPx * glm::dot(d, cam.right) / zc;
-    const double v = k.cyPx - k.fyPx * glm::dot(d, cam.up) / zc;
-    uMin = std::min(uMin, u), uMax = std::max(uMax, u), vMin = std::min(vMin, v), vMax = std::max(vMax, v);
+    const glm::dvec3 d = mf.toWorld({(c & 1) ? m.sizeX : 0, (c & 2) ? m.sizeY : 0, (c & 4) ? m.sizeZ : 0}, m) - eye;
+    corners[static_cast<std::size_t>(c)] = {glm::dot(d, cam.right), glm::dot(d, cam.up), glm::dot(d, cam.forward)};
   }
-  if (behind == 8) return {};
-  if (behind > 0) return {0, 0, k.widthPx, k.heightPx};  // the camera is beside or inside it: every pixel may see it
+  // Clipped to the near plane: the corners in front of it, and where the box's edges cross it (a
+  // box reaching behind the eye, beside it, covers only the side of the screen it is on).
+  constexpr double kNear = 1e-3;
+  double uMin = kInf, vMin = kInf, uMax = -kInf, vMax = -kInf;
+  const auto add = [&](const glm::dvec3& p) {
+    const double u = k.cxPx + k.fxPx * p.x / p.z;
+    const double v = k.cyPx - k.fyPx * p.y / p.z;
+    uMin = std::min(uMin, u), uMax = std::max(uMax, u), vMin = std::min(vMin, v), vMax = std::max(vMax, v);
+  };
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3& a = corners[static_cast<std::size_t>(c)];
+    if (a.z > kNear) add(a);
+    for (const int axis : {1, 2, 4}) {  // the three edges from this corner to corners with the bit set
+      if ((c & axis) != 0) continue;
+      const glm::dvec3& b = corners[static_cast<std::size_t>(c | axis)];
+      if ((a.z > kNear) == (b.z > kNear)) continue;
+      add(a + (b - a) * ((kNear - a.z) / (b.z - a.z)));
+    }
+  }
+  if (!(uMin <= uMax) || !(vMin <= vMax)) return {};  // wholly behind the near plane (or not finite)
   const auto clampU = [&](double u) { return static_cast<int>(std::clamp(u, 0.0, static_cast<double>(k.widthPx))); };
   const auto clampV = [&](double v) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(k.heightPx))); };
   return {clampU(std::floor(uMin)), clampV(std::floor(vMin)), clampU(std::ceil(uMax) + 1.0),
@@ -131,6 +136,11 @@ bool castModel(const VoxelSolid& m, const ModelFrame& mf, const glm::dvec3& orig
 }
 
 }  // namespace
+
+PixelBox entityScreenBox(const EntityInstance& entity, const ViewGeometry& geometry) noexcept {
+  if (!entity.model || entity.model->rgba.empty() || !(entity.scale > 0.0)) return {};
+  return screenBox(entity, modelFrame(entity), geometry);
+}
 
 bool castEntity(const EntityInstance& entity, const glm::dvec3& origin, const glm::dvec3& ray, double maxDepthM,
                 EntityHit& hit) noexcept {

@@ -1,6 +1,7 @@
 // Moving entities drawn by the renderer's entity pass: where an entity appears is where its box
 // projects (within a pixel); a ridge hides it; the nearer of two entities hides the farther,
 // whatever their order; heading turns it; a control ray that meets it records its point.
+#include "EntityPass.h"
 #include "RenderTestUtil.h"
 
 #include <ig_core/MemoryTerrain.h>
@@ -216,6 +217,37 @@ TEST(EntityRender, AControlRayThatMeetsAnEntityRecordsItsPoint) {
   EXPECT_NEAR(after.world.y, 138.0, 0.01);  // the block's near face (4 voxels of 1 m deep about y = 140)
   EXPECT_GT(after.world.z, kGroundM + 1.0);
   EXPECT_EQ(bare.controlPoints[0].world, with.controlPoints[0].world);  // a corner's ray misses it
+}
+
+TEST(EntityRender, ABoxReachingBehindTheEyeCoversOnlyItsSideOfTheScreen) {
+  // A wall 4 m to the camera's left, from 30 m behind it to 60 m ahead: its box is clipped to the
+  // near plane, so it covers the left of the screen only — and every pixel whose ray meets the
+  // wall (found by casting every pixel of the frame) lies in it and is drawn.
+  const auto terrain = flatLand(false);
+  const auto wall = block(4, 180, 20, 0xFF2020E0u);  // 2 × 90 × 10 m at 0.5 m voxels
+  EntityInstance e = entityAt(wall, 256.0 - 5.0, 40.0 + 15.0, 0.0, 1.0);
+  const ViewRequest r = lookNorth({e});
+  RenderSettings settings;
+  settings.rangeImage = true;
+  Renderer renderer(terrain->view(), settings, 2);
+  const Frame with = renderer.render(r);
+  const ViewGeometry geo(with.pose, with.intrinsics, terrain->geometry(), settings);
+  const PixelBox box = entityScreenBox(e, geo);
+  EXPECT_EQ(box.u0, 0);
+  EXPECT_LT(box.u1, with.intrinsics.widthPx / 2);  // the left half at most: not the whole frame
+  int meets = 0, outside = 0, notDrawn = 0;
+  for (int v = 0; v < with.intrinsics.heightPx; ++v)
+    for (int u = 0; u < with.intrinsics.widthPx; ++u) {
+      EntityHit hit;
+      if (!castEntity(e, with.pose.positionM, geo.ray(u + 0.5, v + 0.5), 1e9, hit)) continue;
+      ++meets;
+      outside += u < box.u0 || u >= box.u1 || v < box.v0 || v >= box.v1;
+      const std::uint8_t* p = with.image.row(v) + 3 * u;
+      notDrawn += !(p[0] > 100 && p[0] > 3 * p[1]);  // the wall's red (its east face in the sky's light)
+    }
+  EXPECT_GT(meets, 2000);
+  EXPECT_EQ(outside, 0);
+  EXPECT_EQ(notDrawn, 0);
 }
 
 }  // namespace
