@@ -9,8 +9,13 @@
 #include "Shading.h"
 #include "StickShading.h"
 
+#include <ig_core/VoxelSolid.h>
+
+#include <fieldcast/Conventions.h>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -76,6 +81,68 @@ std::optional<Rgb> stickColour(const TerrainView& view, int level, double x, dou
   const double zQ = (zM - g.heightBaseM) / g.heightStepM;
   return unpackRgb(stickTexel(table->texels(stick.id, stick.level),
                               stickTexelCoordinate(stick, zQ, g.heightStepM / table->unitM())));
+}
+
+// What the reference sees of an entity along a ray: its own plain march, apart from the entity
+// pass's grid walk — the ray sampled every 1/32 voxel through the model's box, the first sample
+// in a filled voxel kept, its face the axis whose voxel index changed last.
+struct EntitySample {
+  double depthM = 0.0;  // along the camera's forward axis (the ray's parameter)
+  glm::dvec3 normal{0.0};
+  std::uint32_t rgba = 0;
+};
+std::optional<EntitySample> marchEntity(const EntityInstance& e, const glm::dvec3& eye, const glm::dvec3& ray) {
+  if (!e.model || e.model->rgba.empty() || !(e.scale > 0.0)) return std::nullopt;
+  const VoxelSolid& m = *e.model;
+  const CameraAxes axes = cameraAxes(e.pose);
+  const double voxelM = kSolidVoxelM * e.scale;
+  // Model coordinates (voxels): x along its right, y its front, z up; its footprint centred on its position.
+  const auto local = [&](const glm::dvec3& p) {
+    const glm::dvec3 d = p - e.pose.positionM;
+    return glm::dvec3{glm::dot(d, axes.right) / voxelM + 0.5 * m.sizeX,
+                      glm::dot(d, axes.forward) / voxelM + 0.5 * m.sizeY, glm::dot(d, axes.up) / voxelM};
+  };
+  const glm::dvec3 o = local(eye);
+  const glm::dvec3 d = local(eye + ray) - o;  // per unit of the ray's parameter
+  // The parameter range inside the box, by slabs; then samples 1/32 voxel apart along it.
+  double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+  const glm::dvec3 size{static_cast<double>(m.sizeX), static_cast<double>(m.sizeY), static_cast<double>(m.sizeZ)};
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < 0.0 || o[a] > size[a]) return std::nullopt;
+      continue;
+    }
+    const double ta = -o[a] / d[a], tb = (size[a] - o[a]) / d[a];
+    t0 = std::max(t0, std::min(ta, tb));
+    t1 = std::min(t1, std::max(ta, tb));
+  }
+  if (!(t0 < t1)) return std::nullopt;
+  const double step = 1.0 / (32.0 * glm::length(d));
+  glm::ivec3 before{-1};
+  int lastAxis = 2;
+  for (double t = t0 + 0.5 * step; t < t1; t += step) {
+    const glm::dvec3 p = o + t * d;
+    const glm::ivec3 cell{static_cast<int>(std::floor(p.x)), static_cast<int>(std::floor(p.y)),
+                          static_cast<int>(std::floor(p.z))};
+    if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= m.sizeX || cell.y >= m.sizeY || cell.z >= m.sizeZ) continue;
+    if (before.x >= 0) {
+      for (int a = 0; a < 3; ++a)
+        if (cell[a] != before[a]) lastAxis = a;
+    } else {
+      // The first cell: the face of the box the ray entered through.
+      const glm::dvec3 entry = o + t0 * d;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int a = 0; a < 3; ++a) {
+        const double gap = std::min(std::abs(entry[a]), std::abs(entry[a] - size[a]));
+        if (gap < nearest) nearest = gap, lastAxis = a;
+      }
+    }
+    before = cell;
+    if (!m.filled(cell.x, cell.y, cell.z)) continue;
+    const glm::dvec3 axis = lastAxis == 0 ? axes.right : lastAxis == 1 ? axes.forward : axes.up;
+    return EntitySample{t, d[lastAxis] > 0.0 ? -axis : axis, m.rgba[m.index(cell.x, cell.y, cell.z)]};
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -172,7 +239,18 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
         const glm::dvec3 d = geo.ray(u + 0.5, vs);
         const double length = glm::length(d);
         Rgb colour;
-        if (h.basePlane) {
+        // The nearest entity in front of the terrain's hit, if one is.
+        std::optional<EntitySample> entity;
+        for (const EntityInstance& e : request.entities) {
+          const std::optional<EntitySample> seen = marchEntity(e, frame.pose.positionM, d);
+          if (seen && (!h.hit || seen->depthM < h.depthM) && (!entity || seen->depthM < entity->depthM)) entity = seen;
+        }
+        if (entity) {
+          const auto range = static_cast<float>(entity->depthM * length);
+          const Rgb lit(unpackRgb(entity->rgba).v * static_cast<float>(shading.light().model(entity->normal)));
+          colour = shading.terrain(lit, range);
+          if (sub == s / 2) rangePx = range;
+        } else if (h.basePlane) {
           const auto range = static_cast<float>(h.depthM * length);
           colour = shading.terrain(Rgb{unpackRgb(mBaseColourRgba).v * shading.light().flat()}, range);
           if (sub == s / 2) rangePx = range;
@@ -203,6 +281,15 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
   for (ControlPoint& cp : frame.controlPoints) {
     const Hit h = cast(geo, cp.framePx.x, cp.framePx.y);
     setControlPoint(cp, frame, h.hit, h.pointM);
+    const glm::dvec3 ray = geo.ray(cp.framePx.x, cp.framePx.y);
+    double nearest = h.hit ? h.depthM : std::numeric_limits<double>::infinity();
+    for (const EntityInstance& e : request.entities) {
+      const std::optional<EntitySample> seen = marchEntity(e, frame.pose.positionM, ray);
+      if (seen && seen->depthM < nearest) {
+        nearest = seen->depthM;
+        setControlPoint(cp, frame, true, frame.pose.positionM + seen->depthM * ray);
+      }
+    }
   }
   frame.renderEnd = MonotonicClock::now();
   return frame;
