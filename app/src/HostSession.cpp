@@ -359,6 +359,11 @@ void HostSession::updateEntitySample(const cigi::EntityControl& entity, TimePoin
   sample.type = entity.entityType;
   sample.at = arrival;
   sample.extrapolate = mSmoothing && entity.extrapolationEnabled;
+  if (sample.attached != attached) {
+    // Rates held before a change of attachment are not the entity's motion after it.
+    sample.velocityMps = glm::dvec3{0.0};
+    sample.angularRateRadS = glm::dvec3{0.0};
+  }
   sample.attached = attached;
   if (attached) {
     sample.parentId = entity.parentId;

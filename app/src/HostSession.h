@@ -178,7 +178,8 @@ class HostSession final : public io::HostHandler {
   void queueLos(PendingLos pending);
   void answerWaitingLos(TimePoint now);
   void respond(const PendingLos& pending);
-  // The world pose of entity `entityId` (0: the ownship at `at`), when known.
+  // The world pose of entity `entityId` at `at` (0: the ownship; another: its sample extrapolated
+  // by its rates, or placed on its parent, as the pictures show it), when known.
   std::optional<Pose> entityPose(std::uint16_t entityId, TimePoint at) const;
   std::optional<glm::dvec3> placePoint(io::cigi::CoordinateSystem system, std::uint16_t entityId, double a, double b,
                                        double c, TimePoint at) const;

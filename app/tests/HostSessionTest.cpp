@@ -380,8 +380,7 @@ TEST_F(HostSessionTest, OutsideTheDatabaseIsNotValid) {
   EXPECT_EQ(mSession.figures().hatHotAnswered, 0u);
 }
 
-// An attached entity's position fields are offsets from its parent, not latitude and longitude:
-// offsets that happen to read as a place in the database must not place a request there.
+// An attached entity's position fields are offsets from its parent, not latitude and longitude.
 TEST_F(HostSessionTest, ARequestRelativeToAnAttachedEntityIsPlacedThroughItsParent) {
   // Entity 6 rides 40 m ahead of entity 5, which heads east: a point relative to 6 lies 40 m east
   // of 5. Entity 8 is attached to 9, 9 to 8 (a loop); entity 7 to an entity that does not exist.

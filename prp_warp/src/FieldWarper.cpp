@@ -69,7 +69,7 @@ const Image& FieldWarper::flickerFiltered(const Frame& frame) noexcept {
   return mFiltered;
 }
 
-bool beyondWarpReach(const Frame& frame, const Pose& pose) noexcept {
+bool beyondWarpReach(const Frame& frame, const Pose& pose, TimePoint displayTime) noexcept {
   double nearestSq = std::numeric_limits<double>::infinity();
   for (const ControlPoint& cp : frame.controlPoints) {
     if (cp.kind != ControlPointKind::Surface) continue;
@@ -77,7 +77,9 @@ bool beyondWarpReach(const Frame& frame, const Pose& pose) noexcept {
     nearestSq = std::min(nearestSq, glm::dot(d, d));
   }
   const glm::dvec3 moved = pose.positionM - frame.pose.positionM;
-  return glm::dot(moved, moved) > 0.25 * nearestSq;  // |moved| > half the nearest range
+  const double movedSq = glm::dot(moved, moved);
+  const double reachM = kFastestEyeMps * std::abs(toSeconds(displayTime - frame.poseTime));
+  return movedSq > 0.25 * nearestSq && movedSq > reachM * reachM;
 }
 
 FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const FieldSpec& spec, Field& out) noexcept {
@@ -92,6 +94,8 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
   out.rasterHeightPx = mConfig.rasterHeightPx;
   out.fieldNumber = spec.fieldNumber;
   out.displayTime = spec.displayTime;
+  const std::uint64_t shownFrameNumber = out.sourceFrameNumber;  // what a held field shows again
+  const TimePoint shownPoseTime = out.sourcePoseTime;
   out.sourceFrameNumber = frame.frameNumber;
   out.sourcePoseTime = frame.poseTime;
   out.marginViolations = 0;
@@ -103,9 +107,11 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
     return status;
   };
   if (frame.image.empty()) return black(FieldStatus::NoFrame);
-  if (beyondWarpReach(frame, pose)) {
+  if (beyondWarpReach(frame, pose, spec.displayTime)) {
     mCounters.heldFields.fetch_add(1, std::memory_order_relaxed);
     if (!mHaveLast) fillBlack(out.image);  // nothing shown yet to show again
+    out.sourceFrameNumber = shownFrameNumber;
+    out.sourcePoseTime = shownPoseTime;
     return FieldStatus::Held;
   }
   const PixelFormat workFormat = frame.image.format();

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <new>
 #include <vector>
@@ -133,24 +134,41 @@ TEST(FieldWarper, AFieldBeyondTheFramesReachShowsThePreviousPictureAgain) {
   const std::vector<std::uint8_t> shown = bytes(field);
   Pose far = frame.pose;
   far.positionM += glm::dvec3{3000.0, -2000.0, 50.0};  // a reposition
-  EXPECT_TRUE(beyondWarpReach(frame, far));
-  EXPECT_FALSE(beyondWarpReach(frame, near));
-  EXPECT_EQ(warper.produce(frame, far, FieldSpec{1, TimePoint{}, FieldParity::Progressive}, field), FieldStatus::Held);
+  const TimePoint shownAt = frame.poseTime + std::chrono::milliseconds(50);
+  EXPECT_TRUE(beyondWarpReach(frame, far, shownAt));
+  EXPECT_FALSE(beyondWarpReach(frame, near, shownAt));
+  Frame newer = frame;  // the same picture, numbered as a newer frame
+  newer.frameNumber = frame.frameNumber + 1;
+  EXPECT_EQ(warper.produce(newer, far, FieldSpec{1, shownAt, FieldParity::Progressive}, field), FieldStatus::Held);
   EXPECT_EQ(bytes(field), shown);  // the previous picture, not the old place smeared over the new
   EXPECT_EQ(field.fieldNumber, 1u);
+  EXPECT_EQ(field.sourceFrameNumber, frame.frameNumber);  // ... and said to come from where it came from
   EXPECT_EQ(warper.counters().heldFields.load(), 1u);
   EXPECT_EQ(warper.counters().blackFields.load(), 0u);
 
   // Nothing shown yet: black.
   FieldWarper fresh(cfg);
   Field first = fresh.makeField();
-  EXPECT_EQ(fresh.produce(frame, far, spec, first), FieldStatus::Held);
+  EXPECT_EQ(fresh.produce(frame, far, FieldSpec{0, shownAt, FieldParity::Progressive}, first), FieldStatus::Held);
   EXPECT_EQ(first.image.row(kH / 2)[1], 16);  // UYVY video black
+
+  // Fast and close to the ground is motion, not a reposition: 4 m from a frame whose nearest
+  // surface is 5 m away, 50 ms later (80 m/s), is warped; so is a frame 1 s stale at 250 m/s.
+  Frame low = frame;
+  low.controlPoints[7].kind = ControlPointKind::Surface;
+  low.controlPoints[7].world = frame.pose.positionM + glm::dvec3{0.0, 3.0, -4.0};
+  Pose rolled = frame.pose;
+  rolled.positionM.y += 4.0;
+  EXPECT_FALSE(beyondWarpReach(low, rolled, shownAt));
+  EXPECT_TRUE(beyondWarpReach(low, rolled, frame.poseTime));  // the same move at once: a jump
+  Pose flown = frame.pose;
+  flown.positionM.y += 250.0;
+  EXPECT_FALSE(beyondWarpReach(frame, flown, frame.poseTime + std::chrono::seconds(1)));
 
   // A frame that saw only sky is never out of reach.
   Frame sky = frame;
   for (ControlPoint& cp : sky.controlPoints) cp.kind = ControlPointKind::Sky;
-  EXPECT_FALSE(beyondWarpReach(sky, far));
+  EXPECT_FALSE(beyondWarpReach(sky, far, frame.poseTime));
 }
 
 }  // namespace

@@ -42,14 +42,16 @@ class TerrainLight {
   static constexpr double kEntityAmbient = 0.55;
 
   explicit TerrainLight(const RenderSettings& s) noexcept
-      : mRelit(!(s.sun == s.colourSun)),
+      : mRelit(!sameSun(s.sun, s.colourSun)),
         mHillshade(std::clamp(s.colourHillshade, 0.0, 1.0)),
         mToSun(towardsSun(s.sun)),
         mToColourSun(
             towardsSun(SunDirection{s.colourSun.azimuthDeg, std::clamp(s.colourSun.elevationDeg, 1.0, 90.0)})) {
     if (!mRelit) return;  // every factor stays exactly 1
-    mSky = static_cast<float>(daylight(s.sun.elevationDeg));
-    mDirect = sunDisc(s.sun.elevationDeg);
+    // Relative to the colours' own: a colour sun low enough to dim them (under 10°) already did.
+    const double colourElevation = std::clamp(s.colourSun.elevationDeg, 1.0, 90.0);
+    mSky = static_cast<float>(daylight(s.sun.elevationDeg) / daylight(colourElevation));
+    mDirect = sunDisc(s.sun.elevationDeg) / sunDisc(colourElevation);
     mFlat = static_cast<float>(lightNow(glm::dvec3{0.0, 0.0, 1.0}) / lightBaked(glm::dvec3{0.0, 0.0, 1.0}));
     mNowSky = static_cast<float>((1.0 - mHillshade) * mSky);
     mNowSun = static_cast<float>(mHillshade * mDirect / mToColourSun.z);
@@ -89,6 +91,10 @@ class TerrainLight {
   }
 
  private:
+  // The same sun written two ways (azimuth −45° is 315°).
+  static bool sameSun(const SunDirection& a, const SunDirection& b) noexcept {
+    return a.elevationDeg == b.elevationDeg && std::remainder(a.azimuthDeg - b.azimuthDeg, 360.0) == 0.0;
+  }
   // Daylight: full with the sun 10° up, falling to 5% (night) at 6° below the horizon (civil dusk).
   static double daylight(double elevationDeg) noexcept { return 0.05 + 0.95 * smoothstep(-6.0, 10.0, elevationDeg); }
   // What reaches the ground of the sun's disc: gone a degree below the horizon, whole 5° up.

@@ -72,10 +72,23 @@ TEST(TerrainLight, TheColoursOwnSunLeavesEveryFactorAtOne) {
   EXPECT_EQ(same.flat(), 1.0f);
   EXPECT_EQ(same.sky(), 1.0f);
 
+  s.sun = {120.0 - 360.0, 25.0};  // the same sun written another way
+  EXPECT_FALSE(TerrainLight(s).relit());
+
+  // Colours baked under a low sun (2°, already dim): a sun a hair from it changes nothing much.
+  s.colourSun = {120.0, 2.0};
+  s.sun = {120.0001, 2.0001};
+  const TerrainLight low(s);
+  EXPECT_TRUE(low.relit());
+  EXPECT_NEAR(low.flat(), 1.0f, 1e-3f);
+  EXPECT_NEAR(low.sky(), 1.0f, 1e-3f);
+  EXPECT_NEAR(low.terrain(0.3f, -0.2f), 1.0f, 1e-3f);
+
+  s.colourSun = {120.0, 25.0};
   s.sun = {300.0, 25.0};
   const TerrainLight other(s);
   EXPECT_TRUE(other.relit());
-  // A slope facing the new sun (rising towards the east-south-east, away from it) ...
+  // The new sun in the west-north-west: a slope rising to the east faces it, one falling to the east turns away.
   EXPECT_GT(other.terrain(0.5f, 0.0f), 1.2f);
   EXPECT_LT(other.terrain(-0.5f, 0.0f), 0.8f);
 }

@@ -48,16 +48,24 @@ enum class FieldStatus : std::uint8_t {
   BadFrame,   ///< the frame was inconsistent: black field
   BadOutput,  ///< the output Field could not take this shape without allocating: left untouched
   /// The field's camera is beyond the frame's reach (beyondWarpReach: a reposition, such as a
-  /// host moving the ownship kilometres at once): the output's previous picture is shown again,
-  /// black when there was none, until a frame rendered near the new pose arrives.
+  /// host moving the ownship kilometres at once): the output's previous picture is shown again
+  /// with its source frame's number and pose time (of an interlaced raster, the other field's
+  /// rows), black when there was none, until a frame rendered near the new pose arrives.
   Held,
 };
 
-/// True when a field's camera at `pose` is too far from where `frame` was rendered for a warp of
-/// it to mean anything: further than half the range of the nearest surface its control points saw
-/// (the warp's parallax error grows with that ratio; extrapolated motion moves a few metres
-/// between frames, a reposition kilometres). A frame that saw only sky is never out of reach. RT-safe.
-bool beyondWarpReach(const Frame& frame, const Pose& pose) noexcept;
+/// The fastest the eye moves between poses of one flight (m/s): a jump further than this speed
+/// covers between the frame's pose time and the field's display time is a reposition.
+inline constexpr double kFastestEyeMps = 1000.0;
+
+/// True when a field's camera at `pose`, displayed at `displayTime`, is a reposition away from
+/// where `frame` was rendered, so that a warp of it would mean nothing: it moved further than
+/// half the range of the nearest surface the frame's control points saw (the warp's parallax
+/// error grows with that ratio) and further than kFastestEyeMps could carry it in the time
+/// between (so fast flight near the ground, or an entity close to the eye, is still warped; a
+/// host moving the ownship kilometres in one message is not). A frame that saw only sky is never
+/// out of reach. RT-safe.
+bool beyondWarpReach(const Frame& frame, const Pose& pose, TimePoint displayTime) noexcept;
 
 /// Running totals, readable from any thread.
 struct FieldWarperCounters {
