@@ -5,6 +5,7 @@
 #include "ColumnCaster.h"
 #include "PlaneMarch.h"
 #include "RayMarch.h"
+#include "SeeThrough.h"
 
 #include <algorithm>
 #include <cmath>
@@ -58,7 +59,10 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
       image(img),
       rangeM(range) {
   const TerrainGeometry& g = v.geometry();
-  if (sticks != nullptr) stickUnitsPerQ = g.heightStepM / sticks->unitM();
+  if (sticks != nullptr) {
+    stickUnitsPerQ = g.heightStepM / sticks->unitM();
+    seeThrough = sticks->hasSeeThrough();
+  }
   for (int l = 0; l < levels; ++l) {
     levelWidth[static_cast<std::size_t>(l)] = g.levelWidthVox(l);
     levelHeight[static_cast<std::size_t>(l)] = g.levelHeightVox(l);
@@ -79,6 +83,16 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
 namespace {
 
 inline float rayLength(double xc, double yc) noexcept { return static_cast<float>(std::sqrt(1.0 + xc * xc + yc * yc)); }
+
+// A per-ray hit as the pixel shows it: its colour hazed at `rangeM`, or through a complex stick's
+// see-through texel what the secondary ray sees (SeeThrough.h).
+SeenThrough shadedHit(const CasterFrame& f, CasterThread& t, const RayLine& r, const MarchHit& h, const glm::dvec3& d,
+                      double depth, float rangeM) noexcept {
+  std::uint32_t texel = 0xFF000000u;
+  const Rgb colour = hitColour(f, t, r, h, depth, f.seeThrough ? &texel : nullptr);
+  if (seeThroughTexel(texel)) return seeThrough(f, t, d, depth);
+  return {f.shading.terrain(colour, rangeM), rangeM};
+}
 
 // Rays that missed the terrain in sub-rows q = qFrom ... 0 of the column at camera-space x `xc`:
 // sky, or the base plane beyond the edge (a descending ray). A ray's world z and length are linear
@@ -121,8 +135,8 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
       const MarchHit h = marchCoherent(f, t, r, havePrev, prevHit);
       if (h.hit) {
         const double depth = h.m / r.aMaj;
-        const float rangeM = static_cast<float>(depth) * length;
-        sink.emit(q, f.shading.terrain(hitColour(f, t, r, h, depth), rangeM), rangeM);
+        const SeenThrough seen = shadedHit(f, t, r, h, d, depth, static_cast<float>(depth) * length);
+        sink.emit(q, seen.colour, seen.rangeM);
         ++t.rays;
         if (untilHit) {
           hitOut = h;
@@ -299,10 +313,9 @@ void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) no
           const MarchHit h = marchCoherent(f, t, r, havePrev, prevHit);
           if (h.hit) {
             const double depth = h.m / r.aMaj;
-            const auto rangeM = static_cast<float>(depth * length);
-            const Rgb c = f.shading.terrain(hitColour(f, t, r, h, depth), rangeM);
-            sum += c;
-            if (sub == s / 2) rangePx = rangeM;
+            const SeenThrough seen = shadedHit(f, t, r, h, d, depth, static_cast<float>(depth * length));
+            sum += seen.colour;
+            if (sub == s / 2) rangePx = seen.rangeM;
             continue;
           }
           // Missed. An ascending ray passes over everything, and so does every ray above it. A

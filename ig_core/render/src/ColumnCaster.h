@@ -62,6 +62,7 @@ struct CasterFrame {
   /// at almost every crossing, and to infinity to march each column to its end.
   double marchBand = 1.5;
   const StickTable* sticks;     ///< the terrain's sticks, or null when it has none
+  bool seeThrough = false;      ///< some of them are complex: a ray may go on as a secondary ray
   double stickUnitsPerQ = 0.0;  ///< stick voxels (level 0) per height quantum
   Image* image;                 ///< output pixels (or null)
   float* rangeM;                ///< output range per pixel (or null)
@@ -75,13 +76,14 @@ struct alignas(64) CasterThread {
     const TerrainTile* tile = nullptr;
   };
   std::array<CachedTile, 24> tiles{};
-  std::uint64_t steps = 0;      ///< height samples taken (march steps)
-  std::uint64_t rays = 0;       ///< rays cast
-  std::uint64_t runs = 0;       ///< fast-loop runs started (profiling)
-  std::uint64_t generic = 0;    ///< generic (slow-path) samples (profiling)
-  std::uint64_t retraces = 0;   ///< rays whose start lay below the surface (profiling)
-  std::uint64_t firstHits = 0;  ///< max-pyramid descents (profiling)
-  std::uint64_t pauses = 0;     ///< column plane marches paused at a depth band's end (profiling)
+  std::uint64_t steps = 0;          ///< height samples taken (march steps)
+  std::uint64_t rays = 0;           ///< rays cast
+  std::uint64_t runs = 0;           ///< fast-loop runs started (profiling)
+  std::uint64_t generic = 0;        ///< generic (slow-path) samples (profiling)
+  std::uint64_t retraces = 0;       ///< rays whose start lay below the surface (profiling)
+  std::uint64_t firstHits = 0;      ///< max-pyramid descents (profiling)
+  std::uint64_t pauses = 0;         ///< column plane marches paused at a depth band's end (profiling)
+  std::uint64_t secondaryRays = 0;  ///< rays gone on through a complex stick's see-through texel
   /// Columns are cast into these column-major blocks, then copied into the frame (see castColumns).
   /// They grow to the tallest frame once; after that the worker allocates nothing.
   static constexpr int kStagingColumns = 16;

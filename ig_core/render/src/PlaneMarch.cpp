@@ -146,8 +146,14 @@ inline bool segmentHasStick(const CasterFrame& f, CasterThread& t, TileWindows& 
   const StickVoxel far = crossingStick(f, t, c, to, toZ);
   const StickVoxel& s = far.id != 0 ? far : near;
   if (s.id == 0) return false;
+  // A complex stick may be seen through (at level 0: its coarser texels are opaque); its pixels'
+  // secondary rays need the column
+  const Intrinsics& k = f.geo->intrinsics();
+  const SeeThroughColumn through{&f, &t, k.cxPx + c.xc * k.fxPx};
+  const bool complex = f.seeThrough && f.sticks->entry(s.id).kind == StickKind::Complex;
   const StickSpan stick{f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, fromZ, f.stickUnitsPerQ),
-                        stickTexelCoordinate(s, toZ, f.stickUnitsPerQ), f.shading.light().flat()};
+                        stickTexelCoordinate(s, toZ, f.stickUnitsPerQ), f.shading.light().flat(),
+                        complex ? &through : nullptr};
   const StickSpanPixel texels{stick};
   if (sink.s != 1) {
     const PixelShader shading = column.shading;

@@ -405,7 +405,8 @@ MarchHit marchCoherent(const CasterFrame& f, CasterThread& t, const RayLine& r, 
   return h;
 }
 
-Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const MarchHit& h, double depthM) noexcept {
+Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const MarchHit& h, double depthM,
+              std::uint32_t* stickTexelOut) noexcept {
   const Cursor& c = h.at;
   const int j = static_cast<int>(c.y >> 32);
   const float frac = static_cast<float>(static_cast<std::uint32_t>(c.y) * (1.0 / kMinorOne));
@@ -414,9 +415,10 @@ Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const Mar
                                   : colouringStick(stickAt(f, t, c.level, j, c.i), stickAt(f, t, c.level, j + 1, c.i));
     if (s.id != 0) {
       const double zQ = f.camZq + r.zPer * h.m;
-      const Rgb texel =
-          unpackRgb(stickTexel(f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, zQ, f.stickUnitsPerQ)));
-      return Rgb{texel.v * f.shading.light().flat()};
+      const std::uint32_t texel =
+          stickTexel(f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, zQ, f.stickUnitsPerQ));
+      if (stickTexelOut != nullptr) *stickTexelOut = texel;
+      return Rgb{unpackRgb(texel).v * f.shading.light().flat()};
     }
   }
   const std::uint32_t c0 = r.xMajor ? colourAt(f, t, c.level, c.i, j) : colourAt(f, t, c.level, j, c.i);

@@ -118,8 +118,10 @@ MarchHit marchCoherent(const CasterFrame& f, CasterThread& t, const RayLine& r, 
                        glm::dvec2& prevHit) noexcept;
 
 /// Colour at a hit: linear along the grid line at the hit's level, blended with the next level
-/// (bilinear there) by distance; on a stick's side or top, the stick's colour (StickShading.h).
-Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const MarchHit& h, double depthM) noexcept;
+/// (bilinear there) by distance; on a stick's side or top, the stick's colour (StickShading.h),
+/// and its texel in `stickTexelOut` when given (it may be see-through).
+Rgb hitColour(const CasterFrame& f, CasterThread& t, const RayLine& r, const MarchHit& h, double depthM,
+              std::uint32_t* stickTexelOut = nullptr) noexcept;
 
 /// World position (metres) of the point at distance m along the ray.
 glm::dvec3 worldPoint(const CasterFrame& f, const RayLine& r, double m) noexcept;

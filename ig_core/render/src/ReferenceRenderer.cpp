@@ -17,6 +17,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <span>
+#include <tuple>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -63,10 +65,10 @@ float terrainLight(const TerrainView& view, const TerrainLight& light, int level
   return a + (b - a) * ty;
 }
 
-// On a stick's side or top (StickShading.h): the colour, at height zM, of the tallest stick among
+// On a stick's side or top (StickShading.h): the texel, at height zM, of the tallest stick among
 // the four voxels of `level` around level-0 continuous coordinates (x, y); nothing when none of
 // them carries one.
-std::optional<Rgb> stickColour(const TerrainView& view, int level, double x, double y, double zM) {
+std::optional<std::uint32_t> stickTexelAt(const TerrainView& view, int level, double x, double y, double zM) {
   const StickTable* table = view.sticks();
   if (table == nullptr) return std::nullopt;
   const int i = static_cast<int>(std::floor(std::ldexp(x + 0.5, -level) - 0.5));
@@ -79,8 +81,113 @@ std::optional<Rgb> stickColour(const TerrainView& view, int level, double x, dou
   if (stick.id == 0) return std::nullopt;
   const TerrainGeometry& g = view.geometry();
   const double zQ = (zM - g.heightBaseM) / g.heightStepM;
-  return unpackRgb(stickTexel(table->texels(stick.id, stick.level),
-                              stickTexelCoordinate(stick, zQ, g.heightStepM / table->unitM())));
+  return stickTexel(table->texels(stick.id, stick.level),
+                    stickTexelCoordinate(stick, zQ, g.heightStepM / table->unitM()));
+}
+
+// A terrain hit's colour (hazed) and range, and the stick texel it lies on (opaque when none);
+// `seeThrough`: a level-0 hit on a see-through texel.
+struct Shaded {
+  Rgb colour;
+  float rangeM = std::numeric_limits<float>::infinity();
+  std::uint32_t stickRgba = 0xFF000000u;
+  double depthM = 0.0;
+  bool seeThrough = false;
+};
+
+// Front-to-back layers as the caster blends them (SeeThrough.cpp).
+struct SeenLayers {
+  Float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
+  float opacity = 0.0f;
+  float rangeM = std::numeric_limits<float>::infinity();
+  void add(const Rgb& hazed, float alpha, float range) {
+    const float w = (1.0f - opacity) * alpha;
+    sum += hazed.v * w;
+    if (opacity < 0.5f && opacity + w >= 0.5f) rangeM = range;
+    opacity += w;
+  }
+};
+
+// What the reference sees through a see-through stick texel, by its own plain march apart from
+// the caster's column walk (SeeThrough.h has the rules): the ray sampled every 1/32 voxel across
+// and 1/16 stick voxel up or down from its hit `front`, each sample in the level-0 column its
+// point lies over, taken as a box; a semi-transparent texel blended once as the ray passes it. After two stick-free
+// columns, above the surface, the plain march from there (`castFrom(depth)`, a Shaded) — through a see-through texel
+// again if it meets one.
+template <typename CastFrom>
+std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& shading, const glm::dvec3& eye,
+                                      const glm::dvec3& d, Shaded front, const CastFrom& castFrom) {
+  const TerrainGeometry& g = view.geometry();
+  const StickTable& table = *view.sticks();
+  const double length = glm::length(d);
+  const float flat = shading.light().flat();
+  SeenLayers layers;
+  const auto layer = [&](std::uint32_t rgba, double depth, float alpha) {
+    const auto range = static_cast<float>(depth * length);
+    layers.add(shading.terrain(Rgb{unpackRgb(rgba).v * flat}, range), alpha, range);
+  };
+  const auto done = [&](std::uint32_t rgba, double depth) {
+    layer(rgba, depth, 1.0f);
+    return std::pair{Rgb{layers.sum}, layers.rangeM};
+  };
+  const double unitsPerQ = g.heightStepM / table.unitM();
+  const double horizontal = std::hypot(d.x, d.y) / g.spacingM;  // voxels per metre of depth
+  const double vertical = std::abs(d.z) / table.unitM();        // stick voxels per metre of depth
+  const double step = 1.0 / std::max({32.0 * horizontal, 16.0 * vertical, 1e-9});
+  const auto columnOf = [&](double depth) {
+    const glm::dvec3 p = eye + depth * d;
+    return glm::ivec2{static_cast<int>(std::floor((p.x - g.originM.x) / g.spacingM + 0.5)),
+                      static_cast<int>(std::floor((p.y - g.originM.y) / g.spacingM + 0.5))};
+  };
+  for (int restart = 0; restart < 16 && front.seeThrough; ++restart) {
+    const glm::ivec2 start = columnOf(front.depthM);
+    glm::ivec2 last = start;
+    int lastTexel = -1, free = 0;
+    double depth = front.depthM + 0.5 * step;
+    bool handOff = false;
+    for (; depth < front.depthM + 1e6; depth += step) {
+      const glm::ivec2 at = columnOf(depth);
+      if (at.x < 0 || at.y < 0 || at.x >= g.widthVox || at.y >= g.heightVox) {
+        handOff = true;
+        break;
+      }
+      const TerrainView::Sample v = view.sample(0, at.x, at.y);
+      const glm::dvec3 p = eye + depth * d;
+      const double zQ = (p.z - g.heightBaseM) / g.heightStepM;
+      const bool complex = v.stickId != 0 && table.entry(v.stickId).kind == StickKind::Complex;
+      if (at != last) {
+        free = v.stickId == 0 ? free + 1 : 0;
+        last = at;
+        lastTexel = -1;
+      }
+      if (at == start && !complex) continue;  // the hit lies between voxel centres: not its box
+      if (!complex) {
+        if (zQ < v.heightQ) {
+          if (v.stickId == 0) return done(view.colourRgba(0, at.x, at.y), depth);
+          return done(stickTexel(table.texels(v.stickId, 0),
+                                 stickTexelCoordinate(StickVoxel{v.stickId, v.heightQ, 0}, zQ, unitsPerQ)),
+                      depth);
+        }
+        if (free >= 2 && p.z > view.heightAtM(p.x, p.y, 0)) {
+          handOff = true;
+          break;
+        }
+        continue;
+      }
+      if (zQ >= v.heightQ) continue;
+      const std::span<const std::uint32_t> texels = table.texels(v.stickId, 0);
+      const auto k = static_cast<int>(std::floor((v.heightQ - zQ) * unitsPerQ));
+      if (k >= static_cast<int>(texels.size())) return done(view.colourRgba(0, at.x, at.y), depth);
+      const std::uint32_t texel = texels[static_cast<std::size_t>(k)];
+      if (!seeThroughTexel(texel)) return done(texel, depth);
+      if (k != lastTexel && (texel >> 24) != 0) layer(texel, depth, static_cast<float>(texel >> 24) / 255.0f);
+      lastTexel = k;
+    }
+    if (!handOff) break;
+    front = castFrom(depth);
+  }
+  layers.add(front.colour, 1.0f, front.rangeM);
+  return std::pair{Rgb{layers.sum}, layers.rangeM};
 }
 
 // What the reference sees of an entity along a ray: its own plain march, apart from the entity
@@ -150,7 +257,8 @@ std::optional<EntitySample> marchEntity(const EntityInstance& e, const glm::dvec
 ReferenceRenderer::ReferenceRenderer(const TerrainView& view)
     : mView(view), mCeilingM(view.geometry().heightM(terrainCeilingQ(view))), mBaseColourRgba(basePlaneColour(view)) {}
 
-ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u, double v) const noexcept {
+ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u, double v,
+                                               double fromDepthM) const noexcept {
   const TerrainGeometry& g = mView.geometry();
   const glm::dvec3 c = geo.pose().positionM;
   const glm::dvec3 d = geo.ray(u, v);
@@ -187,7 +295,8 @@ ReferenceRenderer::Hit ReferenceRenderer::cast(const ViewGeometry& geo, double u
     const glm::dvec3 p = c + t * d;
     return p.z - mView.heightAtM(p.x, p.y, level);
   };
-  double t = lo;
+  double t = std::max(lo, fromDepthM);
+  if (t > hi) return missed();
   int level = geo.lodLevel(t, d);
   double f = above(t, level);
   if (f <= 0.0) {
@@ -229,6 +338,35 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
   const Shading shading(settings);
   const int s = std::clamp(settings.verticalSupersample, 1, 4);
   const int w = frame.intrinsics.widthPx;
+  const auto shade = [&](const Hit& h, const glm::dvec3& d, double length) {
+    Shaded out;
+    if (!h.hit) {
+      out.colour = shading.sky(static_cast<float>(d.z / length));
+      return out;
+    }
+    out.rangeM = static_cast<float>(h.depthM * length);
+    out.depthM = h.depthM;
+    if (h.basePlane) {
+      out.colour = shading.terrain(Rgb{unpackRgb(mBaseColourRgba).v * shading.light().flat()}, out.rangeM);
+      return out;
+    }
+    const TerrainGeometry& g = mView.geometry();
+    const double x = (h.pointM.x - g.originM.x) / g.spacingM;
+    const double y = (h.pointM.y - g.originM.y) / g.spacingM;
+    Rgb colour;
+    if (const std::optional<std::uint32_t> stick = stickTexelAt(mView, h.level, x, y, h.pointM.z)) {
+      out.stickRgba = *stick;
+      out.seeThrough = h.level == 0 && seeThroughTexel(*stick);
+      colour = Rgb{unpackRgb(*stick).v * shading.light().flat()};
+    } else {
+      colour = bilinearColour(mView, h.level, x, y);
+      const double blend = settings.blendLevels ? geo.levelBlend(h.depthM * geo.lodStretch(d), h.level) : 0.0;
+      if (blend > 0.0) colour = mix(colour, bilinearColour(mView, h.level + 1, x, y), static_cast<float>(blend));
+      if (shading.light().relit()) colour.v *= terrainLight(mView, shading.light(), h.level, x, y);
+    }
+    out.colour = shading.terrain(colour, out.rangeM);
+    return out;
+  };
   for (int v = 0; v < frame.intrinsics.heightPx; ++v) {
     for (int u = 0; u < w; ++u) {
       Rgb sum;
@@ -238,40 +376,28 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
         const Hit h = cast(geo, u + 0.5, vs);
         const glm::dvec3 d = geo.ray(u + 0.5, vs);
         const double length = glm::length(d);
-        Rgb colour;
-        // The nearest entity in front of the terrain's hit, if one is.
+        // The terrain (or what a complex stick lets the ray see beyond it), then the nearest
+        // entity in front of it, if one is.
+        Shaded terrain = shade(h, d, length);
+        if (terrain.seeThrough) {
+          std::tie(terrain.colour, terrain.rangeM) =
+              marchSeeThrough(mView, shading, frame.pose.positionM, d, terrain,
+                              [&](double from) { return shade(cast(geo, u + 0.5, vs, from), d, length); });
+        }
         std::optional<EntitySample> entity;
         for (const EntityInstance& e : request.entities) {
           const std::optional<EntitySample> seen = marchEntity(e, frame.pose.positionM, d);
-          if (seen && (!h.hit || seen->depthM < h.depthM) && (!entity || seen->depthM < entity->depthM)) entity = seen;
+          if (seen && seen->depthM * length < terrain.rangeM && (!entity || seen->depthM < entity->depthM))
+            entity = seen;
         }
+        Rgb colour = terrain.colour;
+        float range = terrain.rangeM;
         if (entity) {
-          const auto range = static_cast<float>(entity->depthM * length);
+          range = static_cast<float>(entity->depthM * length);
           const Rgb lit(unpackRgb(entity->rgba).v * static_cast<float>(shading.light().model(entity->normal)));
           colour = shading.terrain(lit, range);
-          if (sub == s / 2) rangePx = range;
-        } else if (h.basePlane) {
-          const auto range = static_cast<float>(h.depthM * length);
-          colour = shading.terrain(Rgb{unpackRgb(mBaseColourRgba).v * shading.light().flat()}, range);
-          if (sub == s / 2) rangePx = range;
-        } else if (h.hit) {
-          const TerrainGeometry& g = mView.geometry();
-          const double x = (h.pointM.x - g.originM.x) / g.spacingM;
-          const double y = (h.pointM.y - g.originM.y) / g.spacingM;
-          if (const std::optional<Rgb> stick = stickColour(mView, h.level, x, y, h.pointM.z)) {
-            colour = Rgb{stick->v * shading.light().flat()};
-          } else {
-            colour = bilinearColour(mView, h.level, x, y);
-            const double blend = settings.blendLevels ? geo.levelBlend(h.depthM * geo.lodStretch(d), h.level) : 0.0;
-            if (blend > 0.0) colour = mix(colour, bilinearColour(mView, h.level + 1, x, y), static_cast<float>(blend));
-            if (shading.light().relit()) colour.v *= terrainLight(mView, shading.light(), h.level, x, y);
-          }
-          const auto range = static_cast<float>(h.depthM * length);
-          colour = shading.terrain(colour, range);
-          if (sub == s / 2) rangePx = range;
-        } else {
-          colour = shading.sky(static_cast<float>(d.z / length));
         }
+        if (sub == s / 2 && std::isfinite(range)) rangePx = range;
         sum += colour;
       }
       shading.store(frame.image.row(v), u, sum, 1.0f / static_cast<float>(s));

@@ -36,9 +36,11 @@ class Renderer::InFlight {
     t.resetTiles();
     const std::uint64_t steps = t.steps;
     const std::uint64_t rays = t.rays;
+    const std::uint64_t secondary = t.secondaryRays;
     castColumns(self->caster, begin, end, t);
     self->steps.fetch_add(t.steps - steps, std::memory_order_relaxed);
     self->rays.fetch_add(t.rays - rays, std::memory_order_relaxed);
+    self->secondaryRays.fetch_add(t.secondaryRays - secondary, std::memory_order_relaxed);
   }
 
   Renderer& renderer;
@@ -51,6 +53,7 @@ class Renderer::InFlight {
   PoolJob job;
   std::atomic<std::uint64_t> steps{0};
   std::atomic<std::uint64_t> rays{0};
+  std::atomic<std::uint64_t> secondaryRays{0};
 };
 
 Renderer::Renderer(const TerrainView& view, const RenderSettings& settings, int threads)
@@ -99,6 +102,7 @@ Frame Renderer::finish(Ticket f, RenderStats* stats) {
   if (stats != nullptr) {
     stats->steps = f->steps.load(std::memory_order_relaxed);
     stats->rays = f->rays.load(std::memory_order_relaxed);
+    stats->secondaryRays = f->secondaryRays.load(std::memory_order_relaxed);
     stats->pixels = static_cast<std::uint64_t>(f->frame.intrinsics.widthPx) *
                     static_cast<std::uint64_t>(f->frame.intrinsics.heightPx);
     stats->quality = f->quality;

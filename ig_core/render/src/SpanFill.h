@@ -75,22 +75,39 @@ struct TerrainSpanPixel {
   }
 };
 
+struct CasterFrame;
+struct CasterThread;
+
+/// A column's secondary rays (SeeThrough.h), for a span on a complex stick's see-through texels.
+struct SeeThroughColumn {
+  const CasterFrame* frame;
+  CasterThread* thread;
+  double uc;  ///< the column's centre, pixels
+};
+/// What sub-row q sees through the see-through texel its ray met at range `rangeM`: the colour
+/// (hazed) and range of SeeThrough.h's secondary ray. Defined in SeeThrough.cpp.
+SpanPixel seeThroughPixel(const SeeThroughColumn& column, int q, float rangeM) noexcept;
+
 /// A span on a stick's side or top (StickShading.h): the stick's texels at its level, the near
 /// and the far crossing's texel coordinates on it, and the light its texels are scaled by.
 struct StickSpan {
   std::span<const std::uint32_t> texels;
   float s0 = 0.0f, s1 = 0.0f;
   float light = 1.0f;  ///< the frame's sun on colours without light of their own (TerrainLight::flat)
+  const SeeThroughColumn* through = nullptr;  ///< a complex stick at level 0: its column's secondary rays
 };
 
 /// What sub-row q of a span on a stick sees: the texel at its place between the crossings (the far
-/// crossing's weight as in spanPixel, nearest texel), with its range and haze.
+/// crossing's weight as in spanPixel, nearest texel), with its range and haze; through a
+/// see-through texel, what the secondary ray sees.
 struct StickSpanPixel {
   StickSpan stick;
   SpanPixel operator()(const CrossingSpan& span, const ColumnFill& column, const PixelShader& shading,
                        int q) const noexcept {
     const SpanPoint p = spanPoint(span, column, q);
     const std::uint32_t texel = stickTexel(stick.texels, stick.s0 + (stick.s1 - stick.s0) * p.tw);
+    if (stick.through != nullptr && seeThroughTexel(texel)) [[unlikely]]
+      return seeThroughPixel(*stick.through, q, p.rangeM);
     return {shading.terrain(Rgb{unpackRgb(texel).v * stick.light}, p.rangeM), p.rangeM};
   }
 };

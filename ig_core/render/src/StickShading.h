@@ -34,6 +34,9 @@ inline float stickTexelCoordinate(const StickVoxel& s, double zQ, double unitsPe
   return static_cast<float>(std::ldexp((s.topQ - zQ) * unitsPerQ, -s.level));
 }
 
+/// Whether texel `rgba` is see-through: alpha below 255, only ever at level 0 of a complex stick.
+inline bool seeThroughTexel(std::uint32_t rgba) noexcept { return (rgba >> 24) != 0xFFu; }
+
 /// The texel at `coordinate` (floor, clamped to the stick: above its top the first, below its
 /// foot the last; NaN the first).
 inline std::uint32_t stickTexel(std::span<const std::uint32_t> texels, float coordinate) noexcept {

@@ -37,6 +37,7 @@ std::unique_ptr<MemoryTerrain> blocks() {
   g.spacingM = 2.0;
   g.heightStepM = 0.05;
   g.tileShift = 6;
+  g.levels = 0;  // as many as fit: the far view is drawn at coarser levels
   std::vector<std::uint16_t> heightQ(kSide * kSide, static_cast<std::uint16_t>(kGroundM / g.heightStepM));
   std::vector<std::uint32_t> colour(kSide * kSide, kGround);
   std::vector<std::uint32_t> stickId(kSide * kSide, 0);

@@ -161,7 +161,10 @@ bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double h
     }
     mGrid.heightQ[k] = topQ;
     mGrid.stickId[k] = it->second;
-    mGrid.colourRgba[k] = model.sticks[column->stick - 1].texels.front();  // the top, for coarse levels
+    // The voxel's colour: the top's, for coarse levels; a complex stick keeps the ground's, which
+    // its cavities show below it (unless another stick stood there before)
+    const StickEntry& entry = model.sticks[column->stick - 1];
+    if (entry.kind != StickKind::Complex) mGrid.colourRgba[k] = entry.texels.front();
     any = true;
   }
   ++(any ? mReport.placed : mReport.offGrid);

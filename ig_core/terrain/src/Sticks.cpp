@@ -17,15 +17,43 @@ std::size_t texelCount(StickKind kind, std::uint32_t lengthVox) noexcept {
   return kind == StickKind::Uniform ? 1 : lengthVox;
 }
 
-// The mean of `texels`, channel by channel (rounded).
-std::uint32_t meanRgba(std::span<const std::uint32_t> texels) noexcept {
-  std::uint32_t out = 0;
+bool validKind(StickKind kind) noexcept {
+  return kind == StickKind::Uniform || kind == StickKind::Textured || kind == StickKind::Complex;
+}
+
+constexpr std::uint32_t kOpaque = 0xFF000000u;
+
+// The mean colour of `texels`, channel by channel (rounded), opaque.
+std::uint32_t meanRgb(std::span<const std::uint32_t> texels) noexcept {
+  std::uint32_t out = kOpaque;
   const auto n = static_cast<std::uint32_t>(texels.size());
-  for (int shift = 0; shift < 32; shift += 8) {
+  for (int shift = 0; shift < 24; shift += 8) {
     std::uint32_t sum = 0;
     for (const std::uint32_t t : texels) sum += (t >> shift) & 0xFFu;
     out |= ((sum + n / 2) / n) << shift;
   }
+  return out;
+}
+
+// A complex stick's coarse texel over `covered`: the alpha-weighted mean colour, opaque. All of
+// them cavities: what the ray would meet below them, else above (`run`: the entry's level-0
+// texels, `first`: where `covered` starts in it) — a cavity is filled with its surroundings.
+std::uint32_t filledRgb(std::span<const std::uint32_t> run, std::size_t first, std::size_t count) noexcept {
+  std::uint64_t sum[3] = {0, 0, 0}, weight = 0;
+  for (std::size_t k = first; k < first + count; ++k) {
+    const std::uint32_t a = run[k] >> 24;
+    for (int c = 0; c < 3; ++c) sum[c] += a * ((run[k] >> (8 * c)) & 0xFFu);
+    weight += a;
+  }
+  if (weight == 0) {
+    for (std::size_t k = first + count; k < run.size(); ++k)
+      if ((run[k] >> 24) != 0) return run[k] | kOpaque;
+    for (std::size_t k = first; k-- > 0;)
+      if ((run[k] >> 24) != 0) return run[k] | kOpaque;
+    return kOpaque;  // nothing to see at all: black
+  }
+  std::uint32_t out = kOpaque;
+  for (int c = 0; c < 3; ++c) out |= static_cast<std::uint32_t>((sum[c] + weight / 2) / weight) << (8 * c);
   return out;
 }
 
@@ -50,7 +78,7 @@ StickTable::StickTable(double unitM, std::vector<StickEntry> entries) : mUnitM(u
   for (std::size_t e = 0; e < mEntries.size(); ++e) {
     const StickEntry& entry = mEntries[e];
     const std::string which = "stick table entry " + std::to_string(e + 1);
-    if (entry.kind != StickKind::Uniform && entry.kind != StickKind::Textured) {
+    if (!validKind(entry.kind)) {
       throw StickTableError(which + ": unknown kind " + std::to_string(static_cast<int>(entry.kind)));
     }
     if (entry.lengthVox < 1 || entry.lengthVox > kMaxStickLength) {
@@ -61,22 +89,36 @@ StickTable::StickTable(double unitM, std::vector<StickEntry> entries) : mUnitM(u
       throw StickTableError(which + ": " + std::to_string(entry.texels.size()) + " colours for a " +
                             (entry.kind == StickKind::Uniform
                                  ? "uniform stick (1 expected)"
-                                 : "textured stick of " + std::to_string(entry.lengthVox)));
+                                 : (entry.kind == StickKind::Textured ? "textured" : "complex") +
+                                       std::string(" stick of ") + std::to_string(entry.lengthVox)));
     }
-    // Mip L: ceil(n / 2^L) colours, each the mean of the level-0 colours it covers; down to one
+    // Mip L: ceil(n / 2^L) colours, each the mean of the level-0 colours it covers; down to one.
+    // Only a complex entry's level 0 keeps its alpha; it has a level 1 even when one texel long.
+    const bool complex = entry.kind == StickKind::Complex;
+    mSeeThrough = mSeeThrough || complex;
     Mips& m = mMips[e];
     m.firstLevel = static_cast<std::uint32_t>(mLevelStart.size());
-    const std::size_t n = entry.texels.size();
+    const std::span<const std::uint32_t> run(entry.texels);
+    const std::size_t n = run.size();
     for (int level = 0;; ++level) {
       const std::size_t span = std::size_t{1} << level;
       const std::size_t count = (n + span - 1) / span;
       mLevelStart.push_back(mTexels.size());
       for (std::size_t k = 0; k < count; ++k) {
         const std::size_t first = k * span;
-        mTexels.push_back(meanRgba(std::span(entry.texels).subspan(first, std::min(span, n - first))));
+        const std::size_t covered = std::min(span, n - first);
+        if (complex && level == 0) {
+          // A cavity keeps alpha 0 but takes the colour it is filled with at coarser levels, so a
+          // path that cannot see through it (a secondary ray's second object) shows that.
+          mTexels.push_back((run[k] >> 24) != 0 ? run[k] : filledRgb(run, k, 1) & 0x00FFFFFFu);
+        } else if (complex) {
+          mTexels.push_back(filledRgb(run, first, covered));
+        } else {
+          mTexels.push_back(meanRgb(run.subspan(first, covered)));
+        }
       }
       m.levels = level + 1;
-      if (count == 1) break;
+      if (count == 1 && !(complex && level == 0)) break;
     }
   }
   mLevelStart.push_back(mTexels.size());  // one past the last level
@@ -118,7 +160,7 @@ StickTable StickTable::parse(std::span<const std::byte> block) {
     const std::size_t at = kHeaderBytes + kEntryBytes * e;
     entries[e].kind = static_cast<StickKind>(load<std::uint8_t>(block, at));
     entries[e].lengthVox = load<std::uint32_t>(block, at + 4);
-    if (entries[e].kind != StickKind::Uniform && entries[e].kind != StickKind::Textured) {
+    if (!validKind(entries[e].kind)) {
       throw StickTableError("stick table entry " + std::to_string(e + 1) + ": unknown kind " +
                             std::to_string(load<std::uint8_t>(block, at)));
     }

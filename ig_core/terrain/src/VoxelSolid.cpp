@@ -35,12 +35,14 @@ VoxelModel toVoxelModel(const VoxelSolid& solid, std::string name) {
       if (top < 0) continue;
       std::vector<std::uint32_t> texels;
       for (int z = top; z >= 0; --z)
-        texels.push_back(solid.filled(x, y, z) ? solid.rgba[solid.index(x, y, z)] : kUndersideRgba);
+        texels.push_back(solid.filled(x, y, z) ? (solid.rgba[solid.index(x, y, z)] | kOpaqueRgba) : kCavityRgba);
       auto [it, added] = stickOf.try_emplace(texels, 0u);
       if (added) {
         const bool uniform = std::all_of(texels.begin(), texels.end(), [&](std::uint32_t c) { return c == texels[0]; });
-        StickEntry entry{uniform ? StickKind::Uniform : StickKind::Textured, static_cast<std::uint32_t>(texels.size()),
-                         uniform ? std::vector<std::uint32_t>{texels[0]} : texels};
+        const bool cavity = std::find(texels.begin(), texels.end(), kCavityRgba) != texels.end();
+        const StickKind kind = cavity ? StickKind::Complex : uniform ? StickKind::Uniform : StickKind::Textured;
+        StickEntry entry{kind, static_cast<std::uint32_t>(texels.size()),
+                         kind == StickKind::Uniform ? std::vector<std::uint32_t>{texels[0]} : texels};
         model.sticks.push_back(std::move(entry));
         it->second = static_cast<std::uint32_t>(model.sticks.size());
       }

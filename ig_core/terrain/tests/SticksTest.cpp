@@ -74,6 +74,50 @@ TEST(StickTable, RoundTripsThroughItsStoredForm) {
   }
 }
 
+// A complex stick of 6, top down: crown 40, 60 (opaque), two cavities, a half-transparent 100,
+// the trunk 120 (opaque)
+constexpr std::uint32_t kCavity = 0u;
+constexpr std::uint32_t kHalf = (grey(100) & 0x00FFFFFFu) | 0x80000000u;
+StickTable crownOverAGap() {
+  return StickTable(0.5, {StickEntry{StickKind::Complex, 6, {grey(40), grey(60), kCavity, kCavity, kHalf, grey(120)}}});
+}
+
+TEST(StickTable, AComplexStickSeesThroughAtLevelZeroOnlyItsCavitiesFilledAbove) {
+  const StickTable table = crownOverAGap();
+  EXPECT_TRUE(table.hasSeeThrough());
+  EXPECT_FALSE(twoSticks().hasSeeThrough());
+  const auto level0 = table.texels(1, 0);
+  ASSERT_EQ(level0.size(), 6u);
+  EXPECT_EQ(level0[0], grey(40));
+  EXPECT_EQ(level0[4], kHalf);
+  // A cavity stays see-through, coloured by what fills it: the first texel below that is not one
+  EXPECT_EQ(level0[2] >> 24, 0u);
+  EXPECT_EQ(level0[2] & 0x00FFFFFFu, grey(100) & 0x00FFFFFFu);
+  // Level 1: (40, 60) → 50; (cavity, cavity) → what fills them, 100 below; (half 100, 120) →
+  // alpha-weighted 100·128 + 120·255 over 383 = 113; all opaque
+  const auto level1 = table.texels(1, 1);
+  EXPECT_EQ(std::vector<std::uint32_t>(level1.begin(), level1.end()),
+            (std::vector<std::uint32_t>{grey(50), grey(100), grey(113)}));
+  for (int level = 1; level < 4; ++level)
+    for (const std::uint32_t t : table.texels(1, level)) EXPECT_EQ(t >> 24, 0xFFu) << "level " << level;
+  // A textured stick's alpha is not looked at: opaque at every level, whatever it was given
+  const StickTable textured(0.5, {StickEntry{StickKind::Textured, 2, {kHalf, kCavity}}});
+  for (const std::uint32_t t : textured.texels(1, 0)) EXPECT_EQ(t >> 24, 0xFFu);
+  // A complex stick one texel long still has a level 1, filled
+  const StickTable one(0.5, {StickEntry{StickKind::Complex, 1, {kHalf}}});
+  EXPECT_EQ(one.texels(1, 0)[0], kHalf);
+  EXPECT_EQ(one.texels(1, 1)[0], grey(100));
+  EXPECT_EQ(one.texels(1, 5)[0], grey(100));
+}
+
+TEST(StickTable, AComplexStickRoundTripsWithItsAlpha) {
+  const StickTable back = StickTable::parse(crownOverAGap().serialize());
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back.entry(1).kind, StickKind::Complex);
+  EXPECT_EQ(back.entry(1).texels, crownOverAGap().entry(1).texels);
+  EXPECT_TRUE(back.hasSeeThrough());
+}
+
 TEST(StickTable, RefusesWhatItCannotHold) {
   auto refuses = [](auto make, const std::string& what) {
     try {
@@ -86,6 +130,7 @@ TEST(StickTable, RefusesWhatItCannotHold) {
   refuses([] { StickTable(0.0, {}); }, "unit of 0");
   refuses([] { StickTable(1e-9, {}); }, "expected 0.001 .. 1000 m");
   refuses([] { StickTable(0.5, {StickEntry{StickKind::Textured, 3, {1, 2}}}); }, "2 colours for a textured stick of 3");
+  refuses([] { StickTable(0.5, {StickEntry{StickKind::Complex, 2, {1}}}); }, "1 colours for a complex stick of 2");
   refuses([] { StickTable(0.5, {StickEntry{StickKind::Uniform, 0, {1}}}); }, "length 0");
   refuses([] { StickTable(0.5, {StickEntry{static_cast<StickKind>(9), 1, {1}}}); }, "unknown kind 9");
   const std::vector<std::byte> good = twoSticks().serialize();

@@ -142,22 +142,24 @@ TEST(VoxFile, DamagedFilesAreRefusedWithTheReason) {
   EXPECT_THROW(writeVoxFile(dir.path() / "big.vox", emptySolid(300, 2, 2)), VoxFileError);
 }
 
-TEST(VoxelSolidToSticks, AColumnStandsOnTheGroundWithItsGapInTheUndersideShade) {
+TEST(VoxelSolidToSticks, AColumnOverAGapIsAComplexStickWithACavity) {
   const VoxelModel model = toVoxelModel(smallVan(), "van");
   EXPECT_EQ(model.widthCells, 4);
   EXPECT_EQ(model.depthCells, 3);
   EXPECT_DOUBLE_EQ(model.cellM, kSolidVoxelM);
-  // The middle row (y = 1) has the body over a gap: five texels, the lower two the underside
+  // The middle row (y = 1) has the body over a gap: five texels, the lower two a cavity
   const VoxelModel::Column& middle = model.columns[static_cast<std::size_t>(1 * 4 + 2)];
   ASSERT_GT(middle.stick, 0u);
   EXPECT_EQ(middle.heightUnits, 5);
   const StickEntry& entry = model.sticks[middle.stick - 1];
-  EXPECT_EQ(entry.kind, StickKind::Textured);
+  EXPECT_EQ(entry.kind, StickKind::Complex);
   ASSERT_EQ(entry.texels.size(), 5u);
   EXPECT_EQ(entry.texels[0], rgb(200, 200, 210));
   EXPECT_EQ(entry.texels[1], rgb(180, 30, 40));
-  EXPECT_EQ(entry.texels[3], kUndersideRgba);
-  EXPECT_EQ(entry.texels[4], kUndersideRgba);
+  EXPECT_EQ(entry.texels[3], kCavityRgba);
+  EXPECT_EQ(entry.texels[4], kCavityRgba);
+  // Over the wheels no gap: textured
+  EXPECT_EQ(model.sticks[model.columns[2].stick - 1].kind, StickKind::Textured);
   // The wheel rows (y = 0 and 2) of one x are the same column: one stick for both
   EXPECT_EQ(model.columns[2].stick, model.columns[static_cast<std::size_t>(2 * 4 + 2)].stick);
   EXPECT_EQ(model.sticks.size(), 8u);  // 4 colours of x, each over a gap and over wheels

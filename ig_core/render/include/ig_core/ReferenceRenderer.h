@@ -29,8 +29,9 @@ class ReferenceRenderer {
     bool basePlane = false;  ///< the hit is on the base plane beyond the terrain's edge
   };
 
-  /// Casts the ray through continuous frame pixel (u, v). Not RT-safe (slow).
-  Hit cast(const ViewGeometry& geometry, double u, double v) const noexcept;
+  /// Casts the ray through continuous frame pixel (u, v), from depth `fromDepthM` on (a start
+  /// under the surface is a hit there). Not RT-safe (slow).
+  Hit cast(const ViewGeometry& geometry, double u, double v, double fromDepthM = 0.0) const noexcept;
 
   /// Renders a whole frame (image, range always, control points) as the fast renderer would.
   Frame render(const ViewRequest& request, const RenderSettings& settings) const;

@@ -23,6 +23,10 @@ namespace fieldcast::core {
 enum class StickKind : std::uint8_t {
   Uniform = 1,   ///< one colour over the whole run
   Textured = 2,  ///< a colour per stick voxel, top down
+  /// Textured, with see-through stick voxels (alpha below 255): alpha 0 is a cavity (the gap under
+  /// a crown, under a bridge's deck, between a van's wheels), 1 … 254 semi-transparent. A ray that
+  /// meets one goes on as a secondary ray. Only level 0 sees through: the mips fill cavities.
+  Complex = 3,
 };
 
 /// Longest stick a table entry may describe, in stick voxels (at 0.5 m: a 2 km tower).
@@ -42,7 +46,7 @@ class StickTableError : public std::runtime_error {
 struct StickEntry {
   StickKind kind = StickKind::Uniform;
   std::uint32_t lengthVox = 1;        ///< stick voxels from the top down (the length it was made for)
-  std::vector<std::uint32_t> texels;  ///< RGBA8, top down: one for Uniform, lengthVox for Textured
+  std::vector<std::uint32_t> texels;  ///< RGBA8, top down: one for Uniform, lengthVox for the others
 };
 
 /// The shared stick table of a terrain: immutable once built, read lock-free by renderers.
@@ -57,7 +61,13 @@ class StickTable {
   std::uint32_t size() const noexcept { return static_cast<std::uint32_t>(mEntries.size()); }
   const StickEntry& entry(std::uint32_t id) const noexcept { return mEntries[id - 1]; }
 
+  /// Whether any entry is complex (a frame over this table may need secondary rays).
+  bool hasSeeThrough() const noexcept { return mSeeThrough; }
+
   /// Level `level`'s colours of stick `id` (1 .. size()), top down, each 2^level units tall. RT-safe.
+  /// Alpha is 255 but at level 0 of a complex entry, where a texel below 255 is see-through: a
+  /// coarser level's texel is the alpha-weighted mean of those it covers, opaque (a cavity filled
+  /// with what surrounds it), so a stick seen far away is the solid it looks like from there.
   std::span<const std::uint32_t> texels(std::uint32_t id, int level) const noexcept {
     const Mips& m = mMips[id - 1];
     const std::size_t k = m.firstLevel + static_cast<std::size_t>(level < m.levels ? level : m.levels - 1);
@@ -79,6 +89,7 @@ class StickTable {
     int levels = 0;
   };
   double mUnitM;
+  bool mSeeThrough = false;
   std::vector<StickEntry> mEntries;
   std::vector<Mips> mMips;
   std::vector<std::size_t> mLevelStart;  // where each entry's each level starts in mTexels, and one past the last

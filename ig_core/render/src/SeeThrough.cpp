@@ -1,0 +1,209 @@
+// Secondary rays through complex sticks: a walk of level-0 voxel columns as boxes near the
+// objects, then the per-ray march (see SeeThrough.h).
+#include "SeeThrough.h"
+
+#include "RayMarch.h"
+#include "SpanFill.h"
+#include "StickShading.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace fieldcast::core {
+
+using namespace ray_march;
+
+namespace {
+
+// Front-to-back compositing of the layers a secondary ray passes: each layer's colour is hazed by
+// its own range; the range kept is the first at which the layers are at least half opaque.
+struct Layers {
+  Float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
+  float opacity = 0.0f;
+  float rangeM = std::numeric_limits<float>::infinity();
+
+  void add(const Rgb& hazed, float alpha, float range) noexcept {
+    const float w = (1.0f - opacity) * alpha;
+    sum += hazed.v * w;
+    if (opacity < 0.5f && opacity + w >= 0.5f) rangeM = range;
+    opacity += w;
+  }
+  SeenThrough finish(const Rgb& hazed, float range) noexcept {
+    add(hazed, 1.0f, range);
+    return {Rgb{sum}, rangeM};
+  }
+};
+
+// At most this many columns walked as boxes (a ray along a hedge row or under a long deck); then
+// the per-ray march takes the rest.
+constexpr int kMaxBoxColumns = 256;
+
+}  // namespace
+
+SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& d, double depthM) noexcept {
+  ++t.secondaryRays;
+  const double length = glm::length(d);
+  const float flat = f.shading.light().flat();
+  const auto lit = [&](std::uint32_t rgba) { return Rgb{unpackRgb(rgba).v * flat}; };
+  const auto rangeAt = [&](double depth) { return static_cast<float>(depth * length); };
+  Layers layers;
+  const auto blend = [&](std::uint32_t rgba, double depth) {
+    if ((rgba >> 24) != 0) {
+      layers.add(f.shading.terrain(lit(rgba), rangeAt(depth)), static_cast<float>(rgba >> 24) / 255.0f, rangeAt(depth));
+    }
+  };
+  const auto solid = [&](double depth, std::uint32_t rgba) {
+    const float range = rangeAt(depth);
+    return layers.finish(f.shading.terrain(lit(rgba), range), range);
+  };
+
+  // The ray in grid units per metre of depth: x, y level-0 voxels (voxel i spans i − ½ … i + ½),
+  // z height quanta.
+  const double gx = d.x * f.unitsPerM, gy = d.y * f.unitsPerM, gz = d.z * f.quantaPerM;
+  const auto zAt = [&](double s) { return f.camZq + s * gz; };
+  const auto sAtZ = [&](double z) { return (z - f.camZq) / gz; };
+  const int stepX = gx > 0.0 ? 1 : -1, stepY = gy > 0.0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double dsX = gx != 0.0 ? 1.0 / std::abs(gx) : inf, dsY = gy != 0.0 ? 1.0 / std::abs(gy) : inf;
+  const int width = f.levelWidth[0], height = f.levelHeight[0];
+  // The walk: its depth s, column (i, j), the depths of the next column boundaries, the column it
+  // started in (on the surface between voxel centres, which may dip under a box's top: not
+  // tested), and the stick-free columns in a row just walked.
+  double s = 0.0, nextX = inf, nextY = inf;
+  int i = 0, j = 0, startI = 0, startJ = 0, free = 0;
+  const auto startAt = [&](double depth) {
+    s = depth;
+    i = startI = floorToInt(f.camX + s * gx + 0.5);
+    j = startJ = floorToInt(f.camY + s * gy + 0.5);
+    nextX = gx != 0.0 ? (i + 0.5 * stepX - f.camX) / gx : inf;
+    nextY = gy != 0.0 ? (j + 0.5 * stepY - f.camY) / gy : inf;
+    free = 0;
+  };
+  startAt(depthM);
+  // The height field's surface under the ray at depth sAt, bilinear between level-0 voxel centres.
+  const auto surfaceAt = [&](double sAt) {
+    const double x = f.camX + sAt * gx, y = f.camY + sAt * gy;
+    const int x0 = floorToInt(x), y0 = floorToInt(y);
+    const double fx = x - x0, fy = y - y0;
+    const double h00 = heightAt(f, t, 0, x0, y0), h10 = heightAt(f, t, 0, x0 + 1, y0);
+    const double h01 = heightAt(f, t, 0, x0, y0 + 1), h11 = heightAt(f, t, 0, x0 + 1, y0 + 1);
+    const double a = h00 + fx * (h10 - h00), b = h01 + fx * (h11 - h01);
+    return a + fy * (b - a);
+  };
+
+  // The per-ray march from depth `from` on. Done: what it meets, or the sky or base plane it
+  // misses to. Not done: it went back before `from` (it retraces a start under the surface, and
+  // its grid line before the start can lie on the slope of an object just passed), or it met a
+  // see-through texel again — then the walk goes on from there.
+  RayLine line;
+  const bool onGrid = setupLine(f, d, line);
+  const auto marchOn = [&](double from) -> std::optional<SeenThrough> {
+    const MarchHit h = onGrid ? march(f, t, line, from * line.aMaj) : MarchHit{};
+    if (!h.hit) {
+      float range;
+      const Rgb missed = f.missed(d.z, length, range);
+      return layers.finish(missed, range);
+    }
+    const double depth = h.m / line.aMaj;
+    if (depth < from * (1.0 - 1e-9)) return std::nullopt;
+    std::uint32_t texel = 0xFF000000u;
+    const Rgb colour = hitColour(f, t, line, h, depth, &texel);
+    if (seeThroughTexel(texel)) {
+      startAt(depth);
+      return std::nullopt;
+    }
+    const float range = rangeAt(depth);
+    return layers.finish(f.shading.terrain(colour, range), range);
+  };
+
+  for (int walked = 0; walked < kMaxBoxColumns; ++walked) {
+    if (i < 0 || j < 0 || i >= width || j >= height) {
+      // Left the grid: nothing more to walk through
+      if (const std::optional<SeenThrough> beyond = marchOn(s)) return *beyond;
+      break;
+    }
+    const double sOut = std::min(nextX, nextY);
+    const bool first = i == startI && j == startJ;
+    const double top = heightAt(f, t, 0, i, j);
+    const StickVoxel stick = stickAt(f, t, 0, i, j);
+    const bool complex = stick.id != 0 && f.sticks->entry(stick.id).kind == StickKind::Complex;
+    if (!complex) {
+      free = stick.id == 0 ? free + 1 : 0;
+      if (free >= 2 && zAt(s) > surfaceAt(s)) {
+        // Clear of the objects and above the surface: the per-ray march takes it on from here
+        const double from = s;
+        if (const std::optional<SeenThrough> beyond = marchOn(from)) return *beyond;
+        if (s != from) continue;  // went on from a see-through texel further on
+      }
+      // Solid below its top: entered through its side, or through its top on the way down.
+      double sHit = inf;
+      if (!first && zAt(s) < top) {
+        sHit = s;
+      } else if (gz < 0.0 && zAt(sOut) < top) {
+        sHit = std::max(s, sAtZ(top));
+      }
+      if (sHit <= sOut) {
+        if (stick.id == 0) return solid(sHit, colourAt(f, t, 0, i, j));
+        const double zHit = std::min(zAt(sHit), top);
+        return solid(sHit,
+                     stickTexel(f.sticks->texels(stick.id, 0), stickTexelCoordinate(stick, zHit, f.stickUnitsPerQ)));
+      }
+    } else {
+      // The column's texels in the order the ray passes them: opaque ends it, semi-transparent is
+      // blended (each once), a cavity is passed; below the stick's foot lies the ground.
+      free = 0;
+      const std::span<const std::uint32_t> texels = f.sticks->texels(stick.id, 0);
+      const double unitsPerQ = f.stickUnitsPerQ;
+      double at = s;
+      while (at < sOut) {
+        double z = zAt(at);
+        if (z >= top) {
+          if (gz >= 0.0) break;  // over the top, and climbing
+          at = sAtZ(top);
+          if (at >= sOut) break;
+          z = top;
+        }
+        const int k = floorToInt((top - z) * unitsPerQ);
+        if (k >= static_cast<int>(texels.size())) return solid(at, colourAt(f, t, 0, i, j));
+        const std::uint32_t texel = texels[static_cast<std::size_t>(k)];
+        if (!seeThroughTexel(texel)) return solid(at, texel);
+        blend(texel, at);
+        // On to the next texel's boundary (down: its foot; up: its top), or out of the column
+        if (gz < 0.0) {
+          at = sAtZ(top - (k + 1) / unitsPerQ);
+        } else if (gz > 0.0) {
+          at = sAtZ(top - k / unitsPerQ);
+        } else {
+          break;
+        }
+        at += 1e-9 * (1.0 + std::abs(at));
+      }
+    }
+    // The next column
+    if (nextX < nextY) {
+      s = nextX;
+      nextX += dsX;
+      i += stepX;
+    } else {
+      s = nextY;
+      nextY += dsY;
+      j += stepY;
+    }
+  }
+  // Walked too far (along a hedge, under a long deck): the per-ray march from here, else the
+  // ground here
+  if (const std::optional<SeenThrough> beyond = marchOn(s)) return *beyond;
+  return solid(s, colourAt(f, t, 0, std::clamp(i, 0, width - 1), std::clamp(j, 0, height - 1)));
+}
+
+SpanPixel seeThroughPixel(const SeeThroughColumn& column, int q, float rangeM) noexcept {
+  const CasterFrame& f = *column.frame;
+  const glm::dvec3 d = f.geo->ray(column.uc, (q + 0.5) / f.supersample);
+  const SeenThrough seen = seeThrough(f, *column.thread, d, rangeM / glm::length(d));
+  return {seen.colour, seen.rangeM};
+}
+
+}  // namespace fieldcast::core

@@ -1,0 +1,219 @@
+// Complex sticks drawn by both renderers: a red deck on a cavity (a bridge, a table) and a block
+// of half-transparent glass, in front of a blue wall. Through the cavity and the glass the rays go
+// on as secondary rays; far away the cavities are filled and no ray goes through.
+#include "RenderTestUtil.h"
+
+#include <ig_core/MemoryTerrain.h>
+#include <ig_core/Renderer.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fieldcast::core::test {
+namespace {
+
+constexpr std::uint32_t rgb(std::uint32_t r, std::uint32_t g, std::uint32_t b) {
+  return r | (g << 8) | (b << 16) | 0xFF000000u;
+}
+constexpr std::uint32_t kGround = rgb(70, 120, 60);
+constexpr std::uint32_t kRed = rgb(220, 30, 30);
+constexpr std::uint32_t kBlue = rgb(30, 60, 220);
+constexpr std::uint32_t kCavity = 0u;
+constexpr std::uint32_t kGlass = (rgb(240, 240, 40) & 0x00FFFFFFu) | 0x80000000u;  // yellow, alpha 128
+constexpr double kGroundM = 100.0;
+
+// 256² voxels at 2 m, flat at 100 m, 64-voxel tiles. A deck of 8 × 8 voxels at (100..107,
+// 120..127) — world x 200..214, y 240..254 —, 6 m tall: 1 m of red over a 5 m cavity. A glass
+// pane of 6 × 1 at (140..145, 120), 8 m, every texel half transparent. A blue wall 20 m
+// tall along y 300..302 (voxels 60..199, 150..151) behind both.
+std::unique_ptr<MemoryTerrain> deckAndGlass() {
+  constexpr int kSide = 256;
+  TerrainGeometry g;
+  g.widthVox = g.heightVox = kSide;
+  g.spacingM = 2.0;
+  g.heightStepM = 0.05;
+  g.tileShift = 6;
+  g.levels = 0;  // as many as fit: 256, 128, 64
+  std::vector<std::uint16_t> heightQ(kSide * kSide, static_cast<std::uint16_t>(kGroundM / g.heightStepM));
+  std::vector<std::uint32_t> colour(kSide * kSide, kGround);
+  std::vector<std::uint32_t> stickId(kSide * kSide, 0);
+  std::vector<std::uint32_t> deck{kRed, kRed};
+  deck.resize(12, kCavity);
+  auto table = std::make_shared<const StickTable>(
+      0.5, std::vector<StickEntry>{{StickKind::Complex, 12, deck},
+                                   {StickKind::Complex, 16, std::vector<std::uint32_t>(16, kGlass)},
+                                   {StickKind::Uniform, 40, {kBlue}}});
+  const auto place = [&](int i0, int j0, int w, int h, double heightM, std::uint32_t id) {
+    for (int j = j0; j < j0 + h; ++j)
+      for (int i = i0; i < i0 + w; ++i) {
+        const auto k = static_cast<std::size_t>(j * kSide + i);
+        heightQ[k] = static_cast<std::uint16_t>((kGroundM + heightM) / g.heightStepM);
+        stickId[k] = id;  // the voxel's colour stays the ground's: what shows below a complex stick
+      }
+  };
+  place(100, 120, 8, 8, 6.0, 1);
+  place(140, 120, 6, 1, 8.0, 2);
+  place(60, 150, 140, 2, 20.0, 3);
+  return std::make_unique<MemoryTerrain>(g, heightQ, colour, stickId, std::move(table));
+}
+
+// Pixels of `frame` within `tolerance` of colour `rgba` (per channel)
+int pixelsOf(const Frame& frame, std::uint32_t rgba, int tolerance) {
+  int count = 0;
+  for (int v = 0; v < frame.image.heightPx(); ++v) {
+    const std::uint8_t* row = frame.image.row(v);
+    for (int u = 0; u < frame.image.widthPx(); ++u) {
+      bool near = true;
+      for (int c = 0; c < 3; ++c)
+        near = near && std::abs(row[3 * u + c] - static_cast<int>((rgba >> (8 * c)) & 0xFF)) <= tolerance;
+      count += near ? 1 : 0;
+    }
+  }
+  return count;
+}
+
+// Half the glass's yellow over the wall's blue (the wall is what the glass is seen against)
+constexpr std::uint32_t kGlassOverBlue = rgb((240 + 30) / 2, (240 + 60) / 2, (40 + 220) / 2);
+
+struct DeckView {
+  const char* name;
+  double x, y, altitudeM, headingDeg, pitchDeg;
+  int widthPx, heightPx;
+  double hfovDeg = 50.0;
+};
+
+const DeckView kViews[] = {
+    {"under", 240.0, 170.0, 2.5, 0.0, 2.0, 160, 120, 90.0},  // level, low: under the deck, the glass
+    {"oblique", 170.0, 180.0, 20.0, 35.0, -15.0, 160, 120},  // from the south-west, above
+    {"down", 245.0, 250.0, 60.0, 0.0, -70.0, 160, 120},      // steeply down past the deck's edge
+};
+
+ViewRequest requestFor(const DeckView& s) {
+  ViewRequest request;
+  request.pose.positionM = {s.x, s.y, kGroundM + s.altitudeM};
+  request.pose.headingRad = radians(s.headingDeg);
+  request.pose.pitchRad = radians(s.pitchDeg);
+  request.display = Intrinsics::fromHorizontalFov(s.widthPx, s.heightPx, radians(s.hfovDeg));
+  return request;
+}
+
+TEST(SeeThrough, TheCasterSeesThroughCavitiesAndGlassAsTheReferenceDoes) {
+  const auto terrain = deckAndGlass();
+  const TerrainView& view = terrain->view();
+  RenderSettings settings;
+  settings.rangeImage = true;
+  settings.hazeRangeM = 0.0;  // colours compared as they are
+  Renderer renderer(view, settings, 2);
+  const ReferenceRenderer reference(view);
+  for (const DeckView& s : kViews) {
+    const ViewRequest request = requestFor(s);
+    RenderStats stats;
+    const Frame fast = renderer.render(request, &stats);
+    const Frame ref = reference.render(request, settings);
+    if (const char* dump = std::getenv("SEE_THROUGH_DUMP")) {
+      for (const auto& [f, tag] : {std::pair{&fast, "fast"}, std::pair{&ref, "ref"}}) {
+        const std::string path = std::string(dump) + "/" + s.name + "-" + tag + ".ppm";
+        FILE* out = std::fopen(path.c_str(), "wb");
+        std::fprintf(out, "P6 %d %d 255\n", f->image.widthPx(), f->image.heightPx());
+        for (int v = 0; v < f->image.heightPx(); ++v) std::fwrite(f->image.row(v), 3, f->image.widthPx(), out);
+        std::fclose(out);
+      }
+    }
+    const HitAgreement hits = compareHits(fast, ref, view.geometry(), settings);
+    int differ = 0;
+    for (int v = 0; v < fast.image.heightPx(); ++v)
+      for (int u = 0; u < fast.image.widthPx(); ++u) {
+        int d = 0;
+        for (int c = 0; c < 3; ++c)
+          d = std::max(d, std::abs(fast.image.row(v)[3 * u + c] - ref.image.row(v)[3 * u + c]));
+        differ += d > 40 ? 1 : 0;
+      }
+    const int pixels = fast.image.widthPx() * fast.image.heightPx();
+    const int blue = pixelsOf(fast, kBlue, 30), blueRef = pixelsOf(ref, kBlue, 30);
+    const int glass = pixelsOf(fast, kGlassOverBlue, 30), glassRef = pixelsOf(ref, kGlassOverBlue, 30);
+    std::printf(
+        "%-8s hits %.4f same; colours: %d of %d differ; wall %d (reference %d), glass over the wall %d "
+        "(reference %d); %llu secondary rays\n",
+        s.name, hits.fraction(), differ, pixels, blue, blueRef, glass, glassRef,
+        static_cast<unsigned long long>(stats.secondaryRays));
+    EXPECT_GE(hits.fraction(), 0.99) << s.name;
+    EXPECT_LE(differ, pixels / 100) << s.name;
+    EXPECT_NEAR(blue, blueRef, std::max(10, blueRef / 20)) << s.name;
+    EXPECT_NEAR(glass, glassRef, std::max(10, glassRef / 10)) << s.name;
+    if (s.name == std::string("under")) EXPECT_GT(glassRef, 20) << "the glass is not seen against the wall";
+    EXPECT_GT(stats.secondaryRays, 0u) << s.name;
+  }
+}
+
+TEST(SeeThrough, UnderTheDeckTheWallShowsAndTheDeckAboveIt) {
+  const auto terrain = deckAndGlass();
+  RenderSettings settings;
+  settings.hazeRangeM = 0.0;
+  Renderer renderer(terrain->view(), settings, 1);
+  // Level, 2.5 m up, looking north at the deck's middle from 40 m: the wall (100 m off, 20 m tall)
+  // fills the cavity's rows, the deck's red the rows of its 5 … 6 m.
+  ViewRequest request;
+  request.pose.positionM = {207.0, 200.0, kGroundM + 2.5};
+  request.display = Intrinsics::fromHorizontalFov(100, 200, radians(20.0));
+  const Frame frame = renderer.render(request);
+  const Intrinsics& k = frame.intrinsics;
+  const int u = static_cast<int>(k.cxPx);
+  const auto rowAt = [&](double heightM, double distanceM) {
+    return static_cast<int>(k.cyPx - k.fyPx * (kGroundM + heightM - request.pose.positionM.z) / distanceM);
+  };
+  const auto colourOf = [&](int v) {
+    const std::uint8_t* p = frame.image.row(v) + 3 * u;
+    return rgb(p[0], p[1], p[2]);
+  };
+  const auto near = [](std::uint32_t a, std::uint32_t b) {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(static_cast<int>((a >> (8 * c)) & 0xFF) - static_cast<int>((b >> (8 * c)) & 0xFF)) > 30)
+        return false;
+    return true;
+  };
+  // The deck spans 40 … 54 m off. A ray that climbs less than to its underside (5 m) at its back
+  // passes under it, and one that falls less than to the ground at the wall (100 m) meets the wall
+  int wallRows = 0, redRows = 0;
+  for (int v = rowAt(5.0, 54.0) + 2; v < rowAt(0.0, 100.0) - 1; ++v, ++wallRows) {
+    EXPECT_TRUE(near(colourOf(v), kBlue)) << "row " << v << " under the deck is not the wall behind it";
+  }
+  // Above those: the deck's underside, then its front face up to 6 m, red
+  for (int v = rowAt(6.0, 40.0) + 2; v < rowAt(5.0, 54.0) - 1; ++v, ++redRows) {
+    EXPECT_TRUE(near(colourOf(v), kRed)) << "row " << v << " is not the deck's red";
+  }
+  EXPECT_GT(wallRows, 10);
+  EXPECT_GT(redRows, 5);
+}
+
+TEST(SeeThrough, FarAwayTheCavitiesAreFilledAndNoRayGoesThrough) {
+  const auto terrain = deckAndGlass();
+  const TerrainView& view = terrain->view();
+  RenderSettings settings;
+  settings.rangeImage = true;
+  settings.hazeRangeM = 0.0;
+  // At quality 4 a level-0 voxel is drawn while it spans 4 pixels, here up to 86 m; the deck is
+  // 140 … 154 m off, drawn at level 1
+  settings.quality = 4.0;
+  Renderer renderer(view, settings, 2);
+  const ReferenceRenderer reference(view);
+  const ViewRequest request = requestFor({"far", 207.0, 100.0, 20.0, 0.0, -5.0, 160, 120});
+  RenderStats stats;
+  const Frame fast = renderer.render(request, &stats);
+  const Frame ref = reference.render(request, settings);
+  const int red = pixelsOf(fast, kRed, 40), redRef = pixelsOf(ref, kRed, 40);
+  std::printf("far: deck red %d (reference %d), %llu secondary rays\n", red, redRef,
+              static_cast<unsigned long long>(stats.secondaryRays));
+  EXPECT_EQ(stats.secondaryRays, 0u);
+  // The filled deck: a solid red block, its cavity the deck's colour (not black, not the wall)
+  EXPECT_GT(red, 100);
+  EXPECT_NEAR(red, redRef, std::max(3, redRef / 5));
+}
+
+}  // namespace
+}  // namespace fieldcast::core::test
