@@ -269,13 +269,17 @@ int runInfo(const std::string& path) {
               g.heightBaseM, g.heightM(65535));
   std::printf("  colour      %s\n", l.voxelColour == VoxelColour::Rgba ? "RGBA" : "grey");
   if (const auto& sticks = reader.sticks()) {
-    std::uint64_t uniform = 0;
-    for (std::uint32_t id = 1; id <= sticks->size(); ++id) uniform += sticks->entry(id).kind == StickKind::Uniform;
+    std::uint64_t uniform = 0, complex = 0;
+    for (std::uint32_t id = 1; id <= sticks->size(); ++id) {
+      uniform += sticks->entry(id).kind == StickKind::Uniform;
+      complex += sticks->entry(id).kind == StickKind::Complex;
+    }
     std::printf(
-        "  sticks      %llu level-0 voxels carry one; table of %u entries (%llu uniform, %llu textured), "
+        "  sticks      %llu level-0 voxels carry one; table of %u entries (%llu uniform, %llu textured, %llu complex), "
         "%.1f KiB, stick voxels %.2f m\n",
         static_cast<unsigned long long>(stored.stickVoxels), sticks->size(), static_cast<unsigned long long>(uniform),
-        static_cast<unsigned long long>(sticks->size() - uniform), l.stickTableBytes / 1024.0, sticks->unitM());
+        static_cast<unsigned long long>(sticks->size() - uniform - complex), static_cast<unsigned long long>(complex),
+        l.stickTableBytes / 1024.0, sticks->unitM());
   } else {
     std::printf("  sticks      none%s\n", l.version < 3 ? " (a version 1 or 2 database)" : "");
   }
