@@ -19,6 +19,7 @@ constexpr std::uint32_t kCrownMid = rgb(44, 78, 36);
 constexpr std::uint32_t kLeafLight = rgb(70, 104, 44);
 constexpr std::uint32_t kLeafMid = rgb(58, 92, 40);
 constexpr std::uint32_t kTrunk = rgb(84, 62, 44);
+constexpr std::uint32_t kCavity = 0u;  // a complex stick's see-through voxel
 constexpr std::uint32_t kHedge = rgb(40, 70, 34);
 constexpr std::uint32_t kRoofTiles = rgb(150, 64, 46);
 constexpr std::uint32_t kRoofSlate = rgb(70, 72, 80);
@@ -58,15 +59,17 @@ VoxelModel conifer() {
 }
 
 VoxelModel broadleaf() {
-  // A dome three cells across: trunk below 2 m, the crown above
+  // A dome three cells across over a trunk 2 m tall: under the crown around the trunk, a cavity
   VoxelModel m{"broadleaf", 2.0, 3, 3, {}, {}};
-  const auto crown = [](int units) {
-    return columnOf(units, [](double h, double fromTop) {
-      if (h < 2.0) return kTrunk;
+  const auto crown = [](int units, bool trunk) {
+    StickEntry e = columnOf(units, [trunk](double h, double fromTop) {
+      if (h < 2.0) return trunk ? kTrunk : kCavity;
       return fromTop < 1.0 ? kLeafLight : kLeafMid;
     });
+    if (!trunk) e.kind = StickKind::Complex;
+    return e;
   };
-  m.sticks = {crown(24), crown(20), crown(16)};
+  m.sticks = {crown(24, true), crown(20, false), crown(16, false)};
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 3; ++x) {
       const int ring = (x != 1) + (y != 1);  // 0 centre, 1 sides, 2 corners

@@ -154,17 +154,31 @@ bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double h
         static_cast<std::uint16_t>(std::clamp(std::lround((topM - g.heightBaseM) / g.heightStepM), 0L, 65535L));
     if (topQ <= mGround[k]) continue;                                 // buried by the slope
     if (mGrid.stickId[k] != 0 && mGrid.heightQ[k] >= topQ) continue;  // a taller stick is there
-    auto [it, added] = mIdOf.try_emplace({&model, column->stick}, 0u);
+    // A complex stick reaches down to this voxel's ground, its cavities with it (a tree's gap under
+    // its crown stays open to the ground however it is scaled, and on a slope ends on the ground
+    // here, not under the lowest ground of the footprint): an entry per length placed. Others keep
+    // the model's entry, its last colour filling a longer stick.
+    const StickEntry& modelEntry = model.sticks[column->stick - 1];
+    std::uint32_t placedLength = 0;
+    if (modelEntry.kind == StickKind::Complex) {
+      placedLength = static_cast<std::uint32_t>(std::clamp(
+          std::lround((topQ - mGround[k]) * g.heightStepM / kModelStickUnitM), 1L, static_cast<long>(kMaxStickLength)));
+    }
+    auto [it, added] = mIdOf.try_emplace({&model, column->stick, placedLength}, 0u);
     if (added) {
-      mEntries.push_back(model.sticks[column->stick - 1]);
+      StickEntry entry = modelEntry;
+      if (placedLength != 0) {
+        entry.lengthVox = placedLength;
+        entry.texels.resize(placedLength, modelEntry.texels.back());
+      }
+      mEntries.push_back(std::move(entry));
       it->second = static_cast<std::uint32_t>(mEntries.size());
     }
     mGrid.heightQ[k] = topQ;
     mGrid.stickId[k] = it->second;
     // The voxel's colour: the top's, for coarse levels; a complex stick keeps the ground's, which
     // its cavities show below it (unless another stick stood there before)
-    const StickEntry& entry = model.sticks[column->stick - 1];
-    if (entry.kind != StickKind::Complex) mGrid.colourRgba[k] = entry.texels.front();
+    if (modelEntry.kind != StickKind::Complex) mGrid.colourRgba[k] = modelEntry.texels.front();
     any = true;
   }
   ++(any ? mReport.placed : mReport.offGrid);

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <tuple>
+#include <utility>
 
 namespace fieldcast::core {
 namespace {
@@ -51,6 +53,39 @@ TEST(ObjectPlacement, AThousandHousesShareTheTablesEntries) {
   EXPECT_EQ(report.tableEntries, used.size()) << "each kind of stick once, however many houses";
   EXPECT_EQ(grid.sticks->size(), used.size());
   EXPECT_EQ(report.stickVoxels, 1000u * house.columns.size());
+}
+
+TEST(ObjectPlacement, ATreesCavityUnderItsCrownReachesTheGroundAtAnyScaleOrSlope) {
+  // The broadleaf's side columns (20 units of 0.5 m, the last 4 its cavity) placed at scale 1.25
+  // on flat ground, and at scales 1 and 0.8 on ground rising 1 m a voxel eastward: each complex
+  // stick reaches its own voxel's ground, its cavity at its foot.
+  const auto sideColumn = [](double scale, bool slope) {
+    TerrainGrid grid = flatGrid(64);
+    if (slope)
+      for (std::size_t k = 0; k < grid.heightQ.size(); ++k)
+        grid.heightQ[k] = static_cast<std::uint16_t>(2000 + 20 * (k % 64));
+    placeObjects(grid, std::vector<ObjectPlacement>{{"broadleaf", 65.0, 65.0, 0.0, scale}});
+    // The first complex column of the tree's middle row (voxel centres every 2 m from 0: the tree
+    // at 65 m covers voxels 31 … 34)
+    const int j = 32;
+    for (int i = 30; i < 38; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j * 64 + i);
+      const std::uint32_t id = grid.stickId[k];
+      if (id == 0 || grid.sticks->entry(id).kind != StickKind::Complex) continue;
+      const StickEntry& e = grid.sticks->entry(id);
+      const double lengthM = e.lengthVox * kModelStickUnitM;
+      const double aboveGroundM = (grid.heightQ[k] - grid.groundQ[k]) * grid.geometry.heightStepM;
+      return std::tuple{lengthM, aboveGroundM, e.texels.back() >> 24, grid.colourRgba[k]};
+    }
+    ADD_FAILURE() << "no complex stick found";
+    return std::tuple{0.0, 0.0, 0u, 0u};
+  };
+  for (const auto& [scale, slope] : {std::pair{1.25, false}, std::pair{1.0, true}, std::pair{0.8, true}}) {
+    const auto [lengthM, aboveGroundM, footAlpha, colour] = sideColumn(scale, slope);
+    EXPECT_NEAR(lengthM, aboveGroundM, 0.25) << "scale " << scale << (slope ? " on the slope" : "");
+    EXPECT_EQ(footAlpha, 0u) << "the foot of the stick is not the cavity";
+    EXPECT_EQ(colour, 0xFF336633u) << "the voxel under a complex stick keeps the ground's colour";
+  }
 }
 
 TEST(ObjectPlacement, HeadingTurnsAndScaleSizesTheFootprint) {

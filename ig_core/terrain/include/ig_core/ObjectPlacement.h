@@ -16,6 +16,7 @@
 #include <map>
 #include <span>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -69,7 +70,8 @@ class ObjectPlacer {
   TerrainGrid& mGrid;
   std::vector<std::uint16_t> mGround;  // the ground under the objects (TerrainGrid::groundQ)
   std::vector<StickEntry> mEntries;
-  std::map<std::pair<const VoxelModel*, std::uint32_t>, std::uint32_t> mIdOf;
+  // (model, its stick, the length placed: 0 but for a complex stick) → table id
+  std::map<std::tuple<const VoxelModel*, std::uint32_t, std::uint32_t>, std::uint32_t> mIdOf;
   std::vector<std::pair<std::size_t, const VoxelModel::Column*>> mFootprint;  // reused
   PlacementReport mReport;
 };
