@@ -74,6 +74,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   // tested), and the stick-free columns in a row just walked.
   double s = 0.0, nextX = inf, nextY = inf;
   int i = 0, j = 0, startI = 0, startJ = 0, free = 0;
+  bool restarted = false;  // the walk was started again further along (marchOn)
   const auto startAt = [&](double depth) {
     s = depth;
     i = startI = floorToInt(f.camX + s * gx + 0.5);
@@ -113,6 +114,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
     const Rgb colour = hitColour(f, t, line, h, depth, &texel);
     if (seeThroughTexel(texel)) {
       startAt(depth);
+      restarted = true;
       return std::nullopt;
     }
     const float range = rangeAt(depth);
@@ -129,57 +131,57 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
     const bool first = i == startI && j == startJ;
     const double top = heightAt(f, t, 0, i, j);
     const StickVoxel stick = stickAt(f, t, 0, i, j);
-    const bool complex = stick.id != 0 && f.sticks->entry(stick.id).kind == StickKind::Complex;
+    // (A coarser level's stick standing in for a missing tile is opaque: its texels are filled.)
+    const bool complex = stick.id != 0 && stick.level == 0 && f.sticks->entry(stick.id).kind == StickKind::Complex;
     if (!complex) {
-      free = stick.id == 0 ? free + 1 : 0;
+      // The start column does not count: the ray leaves it, it has not been clear of it
+      free = stick.id != 0 ? 0 : first ? free : free + 1;
       if (free >= 2 && zAt(s) > surfaceAt(s)) {
         // Clear of the objects and above the surface: the per-ray march takes it on from here
-        const double from = s;
-        if (const std::optional<SeenThrough> beyond = marchOn(from)) return *beyond;
-        if (s != from) continue;  // went on from a see-through texel further on
+        restarted = false;
+        if (const std::optional<SeenThrough> beyond = marchOn(s)) return *beyond;
+        if (restarted) continue;  // on from a see-through texel further along
       }
-      // Solid below its top: entered through its side, or through its top on the way down.
+      // Solid below its top: entered through its side, or through its top on the way down. (Not
+      // the start column: the hit lies on the surface between voxel centres, which may dip under
+      // a box's top.)
       double sHit = inf;
       if (!first && zAt(s) < top) {
         sHit = s;
-      } else if (gz < 0.0 && zAt(sOut) < top) {
+      } else if (!first && gz < 0.0 && zAt(sOut) < top) {
         sHit = std::max(s, sAtZ(top));
       }
       if (sHit <= sOut) {
         if (stick.id == 0) return solid(sHit, colourAt(f, t, 0, i, j));
         const double zHit = std::min(zAt(sHit), top);
-        return solid(sHit,
-                     stickTexel(f.sticks->texels(stick.id, 0), stickTexelCoordinate(stick, zHit, f.stickUnitsPerQ)));
+        return solid(sHit, stickTexel(f.sticks->texels(stick.id, stick.level),
+                                      stickTexelCoordinate(stick, zHit, f.stickUnitsPerQ)));
       }
     } else {
-      // The column's texels in the order the ray passes them: opaque ends it, semi-transparent is
-      // blended (each once), a cavity is passed; below the stick's foot lies the ground.
+      // The column's texels in the order the ray passes them, from the one it enters by, one
+      // texel boundary at a time: opaque ends it, semi-transparent is blended (each once), a
+      // cavity is passed; below the stick's foot lies the ground.
       free = 0;
       const std::span<const std::uint32_t> texels = f.sticks->texels(stick.id, 0);
+      const auto count = static_cast<int>(texels.size());
       const double unitsPerQ = f.stickUnitsPerQ;
       double at = s;
-      while (at < sOut) {
-        double z = zAt(at);
-        if (z >= top) {
-          if (gz >= 0.0) break;  // over the top, and climbing
-          at = sAtZ(top);
+      if (zAt(at) >= top) {
+        at = gz < 0.0 ? sAtZ(top) : inf;  // over the top: down onto it, or on over it
+      }
+      if (at < sOut) {
+        int k = std::max(floorToInt((top - zAt(at)) * unitsPerQ), 0);
+        const int step = gz < 0.0 ? 1 : gz > 0.0 ? -1 : 0;  // down the stick, up it, or level
+        for (; k >= 0; k += step) {
+          if (k >= count) return solid(at, colourAt(f, t, 0, i, j));
+          const std::uint32_t texel = texels[static_cast<std::size_t>(k)];
+          if (!seeThroughTexel(texel)) return solid(at, texel);
+          blend(texel, at);
+          if (step == 0) break;
+          // Where the ray leaves texel k: its foot going down, its top going up
+          at = std::max(at, sAtZ(top - (step > 0 ? k + 1 : k) / unitsPerQ));
           if (at >= sOut) break;
-          z = top;
         }
-        const int k = floorToInt((top - z) * unitsPerQ);
-        if (k >= static_cast<int>(texels.size())) return solid(at, colourAt(f, t, 0, i, j));
-        const std::uint32_t texel = texels[static_cast<std::size_t>(k)];
-        if (!seeThroughTexel(texel)) return solid(at, texel);
-        blend(texel, at);
-        // On to the next texel's boundary (down: its foot; up: its top), or out of the column
-        if (gz < 0.0) {
-          at = sAtZ(top - (k + 1) / unitsPerQ);
-        } else if (gz > 0.0) {
-          at = sAtZ(top - k / unitsPerQ);
-        } else {
-          break;
-        }
-        at += 1e-9 * (1.0 + std::abs(at));
       }
     }
     // The next column

@@ -57,12 +57,15 @@ void sweepAgainstTheReference(const TerrainView& view, double maxAnisotropy, con
   int total = 0;
   int same = 0;
   int entityPixels = 0;  // pixels the entities change in the fast frames
+  std::uint64_t secondaryRays = 0;
   for (const SweepPose& s : sweep()) {
     ViewRequest request;
     request.pose = poseAbove(view, 420.0, 380.0, s.altitudeM, s.headingDeg, s.pitchDeg);
     request.display = Intrinsics::fromHorizontalFov(s.displayWidthPx, 60, radians(s.fovDeg));
     request.entities = entities;
-    const Frame fast = renderer.render(request);
+    RenderStats stats;
+    const Frame fast = renderer.render(request, &stats);
+    secondaryRays += stats.secondaryRays;
     const Frame ref = reference.render(request, settings);
     const HitAgreement a = compareHits(fast, ref, view.geometry(), settings);
     if (!entities.empty()) {
@@ -91,7 +94,11 @@ void sweepAgainstTheReference(const TerrainView& view, double maxAnisotropy, con
     }
   }
   const double overall = static_cast<double>(same) / total;
-  std::printf("overall: %.5f of %d pixels hit the reference voxel or a neighbour\n", overall, total);
+  std::printf("overall: %.5f of %d pixels hit the reference voxel or a neighbour; %llu secondary rays\n", overall,
+              total, static_cast<unsigned long long>(secondaryRays));
+  if (view.sticks() != nullptr && view.sticks()->hasSeeThrough()) {
+    EXPECT_GT(secondaryRays, 0u) << "no pose sees through the complex sticks";
+  }
   EXPECT_GE(overall, bound.overall);
   if (!entities.empty()) {
     std::printf("%d pixels show entities\n", entityPixels);

@@ -154,10 +154,11 @@ bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double h
         static_cast<std::uint16_t>(std::clamp(std::lround((topM - g.heightBaseM) / g.heightStepM), 0L, 65535L));
     if (topQ <= mGround[k]) continue;                                 // buried by the slope
     if (mGrid.stickId[k] != 0 && mGrid.heightQ[k] >= topQ) continue;  // a taller stick is there
-    // A complex stick reaches down to this voxel's ground, its cavities with it (a tree's gap under
-    // its crown stays open to the ground however it is scaled, and on a slope ends on the ground
-    // here, not under the lowest ground of the footprint): an entry per length placed. Others keep
-    // the model's entry, its last colour filling a longer stick.
+    // A complex stick reaches down to this voxel's ground, its texels stretched or squeezed to the
+    // length (a tree's gap under its crown stays open to the ground however it is scaled, and on a
+    // slope ends on the ground here, not under the lowest ground of the footprint): an entry per
+    // model stick and length placed. Others keep the model's entry, its last colour filling a
+    // longer stick, a shorter one losing its foot.
     const StickEntry& modelEntry = model.sticks[column->stick - 1];
     std::uint32_t placedLength = 0;
     if (modelEntry.kind == StickKind::Complex) {
@@ -169,7 +170,11 @@ bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double h
       StickEntry entry = modelEntry;
       if (placedLength != 0) {
         entry.lengthVox = placedLength;
-        entry.texels.resize(placedLength, modelEntry.texels.back());
+        entry.texels.resize(placedLength);
+        for (std::uint32_t u = 0; u < placedLength; ++u) {  // the model's texel under each one's middle
+          const std::size_t from = (2 * u + 1) * modelEntry.texels.size() / (2 * placedLength);
+          entry.texels[u] = modelEntry.texels[from];
+        }
       }
       mEntries.push_back(std::move(entry));
       it->second = static_cast<std::uint32_t>(mEntries.size());
