@@ -21,6 +21,38 @@
 
 namespace fieldcast::core::test {
 
+/// RGBA8 of an opaque colour (R in the low byte).
+constexpr std::uint32_t opaqueRgb(std::uint32_t r, std::uint32_t g, std::uint32_t b) {
+  return r | (g << 8) | (b << 16) | 0xFF000000u;
+}
+
+/// Pixels of RGB `frame` within `tolerance` of colour `rgba`, channel by channel.
+inline int pixelsNear(const Frame& frame, std::uint32_t rgba, int tolerance) {
+  int count = 0;
+  for (int v = 0; v < frame.image.heightPx(); ++v) {
+    const std::uint8_t* row = frame.image.row(v);
+    for (int u = 0; u < frame.image.widthPx(); ++u) {
+      bool near = true;
+      for (int c = 0; c < 3; ++c)
+        near = near && std::abs(row[3 * u + c] - static_cast<int>((rgba >> (8 * c)) & 0xFF)) <= tolerance;
+      count += near ? 1 : 0;
+    }
+  }
+  return count;
+}
+
+/// Pixels of two RGB frames of one size whose colours differ by more than `by` in some channel.
+inline int pixelsDiffering(const Frame& a, const Frame& b, int by) {
+  int count = 0;
+  for (int v = 0; v < a.image.heightPx(); ++v)
+    for (int u = 0; u < a.image.widthPx(); ++u) {
+      int d = 0;
+      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(a.image.row(v)[3 * u + c] - b.image.row(v)[3 * u + c]));
+      count += d > by ? 1 : 0;
+    }
+  return count;
+}
+
 /// The hills every renderer test uses: 512² voxels at 2 m, 64-voxel tiles (many tile crossings).
 inline const MemoryTerrain& hills() {
   static const std::unique_ptr<MemoryTerrain> terrain = makeSyntheticTerrain({SyntheticKind::Hills, 512, 2.0, 6, 3});

@@ -19,9 +19,7 @@
 namespace fieldcast::core::test {
 namespace {
 
-constexpr std::uint32_t rgb(std::uint32_t r, std::uint32_t g, std::uint32_t b) {
-  return r | (g << 8) | (b << 16) | 0xFF000000u;
-}
+constexpr auto rgb = opaqueRgb;
 constexpr std::uint32_t kGround = rgb(70, 120, 60);
 constexpr std::uint32_t kRed = rgb(220, 30, 30);
 constexpr std::uint32_t kBlue = rgb(30, 60, 220);
@@ -62,21 +60,6 @@ std::unique_ptr<MemoryTerrain> deckAndGlass(double groundM = kGroundM) {
   place(140, 120, 6, 1, 8.0, 2);
   place(60, 150, 140, 2, 20.0, 3);
   return std::make_unique<MemoryTerrain>(g, heightQ, colour, stickId, std::move(table));
-}
-
-// Pixels of `frame` within `tolerance` of colour `rgba` (per channel)
-int pixelsOf(const Frame& frame, std::uint32_t rgba, int tolerance) {
-  int count = 0;
-  for (int v = 0; v < frame.image.heightPx(); ++v) {
-    const std::uint8_t* row = frame.image.row(v);
-    for (int u = 0; u < frame.image.widthPx(); ++u) {
-      bool near = true;
-      for (int c = 0; c < 3; ++c)
-        near = near && std::abs(row[3 * u + c] - static_cast<int>((rgba >> (8 * c)) & 0xFF)) <= tolerance;
-      count += near ? 1 : 0;
-    }
-  }
-  return count;
 }
 
 // Half the glass's yellow over the wall's blue (the wall is what the glass is seen against)
@@ -127,17 +110,10 @@ TEST(SeeThrough, TheCasterSeesThroughCavitiesAndGlassAsTheReferenceDoes) {
       }
     }
     const HitAgreement hits = compareHits(fast, ref, view.geometry(), settings);
-    int differ = 0;
-    for (int v = 0; v < fast.image.heightPx(); ++v)
-      for (int u = 0; u < fast.image.widthPx(); ++u) {
-        int d = 0;
-        for (int c = 0; c < 3; ++c)
-          d = std::max(d, std::abs(fast.image.row(v)[3 * u + c] - ref.image.row(v)[3 * u + c]));
-        differ += d > 40 ? 1 : 0;
-      }
+    const int differ = pixelsDiffering(fast, ref, 40);
     const int pixels = fast.image.widthPx() * fast.image.heightPx();
-    const int blue = pixelsOf(fast, kBlue, 30), blueRef = pixelsOf(ref, kBlue, 30);
-    const int glass = pixelsOf(fast, kGlassOverBlue, 30), glassRef = pixelsOf(ref, kGlassOverBlue, 30);
+    const int blue = pixelsNear(fast, kBlue, 30), blueRef = pixelsNear(ref, kBlue, 30);
+    const int glass = pixelsNear(fast, kGlassOverBlue, 30), glassRef = pixelsNear(ref, kGlassOverBlue, 30);
     std::printf(
         "%-8s hits %.4f same; colours: %d of %d differ; wall %d (reference %d), glass over the wall %d "
         "(reference %d); %llu secondary rays\n",
@@ -165,15 +141,7 @@ TEST(SeeThrough, HazedAndLitByAnotherSunTheCasterStillSeesWhatTheReferenceSees) 
     const ViewRequest request = requestFor(s);
     const Frame fast = renderer.render(request);
     const Frame ref = reference.render(request, settings);
-    int differ = 0;
-    for (int v = 0; v < fast.image.heightPx(); ++v)
-      for (int u = 0; u < fast.image.widthPx(); ++u)
-        for (int c = 0; c < 3; ++c) {
-          if (std::abs(fast.image.row(v)[3 * u + c] - ref.image.row(v)[3 * u + c]) > 24) {
-            ++differ;
-            break;
-          }
-        }
+    const int differ = pixelsDiffering(fast, ref, 24);
     std::printf("%-8s hazed and relit: %d pixels differ\n", s.name, differ);
     // (Measured 0–27 of 27,648; unhazed layers behind the first: 126–142)
     EXPECT_LE(differ, fast.image.widthPx() * fast.image.heightPx() / 400) << s.name;
@@ -265,7 +233,7 @@ TEST(SeeThrough, FarAwayTheCavitiesAreFilledAndNoRayGoesThrough) {
   RenderStats stats;
   const Frame fast = renderer.render(request, &stats);
   const Frame ref = reference.render(request, settings);
-  const int red = pixelsOf(fast, kRed, 40), redRef = pixelsOf(ref, kRed, 40);
+  const int red = pixelsNear(fast, kRed, 40), redRef = pixelsNear(ref, kRed, 40);
   std::printf("far: deck red %d (reference %d), %llu secondary rays\n", red, redRef,
               static_cast<unsigned long long>(stats.secondaryRays));
   EXPECT_EQ(stats.secondaryRays, 0u);

@@ -15,9 +15,7 @@
 namespace fieldcast::core::test {
 namespace {
 
-constexpr std::uint32_t rgb(std::uint32_t r, std::uint32_t g, std::uint32_t b) {
-  return r | (g << 8) | (b << 16) | 0xFF000000u;
-}
+constexpr auto rgb = opaqueRgb;
 constexpr std::uint32_t kGround = rgb(70, 120, 60);
 constexpr std::uint32_t kRed = rgb(220, 30, 30);
 constexpr std::uint32_t kRoof = rgb(20, 20, 20);
@@ -59,21 +57,6 @@ std::unique_ptr<MemoryTerrain> blocks() {
   return std::make_unique<MemoryTerrain>(g, heightQ, colour, stickId, std::move(table));
 }
 
-// Pixels of `frame` within `tolerance` of colour `rgba` (per channel)
-int pixelsOf(const Frame& frame, std::uint32_t rgba, int tolerance) {
-  int count = 0;
-  for (int v = 0; v < frame.image.heightPx(); ++v) {
-    const std::uint8_t* row = frame.image.row(v);
-    for (int u = 0; u < frame.image.widthPx(); ++u) {
-      bool near = true;
-      for (int c = 0; c < 3; ++c)
-        near = near && std::abs(row[3 * u + c] - static_cast<int>((rgba >> (8 * c)) & 0xFF)) <= tolerance;
-      count += near ? 1 : 0;
-    }
-  }
-  return count;
-}
-
 struct StickView {
   const char* name;
   double x, y, altitudeM, headingDeg, pitchDeg;
@@ -106,17 +89,10 @@ TEST(StickRender, TheCasterDrawsSticksAsTheReferenceDoes) {
     const Frame ref = reference.render(request, settings);
     const HitAgreement hits = compareHits(fast, ref, view.geometry(), settings);
     // Colours: pixels whose colour differs from the reference's by more than a third of the range
-    int differ = 0;
-    for (int v = 0; v < fast.image.heightPx(); ++v)
-      for (int u = 0; u < fast.image.widthPx(); ++u) {
-        int d = 0;
-        for (int c = 0; c < 3; ++c)
-          d = std::max(d, std::abs(fast.image.row(v)[3 * u + c] - ref.image.row(v)[3 * u + c]));
-        differ += d > 80 ? 1 : 0;
-      }
+    const int differ = pixelsDiffering(fast, ref, 80);
     const int pixels = fast.image.widthPx() * fast.image.heightPx();
-    const int red = pixelsOf(fast, kRed, 30), redRef = pixelsOf(ref, kRed, 30);
-    const int stripes = pixelsOf(fast, kBlue, 30) + pixelsOf(fast, kWhite, 30);
+    const int red = pixelsNear(fast, kRed, 30), redRef = pixelsNear(ref, kRed, 30);
+    const int stripes = pixelsNear(fast, kBlue, 30) + pixelsNear(fast, kWhite, 30);
     std::printf("%-8s hits %.4f same; colours: %d of %d differ; red %d (reference %d), stripes %d\n", s.name,
                 hits.fraction(), differ, pixels, red, redRef, stripes);
     EXPECT_GE(hits.fraction(), 0.995) << s.name;
