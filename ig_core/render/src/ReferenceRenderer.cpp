@@ -95,19 +95,6 @@ struct Shaded {
   bool seeThrough = false;
 };
 
-// Front-to-back layers as the caster blends them (SeeThrough.cpp).
-struct SeenLayers {
-  Float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
-  float opacity = 0.0f;
-  float rangeM = std::numeric_limits<float>::infinity();
-  void add(const Rgb& hazed, float alpha, float range) {
-    const float w = (1.0f - opacity) * alpha;
-    sum += hazed.v * w;
-    if (opacity < 0.5f && opacity + w >= 0.5f) rangeM = range;
-    opacity += w;
-  }
-};
-
 // What the reference sees through a see-through stick texel, by its own plain march apart from
 // the caster's column walk (SeeThrough.h has the rules): the ray sampled every 1/32 voxel across
 // and 1/16 stick voxel up or down from its hit `front`, each sample in the level-0 column its
@@ -121,14 +108,14 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
   const StickTable& table = *view.sticks();
   const double length = glm::length(d);
   const float flat = shading.light().flat();
-  SeenLayers layers;
+  SeeThroughLayers layers;
   const auto layer = [&](std::uint32_t rgba, double depth, float alpha) {
     const auto range = static_cast<float>(depth * length);
     layers.add(shading.terrain(Rgb{unpackRgb(rgba).v * flat}, range), alpha, range);
   };
   const auto done = [&](std::uint32_t rgba, double depth) {
-    layer(rgba, depth, 1.0f);
-    return std::pair{Rgb{layers.sum}, layers.rangeM};
+    const auto range = static_cast<float>(depth * length);
+    return layers.finish(shading.terrain(Rgb{unpackRgb(rgba).v * flat}, range), range);
   };
   const double unitsPerQ = g.heightStepM / table.unitM();
   const double horizontal = std::hypot(d.x, d.y) / g.spacingM;  // voxels per metre of depth
@@ -186,8 +173,7 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
     if (!handOff) break;
     front = castFrom(depth);
   }
-  layers.add(front.colour, 1.0f, front.rangeM);
-  return std::pair{Rgb{layers.sum}, layers.rangeM};
+  return layers.finish(front.colour, front.rangeM);
 }
 
 // What the reference sees of an entity along a ray: its own plain march, apart from the entity

@@ -18,25 +18,6 @@ using namespace ray_march;
 
 namespace {
 
-// Front-to-back compositing of the layers a secondary ray passes: each layer's colour is hazed by
-// its own range; the range kept is the first at which the layers are at least half opaque.
-struct Layers {
-  Float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
-  float opacity = 0.0f;
-  float rangeM = std::numeric_limits<float>::infinity();
-
-  void add(const Rgb& hazed, float alpha, float range) noexcept {
-    const float w = (1.0f - opacity) * alpha;
-    sum += hazed.v * w;
-    if (opacity < 0.5f && opacity + w >= 0.5f) rangeM = range;
-    opacity += w;
-  }
-  SeenThrough finish(const Rgb& hazed, float range) noexcept {
-    add(hazed, 1.0f, range);
-    return {Rgb{sum}, rangeM};
-  }
-};
-
 // At most this many columns walked as boxes (a ray along a hedge row or under a long deck); then
 // the per-ray march takes the rest.
 constexpr int kMaxBoxColumns = 256;
@@ -49,7 +30,11 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   const float flat = f.shading.light().flat();
   const auto lit = [&](std::uint32_t rgba) { return Rgb{unpackRgb(rgba).v * flat}; };
   const auto rangeAt = [&](double depth) { return static_cast<float>(depth * length); };
-  Layers layers;
+  SeeThroughLayers layers;
+  const auto finish = [&](const Rgb& hazed, float range) {
+    const auto [colour, rangeM] = layers.finish(hazed, range);
+    return SeenThrough{colour, rangeM};
+  };
   const auto blend = [&](std::uint32_t rgba, double depth) {
     if ((rgba >> 24) != 0) {
       layers.add(f.shading.terrain(lit(rgba), rangeAt(depth)), static_cast<float>(rgba >> 24) / 255.0f, rangeAt(depth));
@@ -57,7 +42,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   };
   const auto solid = [&](double depth, std::uint32_t rgba) {
     const float range = rangeAt(depth);
-    return layers.finish(f.shading.terrain(lit(rgba), range), range);
+    return finish(f.shading.terrain(lit(rgba), range), range);
   };
 
   // The ray in grid units per metre of depth: x, y level-0 voxels (voxel i spans i − ½ … i + ½),
@@ -70,8 +55,8 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   const double dsX = gx != 0.0 ? 1.0 / std::abs(gx) : inf, dsY = gy != 0.0 ? 1.0 / std::abs(gy) : inf;
   const int width = f.levelWidth[0], height = f.levelHeight[0];
   // The walk: its depth s, column (i, j), the depths of the next column boundaries, the column it
-  // started in (on the surface between voxel centres, which may dip under a box's top: not
-  // tested), and the stick-free columns in a row just walked.
+  // started in (its hit lies on the surface between voxel centres, which may dip under a box's
+  // top: that box is not tested), and the stick-free columns in a row just walked.
   double s = 0.0, nextX = inf, nextY = inf;
   int i = 0, j = 0, startI = 0, startJ = 0, free = 0;
   bool restarted = false;  // the walk was started again further along (marchOn)
@@ -106,7 +91,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
     if (!h.hit) {
       float range;
       const Rgb missed = f.missed(d.z, length, range);
-      return layers.finish(missed, range);
+      return finish(missed, range);
     }
     const double depth = h.m / line.aMaj;
     if (depth < from * (1.0 - 1e-9)) return std::nullopt;
@@ -118,7 +103,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
       return std::nullopt;
     }
     const float range = rangeAt(depth);
-    return layers.finish(f.shading.terrain(colour, range), range);
+    return finish(f.shading.terrain(colour, range), range);
   };
 
   for (int walked = 0; walked < kMaxBoxColumns; ++walked) {

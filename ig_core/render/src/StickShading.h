@@ -5,11 +5,15 @@
 // its depth below the top — nearest texel, no level blend (the table's mips filter it instead).
 // Between two voxels that both carry sticks the taller one colours it.
 
+#include "Shading.h"
+
 #include <ig_core/Sticks.h>
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
+#include <utility>
 
 namespace fieldcast::core {
 
@@ -44,5 +48,26 @@ inline std::uint32_t stickTexel(std::span<const std::uint32_t> texels, float coo
   const float k = coordinate > 0.0f ? std::floor(coordinate) : 0.0f;
   return texels[static_cast<std::size_t>(k < last ? k : last)];
 }
+
+/// The layers a ray seen through complex sticks passes (SeeThrough.h), composited front to back:
+/// each colour already hazed at its own range, with its opacity; the range kept is where the layers
+/// become at least half opaque (infinite while they are not).
+struct SeeThroughLayers {
+  Float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
+  float opacity = 0.0f;
+  float rangeM = std::numeric_limits<float>::infinity();
+
+  void add(const Rgb& hazed, float alpha, float range) noexcept {
+    const float w = (1.0f - opacity) * alpha;
+    sum += hazed.v * w;
+    if (opacity < 0.5f && opacity + w >= 0.5f) rangeM = range;
+    opacity += w;
+  }
+  /// The composite, with `hazed` at `range` as the opaque last layer.
+  std::pair<Rgb, float> finish(const Rgb& hazed, float range) noexcept {
+    add(hazed, 1.0f, range);
+    return {Rgb{sum}, rangeM};
+  }
+};
 
 }  // namespace fieldcast::core

@@ -123,7 +123,9 @@ TEST(SeeThrough, TheCasterSeesThroughCavitiesAndGlassAsTheReferenceDoes) {
     EXPECT_LE(differ, pixels / 100) << s.name;
     EXPECT_NEAR(blue, blueRef, std::max(10, blueRef / 20)) << s.name;
     EXPECT_NEAR(glass, glassRef, std::max(10, glassRef / 10)) << s.name;
-    if (s.name == std::string("under")) EXPECT_GT(glassRef, 20) << "the glass is not seen against the wall";
+    if (s.name == std::string("under")) {
+      EXPECT_GT(glassRef, 20) << "the glass is not seen against the wall";
+    }
     EXPECT_GT(stats.secondaryRays, 0u) << s.name;
   }
 }

@@ -19,7 +19,6 @@ constexpr std::uint32_t kCrownMid = rgb(44, 78, 36);
 constexpr std::uint32_t kLeafLight = rgb(70, 104, 44);
 constexpr std::uint32_t kLeafMid = rgb(58, 92, 40);
 constexpr std::uint32_t kTrunk = rgb(84, 62, 44);
-constexpr std::uint32_t kCavity = 0u;  // a complex stick's see-through voxel
 constexpr std::uint32_t kHedge = rgb(40, 70, 34);
 constexpr std::uint32_t kRoofTiles = rgb(150, 64, 46);
 constexpr std::uint32_t kRoofSlate = rgb(70, 72, 80);
@@ -63,7 +62,7 @@ VoxelModel broadleaf() {
   VoxelModel m{"broadleaf", 2.0, 3, 3, {}, {}};
   const auto crown = [](int units, bool trunk) {
     StickEntry e = columnOf(units, [trunk](double h, double fromTop) {
-      if (h < 2.0) return trunk ? kTrunk : kCavity;
+      if (h < 2.0) return trunk ? kTrunk : kCavityRgba;
       return fromTop < 1.0 ? kLeafLight : kLeafMid;
     });
     if (!trunk) e.kind = StickKind::Complex;

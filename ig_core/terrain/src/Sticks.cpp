@@ -21,11 +21,9 @@ bool validKind(StickKind kind) noexcept {
   return kind == StickKind::Uniform || kind == StickKind::Textured || kind == StickKind::Complex;
 }
 
-constexpr std::uint32_t kOpaque = 0xFF000000u;
-
 // The mean colour of `texels`, channel by channel (rounded), opaque.
 std::uint32_t meanRgb(std::span<const std::uint32_t> texels) noexcept {
-  std::uint32_t out = kOpaque;
+  std::uint32_t out = kOpaqueRgba;
   const auto n = static_cast<std::uint32_t>(texels.size());
   for (int shift = 0; shift < 24; shift += 8) {
     std::uint32_t sum = 0;
@@ -47,12 +45,12 @@ std::uint32_t filledRgb(std::span<const std::uint32_t> run, std::size_t first, s
   }
   if (weight == 0) {
     for (std::size_t k = first + count; k < run.size(); ++k)
-      if ((run[k] >> 24) != 0) return run[k] | kOpaque;
+      if ((run[k] >> 24) != 0) return run[k] | kOpaqueRgba;
     for (std::size_t k = first; k-- > 0;)
-      if ((run[k] >> 24) != 0) return run[k] | kOpaque;
-    return kOpaque;  // nothing to see at all: black
+      if ((run[k] >> 24) != 0) return run[k] | kOpaqueRgba;
+    return kOpaqueRgba;  // nothing to see at all: black
   }
-  std::uint32_t out = kOpaque;
+  std::uint32_t out = kOpaqueRgba;
   for (int c = 0; c < 3; ++c) out |= static_cast<std::uint32_t>((sum[c] + weight / 2) / weight) << (8 * c);
   return out;
 }

@@ -29,6 +29,11 @@ enum class StickKind : std::uint8_t {
   Complex = 3,
 };
 
+/// A complex stick's cavity texel (alpha 0: seen through), RGBA8.
+inline constexpr std::uint32_t kCavityRgba = 0x00000000u;
+/// The alpha bits of an opaque texel, RGBA8.
+inline constexpr std::uint32_t kOpaqueRgba = 0xFF000000u;
+
 /// Longest stick a table entry may describe, in stick voxels (at 0.5 m: a 2 km tower).
 inline constexpr std::uint32_t kMaxStickLength = 4096;
 /// Most entries a table may hold (stick ids are 1 .. this; 0 is "no stick"): a table holds a kind

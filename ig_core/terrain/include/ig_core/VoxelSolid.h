@@ -14,11 +14,6 @@ namespace fieldcast::core {
 /// A voxel's side at scale 1, metres: the stick unit, so a solid's layers are its sticks' voxels.
 inline constexpr double kSolidVoxelM = kModelStickUnitM;
 
-/// A gap under a solid's top as a stick texel: a cavity of a complex stick (Sticks.h), seen through.
-inline constexpr std::uint32_t kCavityRgba = 0x00000000u;
-/// A filled voxel's alpha as a stick texel: opaque, whatever alpha the file gave it.
-inline constexpr std::uint32_t kOpaqueRgba = 0xFF000000u;
-
 /// sizeX × sizeY × sizeZ voxels: x the model's right (east at heading 0), y its front (north), z up;
 /// x fastest, then y, then z. A voxel is RGBA8 (R in the low byte); alpha 0 is empty.
 struct VoxelSolid {
@@ -38,10 +33,10 @@ struct VoxelSolid {
 VoxelSolid emptySolid(int sizeX, int sizeY, int sizeZ);
 
 /// The solid as a model of sticks, cells kSolidVoxelM wide: a column stands from the ground to its
-/// topmost voxel, its colours top down; one with gaps below its top is a complex stick whose gaps
-/// are cavities (kCavityRgba). Columns of the same colours share one stick (uniform where all are
-/// one colour). Throws std::invalid_argument for
-/// a solid with no voxel.
+/// topmost voxel, its colours top down (opaque, whatever alpha the file gave them); one with gaps
+/// below its top is a complex stick whose gaps are cavities (kCavityRgba). Columns of the same
+/// colours share one stick (uniform where all are one colour). Throws std::invalid_argument for a
+/// solid with no voxel.
 VoxelModel toVoxelModel(const VoxelSolid& solid, std::string name);
 
 }  // namespace fieldcast::core
