@@ -96,54 +96,44 @@ void relightCrossing(const CasterFrame& f, CasterThread& t, const ColumnPlane& c
   x.colour.v *= segmentLight(f, t, x.level, vx, vy, alongX, static_cast<float>(x.phi));
 }
 
+// Voxel (x, y) of `level`'s stick through the tile window; the slow way outside the grid or where
+// the tile is missing.
+inline StickVoxel windowStick(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x, int y) noexcept {
+  if (!windowFor(f, t, w, level, x, y)) return stickAt(f, t, level, x, y);
+  const TerrainTile& tile = *w.tile[static_cast<std::size_t>(level)];
+  if (tile.stickId == nullptr) return {};
+  const auto index = static_cast<std::size_t>(((y - w.y0[static_cast<std::size_t>(level)]) << f.tileShift) +
+                                              (x - w.x0[static_cast<std::size_t>(level)]));
+  const std::uint32_t id = tile.stickId[index];
+  return id != 0 ? StickVoxel{id, tile.heightQ[index], level} : StickVoxel{};
+}
+
 // A crossing's stick (StickShading.h): the one of its segment's two voxels that colours it (a
-// minor-line crossing's segment runs along the major axis), and the crossing's height in quanta.
-StickVoxel crossingStick(const CasterFrame& f, CasterThread& t, const ColumnPlane& c, const Crossing& x,
-                         double& zQ) noexcept {
-  const int l = x.level;
+// minor-line crossing's segment runs along the major axis). Looked up once per crossing: every fill
+// of a terrain with sticks asks it of both its crossings, most of them have none, and a crossing
+// bounds two fills.
+inline const StickVoxel& crossingStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                                       Crossing& x) noexcept {
+  if (x.haveStick) return x.stick;
   const int vx = c.xMajor ? x.i : x.j;
   const int vy = c.xMajor ? x.j : x.i;
   const bool alongX = c.xMajor == x.onMinorLine;  // the segment's second voxel lies east, else north
-  const int nx = alongX ? vx + 1 : vx;
-  const int ny = alongX ? vy : vy + 1;
-  const double h0 = heightAt(f, t, l, vx, vy);
-  zQ = h0 + x.phi * (heightAt(f, t, l, nx, ny) - h0);
-  return colouringStick(stickAt(f, t, l, vx, vy), stickAt(f, t, l, nx, ny));
-}
-
-// The stick id of voxel (x, y) of `level` through the tile window (0: none), the slow way outside
-// the grid or where the tile is missing.
-inline std::uint32_t windowStickId(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
-                                   int y) noexcept {
-  if (!windowFor(f, t, w, level, x, y)) return stickAt(f, t, level, x, y).id;
-  const auto l = static_cast<std::size_t>(level);
-  const std::uint32_t* ids = w.tile[l]->stickId;
-  return ids == nullptr ? 0u : ids[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
-}
-
-// Whether either voxel of crossing x's segment carries a stick: the test every fill of a terrain
-// with sticks makes before anything else (most of them have none).
-inline bool segmentHasStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                            const Crossing& x) noexcept {
-  const int vx = c.xMajor ? x.i : x.j;
-  const int vy = c.xMajor ? x.j : x.i;
-  const bool alongX = c.xMajor == x.onMinorLine;
-  return windowStickId(f, t, w, x.level, vx, vy) != 0 ||
-         windowStickId(f, t, w, x.level, alongX ? vx + 1 : vx, alongX ? vy : vy + 1) != 0;
+  x.stick = colouringStick(windowStick(f, t, w, x.level, vx, vy),
+                           windowStick(f, t, w, x.level, alongX ? vx + 1 : vx, alongX ? vy : vy + 1));
+  x.haveStick = true;
+  return x.stick;
 }
 
 // On a terrain with sticks: when either crossing lies on a stick, fills the sub-rows between them
 // with the stick's texels — the far crossing's stick, else the near one's — into the sink (one
-// sub-row per pixel or several), and returns true. Out of line and cold: placed away from the
-// terrain fill's code. (The test whether a fill meets a stick at all stays inline in the march of a
+// sub-row per pixel or several), and returns true. Out of line: placed away from the terrain
+// fill's code. (The test whether a fill meets a stick at all stays inline in the march of a
 // terrain with sticks: called for it, the furnished built-in terrain's frames were 10–25% slower.)
-[[gnu::noinline, gnu::cold]] bool fillStickSpan(const CasterFrame& f, CasterThread& t, TileWindows& w,
-                                                const ColumnPlane& c, const Crossing& from, const Crossing& to,
-                                                const CrossingSpan& span, const ColumnFill& column, ColumnSink& sink,
-                                                double vStop, int& qInOut, double& vqInOut) noexcept {
-  double fromZ = 0.0, toZ = 0.0;
-  const StickVoxel near = crossingStick(f, t, c, from, fromZ);
-  const StickVoxel far = crossingStick(f, t, c, to, toZ);
+[[gnu::noinline]] bool fillIfOnStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                                     Crossing& from, Crossing& to, const CrossingSpan& span, const ColumnFill& column,
+                                     ColumnSink& sink, double vStop, int& qInOut, double& vqInOut) noexcept {
+  const StickVoxel& near = crossingStick(f, t, w, c, from);
+  const StickVoxel& far = crossingStick(f, t, w, c, to);
   const StickVoxel& s = far.id != 0 ? far : near;
   if (s.id == 0) return false;
   // A complex stick may be seen through (at level 0: its coarser texels are opaque); its pixels'
@@ -151,21 +141,20 @@ inline bool segmentHasStick(const CasterFrame& f, CasterThread& t, TileWindows& 
   const Intrinsics& k = f.geo->intrinsics();
   const SeeThroughColumn through{&f, &t, k.cxPx + c.xc * k.fxPx};
   const bool complex = f.seeThrough && f.sticks->entry(s.id).kind == StickKind::Complex;
-  const StickSpan stick{f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, fromZ, f.stickUnitsPerQ),
-                        stickTexelCoordinate(s, toZ, f.stickUnitsPerQ), f.shading.light().flat(),
+  const StickSpan stick{f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, from.heightQ, f.stickUnitsPerQ),
+                        stickTexelCoordinate(s, to.heightQ, f.stickUnitsPerQ), f.shading.light().flat(),
                         complex ? &through : nullptr};
-  const StickSpanPixel texels{stick};
   if (sink.s != 1) {
     const PixelShader shading = column.shading;
     forEachSpanRow(
         span, column, shading, vStop, qInOut, vqInOut,
-        [&](int q, const SpanPixel& p) { sink.emit(q, p.colour, p.rangeM); }, texels);
+        [&](int q, const SpanPixel& p) { sink.emit(q, p.colour, p.rangeM); }, StickSpanPixel{stick});
   } else if (column.shading.grey) {
-    fillSpanReference<true>(span, column, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, vStop, qInOut,
-                            vqInOut, texels);
+    fillStickSpan<true>(span, column, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, vStop, qInOut,
+                        vqInOut, stick);
   } else {
-    fillSpanReference<false>(span, column, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, vStop, qInOut,
-                             vqInOut, texels);
+    fillStickSpan<false>(span, column, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, vStop, qInOut,
+                         vqInOut, stick);
   }
   return true;
 }
@@ -412,6 +401,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     out.i = i;
     out.j = j;
     out.haveColour = false;
+    out.heightQ = h;
+    out.haveStick = false;
     jPos = minor + drift;
     jGuess = nextSegment(j, g0, g1, drift);
     return true;
@@ -534,8 +525,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         static_cast<float>(fromV),      static_cast<float>(1.0 / (toV - fromV)), static_cast<float>(fromInvDepth),
         static_cast<float>(toInvDepth), crossingColour(f, t, window, c, from),   crossingColour(f, t, window, c, to)};
     const int qFirst = q;
-    if (kSticks && (segmentHasStick(f, t, window, c, from) || segmentHasStick(f, t, window, c, to)) &&
-        fillStickSpan(f, t, window, c, from, to, span, fill, sink, toV, q, vq)) {
+    if (kSticks && (crossingStick(f, t, window, c, from).id != 0 || crossingStick(f, t, window, c, to).id != 0) &&
+        fillIfOnStick(f, t, window, c, from, to, span, fill, sink, toV, q, vq)) {
       // a stick's side or top, filled with its texels
     } else if (sink.s != 1) {
       fillSpanSubRows(span, fill, sink, toV, q, vq);
@@ -584,6 +575,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       x.j = m;
       x.onMinorLine = true;
       x.haveColour = false;
+      x.heightQ = h;
+      x.haveStick = false;
     }
     return found;
   };

@@ -15,6 +15,7 @@
 // the columns of a staging block march in step. Private to ig_core.
 
 #include "ColumnCaster.h"
+#include "StickShading.h"
 
 #include <glm/vec2.hpp>
 
@@ -58,6 +59,10 @@ struct Crossing {
   bool onMinorLine = false;
   bool haveColour = false;
   Rgb colour;
+  double heightQ = 0;  ///< the terrain's height there (quanta)
+  /// On a terrain with sticks, the stick that colours it (none: id 0), once looked up.
+  bool haveStick = false;
+  StickVoxel stick;
 };
 
 /// One window per level on the tile last read there: most height and colour reads of the column

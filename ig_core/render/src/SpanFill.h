@@ -3,9 +3,9 @@
 // with the terrain between them, interpolated perspective-correctly (1/depth is linear in the row),
 // with its range and haze. fillSpanReference is the plain loop, one pixel at a time; fillSpan works
 // out four pixels at once, one per lane of an SSE register, and is the same to the bit
-// (SpanFillTest). Looking down, where the terrain is magnified and most spans are three or four
-// sub-rows, this is two fifths of the frame's instructions; at low pitch most spans are one
-// sub-row, and fillSpan hands those to the plain loop.
+// (SpanFillTest); fillStickSpan does the same on a stick's texels. Looking down, where the terrain
+// is magnified and most spans are three or four sub-rows, this is two fifths of the frame's
+// instructions; at low pitch most spans are one sub-row, and both hand those to the plain loop.
 
 #include "Shading.h"
 #include "StickShading.h"
@@ -184,34 +184,67 @@ inline __m128i roundLanes(__m128 x) noexcept {
   return _mm_cvttps_epi32(_mm_add_ps(clamped, _mm_set1_ps(0.5f)));
 }
 
-}  // namespace span_lanes
-#endif
-
-/// fillSpanReference with four sub-rows at a time: lane k is sub-row q − k, and each colour
-/// channel has a register of its own. Same pixels and ranges, same q and vq afterwards; q ≥ 0 on
-/// entry, and out.bytesPerPixel is kGrey ? 1 : 3. RT-safe.
-template <bool kGrey>
-__attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, const ColumnFill& column,
-                                                    const ColumnPixels out, double vStop, int& qInOut,
-                                                    double& vqInOut) noexcept {
-#if defined(__SSE2__)
-  using namespace span_lanes;
-  assert(qInOut >= 0 && out.bytesPerPixel == (kGrey ? 1u : 3u));
-  if (!(vqInOut - vStop > 2.0 * column.invSd)) {
-    // A span of one or two sub-rows (most of them where the terrain is minified): the lanes'
-    // set-up would cost more than they save.
-    fillSpanReference<kGrey>(span, column, out, vStop, qInOut, vqInOut);
-    return;
+// The crossings' colours mixed by the far one's weight: spanPixel's colour, four sub-rows at once.
+struct TerrainLanes {
+  Channels c0, c1MinusC0;
+  explicit TerrainLanes(const CrossingSpan& span) noexcept {
+    const Float4 dc = span.c1.v - span.c0.v;
+    c0 = {_mm_set1_ps(span.c0.v[0]), _mm_set1_ps(span.c0.v[1]), _mm_set1_ps(span.c0.v[2])};
+    c1MinusC0 = {_mm_set1_ps(dc[0]), _mm_set1_ps(dc[1]), _mm_set1_ps(dc[2])};
   }
-  const PixelShader shading = column.shading;
+  /// The lanes' colours before haze for the far crossing's weights `tw`; no lane is see-through.
+  Channels operator()(__m128 tw, unsigned& seeThrough) const noexcept {
+    seeThrough = 0;
+    return mixLanes(c0, c1MinusC0, tw);
+  }
+  SpanPixel throughPixel(int, float) const noexcept { return {}; }  // never asked
+};
+
+// A stick's texels: StickSpanPixel's colour, four sub-rows at once. The texel index is
+// stickTexel's floor and clamps in lanes (maxps with the coordinate first turns a NaN into 0, as
+// stickTexel does), the four texels read one by one.
+struct StickLanes {
+  const StickSpan& stick;
+  /// The lanes' colours before haze; bit k of `seeThrough` set where lane k's texel is see-through
+  /// and the stick has secondary rays (its colour is then throughPixel's).
+  Channels operator()(__m128 tw, unsigned& seeThrough) const noexcept {
+    const __m128 coordinate = _mm_add_ps(_mm_set1_ps(stick.s0), _mm_mul_ps(_mm_set1_ps(stick.s1 - stick.s0), tw));
+    const __m128 last = _mm_set1_ps(static_cast<float>(stick.texels.size() - 1));
+    alignas(16) std::int32_t index[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(index),
+                    _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(coordinate, _mm_setzero_ps()), last)));
+    alignas(16) std::uint32_t texel[4];
+    seeThrough = 0;
+    for (int k = 0; k < 4; ++k) {
+      texel[k] = stick.texels[static_cast<std::size_t>(index[k])];
+      seeThrough |= static_cast<unsigned>(seeThroughTexel(texel[k])) << k;
+    }
+    if (stick.through == nullptr) seeThrough = 0;
+    const __m128i rgba = _mm_load_si128(reinterpret_cast<const __m128i*>(texel));
+    const __m128i byte = _mm_set1_epi32(0xFF);
+    const __m128 light = _mm_set1_ps(stick.light);
+    return {_mm_mul_ps(_mm_cvtepi32_ps(_mm_and_si128(rgba, byte)), light),
+            _mm_mul_ps(_mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(rgba, 8), byte)), light),
+            _mm_mul_ps(_mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(rgba, 16), byte)), light)};
+  }
+  SpanPixel throughPixel(int q, float rangeM) const noexcept { return seeThroughPixel(*stick.through, q, rangeM); }
+};
+
+// fillSpanReference with four sub-rows at a time: lane k is sub-row q − k, and each colour
+// channel has a register of its own; `colours` gives the lanes' colours (TerrainLanes or
+// StickLanes), the rest is spanPixel's range and haze and the store. Same pixels and ranges, same
+// q and vq afterwards, as the reference with the matching pixelOf.
+template <bool kGrey, typename Colours>
+__attribute__((always_inline)) inline void fillLanes(const CrossingSpan span, const ColumnFill& column,
+                                                     const ColumnPixels out, double vStop, int& qInOut, double& vqInOut,
+                                                     const Colours& colours) noexcept {
+  PixelShader shading = column.shading;
+  shading.grey = kGrey;
   const ColumnFill local = column;
   const double step = column.invSd;
   const __m128 v0 = _mm_set1_ps(span.v0), invDv = _mm_set1_ps(span.invDv);
   const __m128 invDepth0 = _mm_set1_ps(span.invDepth0), invDepth1 = _mm_set1_ps(span.invDepth1);
   const __m128 dInvDepth = _mm_set1_ps(span.invDepth1 - span.invDepth0);
-  const Float4 dc = span.c1.v - span.c0.v;
-  const Channels c0{_mm_set1_ps(span.c0.v[0]), _mm_set1_ps(span.c0.v[1]), _mm_set1_ps(span.c0.v[2])};
-  const Channels c1MinusC0{_mm_set1_ps(dc[0]), _mm_set1_ps(dc[1]), _mm_set1_ps(dc[2])};
   // spanPixel for sub-rows top, top−1, ..., top−rows+1 (rows ≤ 4), four lanes at once.
   const auto fourRows = [&](int top, int rows) __attribute__((always_inline)) {
     const __m128 vqf = _mm_mul_ps(
@@ -222,7 +255,8 @@ __attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, con
     const __m128 tw = clampUnit(_mm_mul_ps(_mm_mul_ps(ts, invDepth1), depth));
     const __m128 yc = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(local.cy), vqf), _mm_set1_ps(local.invFy));
     const __m128 rangeM = _mm_mul_ps(depth, _mm_sqrt_ps(_mm_add_ps(_mm_set1_ps(local.xc2), _mm_mul_ps(yc, yc))));
-    Channels colour = mixLanes(c0, c1MinusC0, tw);
+    unsigned seeThrough = 0;
+    Channels colour = colours(tw, seeThrough);
     if (shading.hazeOn) {
       // The haze table's entries, capped as PixelShader::terrain caps them (minps(x, last) is
       // x < last ? x : last: a NaN range reads the last entry).
@@ -254,10 +288,20 @@ __attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, con
         for (int k = 0; k < rows; ++k) std::memcpy(out.pixels + static_cast<std::size_t>(top - k) * 3, &packed[k], 3);
       }
     }
+    alignas(16) float range[4];
+    _mm_store_ps(range, rangeM);
     if (out.ranges != nullptr) {
-      alignas(16) float range[4];
-      _mm_store_ps(range, rangeM);
       for (int k = 0; k < rows; ++k) out.ranges[top - k] = range[k];
+    }
+    if (seeThrough != 0) [[unlikely]] {
+      // What the secondary rays of the see-through lanes see, over what the lanes wrote.
+      for (int k = 0; k < rows; ++k) {
+        if ((seeThrough >> k & 1u) == 0) continue;
+        const SpanPixel p = colours.throughPixel(top - k, range[k]);
+        if (out.pixels != nullptr)
+          shading.storePixel(out.pixels + static_cast<std::size_t>(top - k) * out.bytesPerPixel, p.colour, 1.0f);
+        if (out.ranges != nullptr) out.ranges[top - k] = p.rangeM;
+      }
     }
   };
   int q = qInOut;
@@ -283,9 +327,43 @@ __attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, con
   }
   qInOut = q;
   vqInOut = vq;
-#else
-  fillSpanReference<kGrey>(span, column, out, vStop, qInOut, vqInOut);
+}
+
+}  // namespace span_lanes
 #endif
+
+/// fillSpanReference four sub-rows at a time (span_lanes::fillLanes): same pixels and ranges, same
+/// q and vq afterwards; q ≥ 0 on entry, and out.bytesPerPixel is kGrey ? 1 : 3. RT-safe.
+template <bool kGrey>
+__attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, const ColumnFill& column,
+                                                    const ColumnPixels out, double vStop, int& qInOut,
+                                                    double& vqInOut) noexcept {
+#if defined(__SSE2__)
+  assert(qInOut >= 0 && out.bytesPerPixel == (kGrey ? 1u : 3u));
+  if (vqInOut - vStop > 2.0 * column.invSd) {
+    span_lanes::fillLanes<kGrey>(span, column, out, vStop, qInOut, vqInOut, span_lanes::TerrainLanes{span});
+    return;
+  }
+  // A span of one or two sub-rows (most of them where the terrain is minified): the lanes'
+  // set-up would cost more than they save.
+#endif
+  fillSpanReference<kGrey>(span, column, out, vStop, qInOut, vqInOut);
+}
+
+/// fillSpan on a stick's side or top: fillSpanReference with StickSpanPixel, four sub-rows at a
+/// time; same pixels, ranges, q and vq, and the same secondary rays. RT-safe but for those.
+template <bool kGrey>
+__attribute__((always_inline)) inline void fillStickSpan(const CrossingSpan span, const ColumnFill& column,
+                                                         const ColumnPixels out, double vStop, int& qInOut,
+                                                         double& vqInOut, const StickSpan& stick) noexcept {
+#if defined(__SSE2__)
+  assert(qInOut >= 0 && out.bytesPerPixel == (kGrey ? 1u : 3u));
+  if (vqInOut - vStop > 2.0 * column.invSd) {
+    span_lanes::fillLanes<kGrey>(span, column, out, vStop, qInOut, vqInOut, span_lanes::StickLanes{stick});
+    return;
+  }
+#endif
+  fillSpanReference<kGrey>(span, column, out, vStop, qInOut, vqInOut, StickSpanPixel{stick});
 }
 
 }  // namespace fieldcast::core

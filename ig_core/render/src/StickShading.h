@@ -35,7 +35,8 @@ inline StickVoxel colouringStick(const StickVoxel& a, const StickVoxel& b) noexc
 /// Where height zQ (quanta) lies on stick s: texels of its level below its top. `unitsPerQ` is
 /// the height step over the table's unit (level-0 stick voxels per quantum).
 inline float stickTexelCoordinate(const StickVoxel& s, double zQ, double unitsPerQ) noexcept {
-  return static_cast<float>(std::ldexp((s.topQ - zQ) * unitsPerQ, -s.level));
+  // × 2^−level: exact, as ldexp would be, without its call
+  return static_cast<float>((s.topQ - zQ) * unitsPerQ * (1.0 / static_cast<double>(1u << s.level)));
 }
 
 /// Whether texel `rgba` is see-through: alpha below 255, only ever at level 0 of a complex stick.

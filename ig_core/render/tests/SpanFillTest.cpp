@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -22,8 +24,10 @@ struct FillOutput {
   double vq = 0.0;
 };
 
+// With `stick`, the fill of a span on that stick's texels (fillStickSpan and StickSpanPixel).
 template <bool kGrey>
-FillOutput fill(bool fast, const SpanFillCase& c, const ColumnFill& column, bool withPixels, bool withRanges) {
+FillOutput fill(bool fast, const SpanFillCase& c, const ColumnFill& column, bool withPixels, bool withRanges,
+                const StickSpan* stick = nullptr) {
   const std::size_t bpp = kGrey ? 1 : 3;
   FillOutput out;
   out.pixels.assign(kRows * bpp, kUnwritten);
@@ -31,7 +35,13 @@ FillOutput fill(bool fast, const SpanFillCase& c, const ColumnFill& column, bool
   const ColumnPixels target{withPixels ? out.pixels.data() : nullptr, withRanges ? out.ranges.data() : nullptr, bpp};
   out.q = c.q;
   out.vq = c.vq;
-  if (fast) {
+  if (stick != nullptr) {
+    if (fast) {
+      fillStickSpan<kGrey>(c.span, column, target, c.vStop, out.q, out.vq, *stick);
+    } else {
+      fillSpanReference<kGrey>(c.span, column, target, c.vStop, out.q, out.vq, StickSpanPixel{*stick});
+    }
+  } else if (fast) {
     fillSpan<kGrey>(c.span, column, target, c.vStop, out.q, out.vq);
   } else {
     fillSpanReference<kGrey>(c.span, column, target, c.vStop, out.q, out.vq);
@@ -45,7 +55,26 @@ struct Setup {
   bool withRanges = true;
   int spans = 4000;
   SpanFillShape shape{0, 12, false};
+  bool onSticks = false;  ///< each span on a random stick's texels instead of between two colours
 };
+
+// A stick of 1 … 40 random texels (a third of them not opaque: without secondary rays they are
+// drawn as they are), the span's two crossings anywhere from above its top to below its foot, or
+// (one in twenty) at a NaN coordinate, under a random sun.
+struct RandomStick {
+  std::vector<std::uint32_t> texels;
+  StickSpan span;
+};
+RandomStick randomStick(std::mt19937& rng) {
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  RandomStick s;
+  s.texels.resize(1 + rng() % 40);
+  for (std::uint32_t& texel : s.texels) texel = (rng() & 0xFFFFFFu) | (rng() % 3 == 0 ? (rng() & 0xFFu) : 0xFFu) << 24;
+  const float length = static_cast<float>(s.texels.size());
+  const auto coordinate = [&] { return rng() % 20 == 0 ? std::nanf("") : -3.0f + (length + 6.0f) * unit(rng); };
+  s.span = StickSpan{s.texels, coordinate(), coordinate(), 0.5f + 0.7f * unit(rng), nullptr};
+  return s;
+}
 
 template <bool kGrey>
 void expectSameAsReference(const Setup& setup) {
@@ -55,9 +84,12 @@ void expectSameAsReference(const Setup& setup) {
   const Shading shading(settings);
   const ColumnFill column = columnFillFor(shading, -0.37, 292.0, 640.0);
   int filled = 0, pastTop = 0, inLanes = 0;
+  std::mt19937 sticks(7);
   for (const SpanFillCase& c : makeSpanFillCases(20261202, setup.spans, kRows, setup.shape)) {
-    const FillOutput reference = fill<kGrey>(false, c, column, setup.withPixels, setup.withRanges);
-    const FillOutput fast = fill<kGrey>(true, c, column, setup.withPixels, setup.withRanges);
+    const RandomStick stick = randomStick(sticks);
+    const StickSpan* onStick = setup.onSticks ? &stick.span : nullptr;
+    const FillOutput reference = fill<kGrey>(false, c, column, setup.withPixels, setup.withRanges, onStick);
+    const FillOutput fast = fill<kGrey>(true, c, column, setup.withPixels, setup.withRanges, onStick);
     const std::string where = "span from sub-row " + std::to_string(c.q) + " to row " + std::to_string(c.vStop);
     ASSERT_EQ(fast.q, reference.q) << where;
     ASSERT_EQ(std::memcmp(&fast.vq, &reference.vq, sizeof(double)), 0) << where;
@@ -90,6 +122,17 @@ TEST(SpanFill, ClampsMatchReferenceInColour) {
 TEST(SpanFill, ClampsMatchReferenceInGrey) {
   expectSameAsReference<true>({20.0, true, true, 20000, {0, 12, true}});
   expectSameAsReference<true>({300.0, true, true, 20000, {0, 12, true}});
+}
+
+// A stick's texels, nearest texel by its coordinate's floor and clamped to the stick, lit, hazed.
+TEST(SpanFill, OnASticksTexelsMatchesReferenceInColour) {
+  expectSameAsReference<false>({.onSticks = true});
+  expectSameAsReference<false>({.hazeRangeM = 0.0, .onSticks = true});
+  expectSameAsReference<false>({.hazeRangeM = 300.0, .spans = 20000, .shape = {0, 12, true}, .onSticks = true});
+}
+TEST(SpanFill, OnASticksTexelsMatchesReferenceInGrey) {
+  expectSameAsReference<true>({.onSticks = true});
+  expectSameAsReference<true>({.hazeRangeM = 20.0, .spans = 20000, .shape = {0, 12, true}, .onSticks = true});
 }
 
 }  // namespace
