@@ -13,8 +13,8 @@
 //
 // render_objects: the four poses over a wood and over a village of the built-in terrain, the
 // furnished terrain against the same land bare (spec.objects = false), frames alternated in one
-// run, 720×486 on 2 threads: objects_ms, bare_ms (medians) and their ratio, and the secondary rays
-// one furnished frame cast through complex sticks.
+// run, 720×486 on 2 threads: objects_ms, bare_ms (medians) and their ratio, the secondary rays
+// one furnished frame cast through complex sticks, and both frames' height samples per pixel.
 //
 // render_entities: the four poses over the village with ten vans (config/models/van.vox) on the
 // ground in view, against the same frames without them, alternated: entities_ms, without_ms, ratio.
@@ -277,13 +277,17 @@ void BM_RenderObjects(benchmark::State& state) {
   const FrameLease leaseFurnished = furnished.lease(), leaseBare = bare.lease();
   Renderer withObjects(furnished.view(), RenderSettings{}, 2), without(bare.view(), RenderSettings{}, 2);
   RenderStats stats;
-  Frame a = withObjects.render(request, &stats), b = without.render(request);  // warm up
+  RenderStats bareStats;
+  Frame a = withObjects.render(request, &stats), b = without.render(request, &bareStats);  // warm up
   const auto [objectsMs, bareMs] = alternatedMedianMs(
       state, [&] { renderInto(withObjects, request, a); }, [&] { renderInto(without, request, b); });
   state.counters["secondary_rays"] = static_cast<double>(stats.secondaryRays);  // through complex sticks
   state.counters["objects_ms"] = objectsMs;
   state.counters["bare_ms"] = bareMs;
   state.counters["ratio"] = objectsMs / bareMs;
+  // Height samples per pixel: the objects' share of the extra work is the march's
+  state.counters["steps_per_px"] = static_cast<double>(stats.steps) / static_cast<double>(stats.pixels);
+  state.counters["bare_steps_per_px"] = static_cast<double>(bareStats.steps) / static_cast<double>(bareStats.pixels);
 }
 
 // ---- Entities -------------------------------------------------------------------------------------

@@ -124,18 +124,16 @@ inline const StickVoxel& crossingStick(const CasterFrame& f, CasterThread& t, Ti
   return x.stick;
 }
 
-// On a terrain with sticks: when either crossing lies on a stick, fills the sub-rows between them
-// with the stick's texels — the far crossing's stick, else the near one's — into the sink (one
-// sub-row per pixel or several), and returns true. Out of line: placed away from the terrain
-// fill's code. (The test whether a fill meets a stick at all stays inline in the march of a
-// terrain with sticks: called for it, the furnished built-in terrain's frames were 10–25% slower.)
-[[gnu::noinline]] bool fillIfOnStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                                     Crossing& from, Crossing& to, const CrossingSpan& span, const ColumnFill& column,
-                                     ColumnSink& sink, double vStop, int& qInOut, double& vqInOut) noexcept {
-  const StickVoxel& near = crossingStick(f, t, w, c, from);
-  const StickVoxel& far = crossingStick(f, t, w, c, to);
+// On a terrain with sticks, where either crossing lies on a stick: fills the sub-rows between
+// them with the stick's texels — the far crossing's stick, else the near one's — into the sink (one
+// sub-row per pixel or several). Out of line: placed away from the terrain fill's code. (The test
+// whether a fill meets a stick at all stays inline in the march of a terrain with sticks: called
+// for it, the furnished built-in terrain's frames were 10–25% slower.)
+[[gnu::noinline]] void fillOnStick(const CasterFrame& f, CasterThread& t, const ColumnPlane& c, const StickVoxel& near,
+                                   const StickVoxel& far, const Crossing& from, const Crossing& to,
+                                   const CrossingSpan& span, const ColumnFill& column, ColumnSink& sink, double vStop,
+                                   int& qInOut, double& vqInOut) noexcept {
   const StickVoxel& s = far.id != 0 ? far : near;
-  if (s.id == 0) return false;
   // A complex stick may be seen through (at level 0: its coarser texels are opaque); its pixels'
   // secondary rays need the column
   const Intrinsics& k = f.geo->intrinsics();
@@ -156,14 +154,36 @@ inline const StickVoxel& crossingStick(const CasterFrame& f, CasterThread& t, Ti
     fillStickSpan<false>(span, column, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, vStop, qInOut,
                          vqInOut, stick);
   }
-  return true;
 }
 
-// Colour of a crossing: linear along the grid line at its level, blended with the next level.
+// Colour of a crossing on a grid line of the minor axis (Crossing::onMinorLine): linear along that
+// line between voxels (i, j) and (i + 1, j), blended with the next level as crossingColour does.
+[[gnu::noinline]] void minorLineColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                                       Crossing& x) noexcept {
+  const int l = x.level;
+  const int vx = c.xMajor ? x.i : x.j;
+  const int vy = c.xMajor ? x.j : x.i;
+  const std::uint32_t c0 = windowColour(f, t, w, l, vx, vy);
+  const std::uint32_t c1 = c.xMajor ? windowColour(f, t, w, l, vx + 1, vy) : windowColour(f, t, w, l, vx, vy + 1);
+  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
+  x.haveColour = true;
+  if (f.blend && l + 1 < f.levels) {
+    const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
+    if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
+  }
+  if (f.shading.light().relit()) relightCrossing(f, t, c, x);
+}
+
+// Colour of a crossing: linear along the grid line at its level (minorLineColour on a minor line),
+// blended with the next level.
 // Inline: it is asked for twice per fill, and as a call its set-up cost as much as its work.
 __attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
                                                                 const ColumnPlane& c, Crossing& x) noexcept {
   if (x.haveColour) return x.colour;
+  if (x.onMinorLine) {
+    minorLineColour(f, t, w, c, x);
+    return x.colour;
+  }
   const int l = x.level;
   std::uint32_t c0, c1;
   const int vx = c.xMajor ? x.i : x.j;
@@ -186,24 +206,6 @@ __attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFram
   }
   if (f.shading.light().relit()) relightCrossing(f, t, c, x);
   return x.colour;
-}
-
-// Colour of a crossing on a grid line of the minor axis (Crossing::onMinorLine): linear along that
-// line between voxels (i, j) and (i + 1, j), blended with the next level as crossingColour does.
-[[gnu::noinline]] void minorLineColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                                       Crossing& x) noexcept {
-  const int l = x.level;
-  const int vx = c.xMajor ? x.i : x.j;
-  const int vy = c.xMajor ? x.j : x.i;
-  const std::uint32_t c0 = windowColour(f, t, w, l, vx, vy);
-  const std::uint32_t c1 = c.xMajor ? windowColour(f, t, w, l, vx + 1, vy) : windowColour(f, t, w, l, vx, vy + 1);
-  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
-  x.haveColour = true;
-  if (f.blend && l + 1 < f.levels) {
-    const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
-    if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
-  }
-  if (f.shading.light().relit()) relightCrossing(f, t, c, x);
 }
 
 // Fills the sub-rows of a supersampled column (several per pixel) between two crossings, as
@@ -521,19 +523,32 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     const double toInvDepth = 1.0 / to.depth;
     const double fromV = k.cyPx - k.fyPx * from.yc * fromInvDepth;
     const double toV = k.cyPx - k.fyPx * to.yc * toInvDepth;
-    const CrossingSpan span{
-        static_cast<float>(fromV),      static_cast<float>(1.0 / (toV - fromV)), static_cast<float>(fromInvDepth),
-        static_cast<float>(toInvDepth), crossingColour(f, t, window, c, from),   crossingColour(f, t, window, c, to)};
+    CrossingSpan span{static_cast<float>(fromV),
+                      static_cast<float>(1.0 / (toV - fromV)),
+                      static_cast<float>(fromInvDepth),
+                      static_cast<float>(toInvDepth),
+                      Rgb{},
+                      Rgb{}};  // the colours of terrain (not of a stick), once it is known which
     const int qFirst = q;
-    if (kSticks && (crossingStick(f, t, window, c, from).id != 0 || crossingStick(f, t, window, c, to).id != 0) &&
-        fillIfOnStick(f, t, window, c, from, to, span, fill, sink, toV, q, vq)) {
-      // a stick's side or top, filled with its texels
-    } else if (sink.s != 1) {
-      fillSpanSubRows(span, fill, sink, toV, q, vq);
-    } else if (fill.shading.grey) {
-      fillSpan<true>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, toV, q, vq);
+    const StickVoxel* near = nullptr;
+    const StickVoxel* far = nullptr;
+    if constexpr (kSticks) {
+      near = &crossingStick(f, t, window, c, from);
+      far = &crossingStick(f, t, window, c, to);
+    }
+    if (kSticks && (near->id != 0 || far->id != 0)) {
+      // A stick's side or top, filled with its texels: the crossings' terrain colours are not needed
+      fillOnStick(f, t, c, *near, *far, from, to, span, fill, sink, toV, q, vq);
     } else {
-      fillSpan<false>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, toV, q, vq);
+      span.c0 = crossingColour(f, t, window, c, from);
+      span.c1 = crossingColour(f, t, window, c, to);
+      if (sink.s != 1) {
+        fillSpanSubRows(span, fill, sink, toV, q, vq);
+      } else if (fill.shading.grey) {
+        fillSpan<true>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, toV, q, vq);
+      } else {
+        fillSpan<false>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, toV, q, vq);
+      }
     }
     rowSlope = (k.cyPx - vq) * invFy;
     if (grazingLod) {
@@ -580,6 +595,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     }
     return found;
   };
+  // The crossings of minor lines between two of the major axis (solveMinorLines): here, not in the
+  // loop, where zeroing them before every fill was 6% of a furnished frame's march
+  Crossing onMinor[2];
   for (;;) {
     if (prevP->depth > pauseDepth) {
       // Past the depth band: the next columns march it before this one goes on.
@@ -693,7 +711,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       // own major axis, and where the columns' major axis changes (looking along a grid diagonal)
       // the image changed from one set of samples to the other in one column: a seam, plain close
       // up where a voxel spans many rows (DiagonalSeam test).
-      Crossing onMinor[2];
       int minorCrossings = 0;
       if (cur.depth < minorLinesDepth && prev.level == level && prev.i == i - sx) {
         minorCrossings = solveMinorLines(prev, cur, onMinor);
@@ -701,7 +718,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       Crossing* from = &prev;
       for (int m = 0; m < minorCrossings; ++m) {
         Crossing& mid = onMinor[m];
-        minorLineColour(f, t, window, c, mid);
         if (mid.yc > rowSlope * mid.depth && fillBetween(*from, mid)) {
           recordStop(mid);
           return -1;

@@ -187,13 +187,13 @@ inline __m128i roundLanes(__m128 x) noexcept {
 // The crossings' colours mixed by the far one's weight: spanPixel's colour, four sub-rows at once.
 struct TerrainLanes {
   Channels c0, c1MinusC0;
-  explicit TerrainLanes(const CrossingSpan& span) noexcept {
+  __attribute__((always_inline)) explicit TerrainLanes(const CrossingSpan& span) noexcept {
     const Float4 dc = span.c1.v - span.c0.v;
     c0 = {_mm_set1_ps(span.c0.v[0]), _mm_set1_ps(span.c0.v[1]), _mm_set1_ps(span.c0.v[2])};
     c1MinusC0 = {_mm_set1_ps(dc[0]), _mm_set1_ps(dc[1]), _mm_set1_ps(dc[2])};
   }
   /// The lanes' colours before haze for the far crossing's weights `tw`; no lane is see-through.
-  Channels operator()(__m128 tw, unsigned& seeThrough) const noexcept {
+  __attribute__((always_inline)) Channels operator()(__m128 tw, unsigned& seeThrough) const noexcept {
     seeThrough = 0;
     return mixLanes(c0, c1MinusC0, tw);
   }
@@ -207,7 +207,7 @@ struct StickLanes {
   const StickSpan& stick;
   /// The lanes' colours before haze; bit k of `seeThrough` set where lane k's texel is see-through
   /// and the stick has secondary rays (its colour is then throughPixel's).
-  Channels operator()(__m128 tw, unsigned& seeThrough) const noexcept {
+  __attribute__((always_inline)) Channels operator()(__m128 tw, unsigned& seeThrough) const noexcept {
     const __m128 coordinate = _mm_add_ps(_mm_set1_ps(stick.s0), _mm_mul_ps(_mm_set1_ps(stick.s1 - stick.s0), tw));
     const __m128 last = _mm_set1_ps(static_cast<float>(stick.texels.size() - 1));
     alignas(16) std::int32_t index[4];
