@@ -4,6 +4,7 @@
 
 #include "RayMarch.h"
 #include "SpanFill.h"
+#include "TileWindows.h"
 
 #include <glm/geometric.hpp>
 
@@ -28,27 +29,6 @@ using ray_march::stickAt;
 using ray_march::tileAt;
 
 namespace {
-
-// Tile of voxel (x, y) at `level` into the window; false when it is outside the grid or missing.
-inline bool windowFor(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x, int y) noexcept {
-  const auto l = static_cast<std::size_t>(level);
-  const unsigned size = 1u << f.tileShift;
-  if (static_cast<unsigned>(x - w.x0[l]) < size && static_cast<unsigned>(y - w.y0[l]) < size) return true;
-  if (x < 0 || y < 0 || x >= f.levelWidth[l] || y >= f.levelHeight[l]) return false;
-  const TerrainTile* tile = tileAt(f, t, level, x >> f.tileShift, y >> f.tileShift);
-  if (tile == nullptr) return false;
-  w.tile[l] = tile;
-  w.x0[l] = (x >> f.tileShift) << f.tileShift;
-  w.y0[l] = (y >> f.tileShift) << f.tileShift;
-  return true;
-}
-
-inline std::uint32_t windowColour(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
-                                  int y) noexcept {
-  if (!windowFor(f, t, w, level, x, y)) return colourAt(f, t, level, x, y);
-  const auto l = static_cast<std::size_t>(level);
-  return w.tile[l]->colourRgba[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
-}
 
 // Blends the next level's colour (bilinear) into crossing x's, by `blend`. Out of line: half the
 // crossings that are coloured need it, and it reads four texels.
@@ -94,18 +74,6 @@ void relightCrossing(const CasterFrame& f, CasterThread& t, const ColumnPlane& c
   const int vy = c.xMajor ? x.j : x.i;
   const bool alongX = c.xMajor == x.onMinorLine;  // the segment's second voxel lies east, else north
   x.colour.v *= segmentLight(f, t, x.level, vx, vy, alongX, static_cast<float>(x.phi));
-}
-
-// Voxel (x, y) of `level`'s stick through the tile window; the slow way outside the grid or where
-// the tile is missing.
-inline StickVoxel windowStick(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x, int y) noexcept {
-  if (!windowFor(f, t, w, level, x, y)) return stickAt(f, t, level, x, y);
-  const TerrainTile& tile = *w.tile[static_cast<std::size_t>(level)];
-  if (tile.stickId == nullptr) return {};
-  const auto index = static_cast<std::size_t>(((y - w.y0[static_cast<std::size_t>(level)]) << f.tileShift) +
-                                              (x - w.x0[static_cast<std::size_t>(level)]));
-  const std::uint32_t id = tile.stickId[index];
-  return id != 0 ? StickVoxel{id, tile.heightQ[index], level} : StickVoxel{};
 }
 
 // A crossing's stick (StickShading.h): the one of its segment's two voxels that colours it (a

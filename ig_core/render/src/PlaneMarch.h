@@ -16,6 +16,7 @@
 
 #include "ColumnCaster.h"
 #include "StickShading.h"
+#include "TileWindows.h"
 
 #include <glm/vec2.hpp>
 
@@ -63,18 +64,6 @@ struct Crossing {
   /// On a terrain with sticks, the stick that colours it (none: id 0), once looked up.
   bool haveStick = false;
   StickVoxel stick;
-};
-
-/// One window per level on the tile last read there: most height and colour reads of the column
-/// march are two compares and a load. The columns of a staging block share one.
-struct TileWindows {
-  std::array<const TerrainTile*, 24> tile{};
-  std::array<int, 24> x0{};  ///< level-L voxel of the tile's corner
-  std::array<int, 24> y0{};
-  TileWindows() {
-    x0.fill(std::numeric_limits<int>::min() / 4);
-    y0.fill(std::numeric_limits<int>::min() / 4);
-  }
 };
 
 /// The plane of the column through pixel column centre uc, in grid space.

@@ -5,6 +5,7 @@
 #include "RayMarch.h"
 #include "SpanFill.h"
 #include "StickShading.h"
+#include "TileWindows.h"
 
 #include <glm/geometric.hpp>
 
@@ -48,6 +49,8 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   // The ray in grid units per metre of depth: x, y level-0 voxels (voxel i spans i − ½ … i + ½),
   // z height quanta.
   const double gx = d.x * f.unitsPerM, gy = d.y * f.unitsPerM, gz = d.z * f.quantaPerM;
+  TileWindows window;  // the walk reads level 0, mostly in one tile
+  const auto heightOf = [&](int x, int y) -> double { return windowHeight(f, t, window, 0, x, y); };
   const auto zAt = [&](double s) { return f.camZq + s * gz; };
   const auto sAtZ = [&](double z) { return (z - f.camZq) / gz; };
   const int stepX = gx > 0.0 ? 1 : -1, stepY = gy > 0.0 ? 1 : -1;
@@ -74,8 +77,8 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
     const double x = f.camX + sAt * gx, y = f.camY + sAt * gy;
     const int x0 = floorToInt(x), y0 = floorToInt(y);
     const double fx = x - x0, fy = y - y0;
-    const double h00 = heightAt(f, t, 0, x0, y0), h10 = heightAt(f, t, 0, x0 + 1, y0);
-    const double h01 = heightAt(f, t, 0, x0, y0 + 1), h11 = heightAt(f, t, 0, x0 + 1, y0 + 1);
+    const double h00 = heightOf(x0, y0), h10 = heightOf(x0 + 1, y0);
+    const double h01 = heightOf(x0, y0 + 1), h11 = heightOf(x0 + 1, y0 + 1);
     const double a = h00 + fx * (h10 - h00), b = h01 + fx * (h11 - h01);
     return a + fy * (b - a);
   };
@@ -114,8 +117,8 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
     }
     const double sOut = std::min(nextX, nextY);
     const bool first = i == startI && j == startJ;
-    const double top = heightAt(f, t, 0, i, j);
-    const StickVoxel stick = stickAt(f, t, 0, i, j);
+    const double top = heightOf(i, j);
+    const StickVoxel stick = windowStick(f, t, window, 0, i, j);
     // (A coarser level's stick standing in for a missing tile is opaque: its texels are filled.)
     const bool complex = stick.id != 0 && stick.level == 0 && f.sticks->entry(stick.id).kind == StickKind::Complex;
     if (!complex) {
@@ -137,7 +140,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
         sHit = std::max(s, sAtZ(top));
       }
       if (sHit <= sOut) {
-        if (stick.id == 0) return solid(sHit, colourAt(f, t, 0, i, j));
+        if (stick.id == 0) return solid(sHit, windowColour(f, t, window, 0, i, j));
         const double zHit = std::min(zAt(sHit), top);
         return solid(sHit, stickTexel(f.sticks->texels(stick.id, stick.level),
                                       stickTexelCoordinate(stick, zHit, f.stickUnitsPerQ)));
@@ -158,7 +161,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
         int k = std::max(floorToInt((top - zAt(at)) * unitsPerQ), 0);
         const int step = gz < 0.0 ? 1 : gz > 0.0 ? -1 : 0;  // down the stick, up it, or level
         for (; k >= 0; k += step) {
-          if (k >= count) return solid(at, colourAt(f, t, 0, i, j));
+          if (k >= count) return solid(at, windowColour(f, t, window, 0, i, j));
           const std::uint32_t texel = texels[static_cast<std::size_t>(k)];
           if (!seeThroughTexel(texel)) return solid(at, texel);
           blend(texel, at);
