@@ -90,7 +90,10 @@ SeenThrough shadedHit(const CasterFrame& f, CasterThread& t, const RayLine& r, c
                       double depth, float rangeM) noexcept {
   std::uint32_t texel = 0xFF000000u;
   const Rgb colour = hitColour(f, t, r, h, depth, f.seeThrough ? &texel : nullptr);
-  if (seeThroughTexel(texel)) return seeThrough(f, t, d, depth);
+  if (seeThroughTexel(texel)) {
+    TileWindows window;
+    return seeThrough(f, t, d, depth, window);
+  }
   return {f.shading.terrain(colour, rangeM), rangeM};
 }
 

@@ -97,15 +97,15 @@ inline const StickVoxel& crossingStick(const CasterFrame& f, CasterThread& t, Ti
 // sub-row per pixel or several). Out of line: placed away from the terrain fill's code. (The test
 // whether a fill meets a stick at all stays inline in the march of a terrain with sticks: called
 // for it, the furnished built-in terrain's frames were 10–25% slower.)
-[[gnu::noinline]] void fillOnStick(const CasterFrame& f, CasterThread& t, const ColumnPlane& c, const StickVoxel& near,
-                                   const StickVoxel& far, const Crossing& from, const Crossing& to,
-                                   const CrossingSpan& span, const ColumnFill& column, ColumnSink& sink, double vStop,
-                                   int& qInOut, double& vqInOut) noexcept {
+[[gnu::noinline]] void fillOnStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
+                                   const StickVoxel& near, const StickVoxel& far, const Crossing& from,
+                                   const Crossing& to, const CrossingSpan& span, const ColumnFill& column,
+                                   ColumnSink& sink, double vStop, int& qInOut, double& vqInOut) noexcept {
   const StickVoxel& s = far.id != 0 ? far : near;
   // A complex stick may be seen through (at level 0: its coarser texels are opaque); its pixels'
   // secondary rays need the column
   const Intrinsics& k = f.geo->intrinsics();
-  const SeeThroughColumn through{&f, &t, k.cxPx + c.xc * k.fxPx};
+  const SeeThroughColumn through{&f, &t, k.cxPx + c.xc * k.fxPx, &w};
   const bool complex = f.seeThrough && f.sticks->entry(s.id).kind == StickKind::Complex;
   const StickSpan stick{f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, from.heightQ, f.stickUnitsPerQ),
                         stickTexelCoordinate(s, to.heightQ, f.stickUnitsPerQ), f.shading.light().flat(),
@@ -506,7 +506,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     }
     if (kSticks && (near->id != 0 || far->id != 0)) {
       // A stick's side or top, filled with its texels: the crossings' terrain colours are not needed
-      fillOnStick(f, t, c, *near, *far, from, to, span, fill, sink, toV, q, vq);
+      fillOnStick(f, t, window, c, *near, *far, from, to, span, fill, sink, toV, q, vq);
     } else {
       span.c0 = crossingColour(f, t, window, c, from);
       span.c1 = crossingColour(f, t, window, c, to);

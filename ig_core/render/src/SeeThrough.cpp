@@ -25,7 +25,8 @@ constexpr int kMaxBoxColumns = 256;
 
 }  // namespace
 
-SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& d, double depthM) noexcept {
+SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& d, double depthM,
+                       TileWindows& window) noexcept {
   ++t.secondaryRays;
   const double length = glm::length(d);
   const float flat = f.shading.light().flat();
@@ -49,7 +50,6 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   // The ray in grid units per metre of depth: x, y level-0 voxels (voxel i spans i − ½ … i + ½),
   // z height quanta.
   const double gx = d.x * f.unitsPerM, gy = d.y * f.unitsPerM, gz = d.z * f.quantaPerM;
-  TileWindows window;  // the walk reads level 0, mostly in one tile
   const auto heightOf = [&](int x, int y) -> double { return windowHeight(f, t, window, 0, x, y); };
   const auto zAt = [&](double s) { return f.camZq + s * gz; };
   const auto sAtZ = [&](double z) { return (z - f.camZq) / gz; };
@@ -88,9 +88,10 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   // its grid line before the start can lie on the slope of an object just passed), or it met a
   // see-through texel again — then the walk goes on from there.
   RayLine line;
-  const bool onGrid = setupLine(f, d, line);
+  int onGrid = -1;  // the ray's line set up and on the grid (1) or not (0); not yet (−1): most rays never march
   const auto marchOn = [&](double from) -> std::optional<SeenThrough> {
-    const MarchHit h = onGrid ? march(f, t, line, from * line.aMaj) : MarchHit{};
+    if (onGrid < 0) onGrid = setupLine(f, d, line) ? 1 : 0;
+    const MarchHit h = onGrid != 0 ? march(f, t, line, from * line.aMaj) : MarchHit{};
     if (!h.hit) {
       float range;
       const Rgb missed = f.missed(d.z, length, range);
@@ -192,7 +193,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
 SpanPixel seeThroughPixel(const SeeThroughColumn& column, int q, float rangeM) noexcept {
   const CasterFrame& f = *column.frame;
   const glm::dvec3 d = f.geo->ray(column.uc, (q + 0.5) / f.supersample);
-  const SeenThrough seen = seeThrough(f, *column.thread, d, rangeM / glm::length(d));
+  const SeenThrough seen = seeThrough(f, *column.thread, d, rangeM / glm::length(d), *column.window);
   return {seen.colour, seen.rangeM};
 }
 

@@ -10,6 +10,7 @@
 // through (coarser levels' cavities are filled), so far objects cost no secondary ray. Private to ig_core.
 
 #include "ColumnCaster.h"
+#include "TileWindows.h"
 
 #include <glm/vec3.hpp>
 
@@ -27,7 +28,9 @@ struct SeenThrough {
 /// The ray of direction `d` (forward component 1, as ViewGeometry::ray gives it) met a see-through
 /// texel at depth `depthM`: what it sees from there, the walk blending that texel as it passes its
 /// column (once, however many rows' rays met it on the surface between voxel centres). Counts a
-/// secondary ray in t.secondaryRays. RT-safe.
-SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& d, double depthM) noexcept;
+/// secondary ray in t.secondaryRays. Reads level 0 through `window` (TileWindows.h: a secondary
+/// ray walks two or three columns, and a fresh window would first look up their tile). RT-safe.
+SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& d, double depthM,
+                       TileWindows& window) noexcept;
 
 }  // namespace fieldcast::core

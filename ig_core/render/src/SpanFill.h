@@ -77,12 +77,14 @@ struct TerrainSpanPixel {
 
 struct CasterFrame;
 struct CasterThread;
+struct TileWindows;
 
 /// A column's secondary rays (SeeThrough.h), for a span on a complex stick's see-through texels.
 struct SeeThroughColumn {
   const CasterFrame* frame;
   CasterThread* thread;
-  double uc;  ///< the column's centre, pixels
+  double uc;            ///< the column's centre, pixels
+  TileWindows* window;  ///< the march's: a secondary ray reads the tiles its primary ray read
 };
 /// What sub-row q sees through the see-through texel its ray met at range `rangeM`: the colour
 /// (hazed) and range of SeeThrough.h's secondary ray. Defined in SeeThrough.cpp.
