@@ -13,9 +13,7 @@ namespace fieldcast::app {
 
 ChannelSettings channelSettingsOf(const ServiceConfig& config) {
   ChannelSettings s;
-  s.view.offset = config.view;
-  s.view.display =
-      Intrinsics::fromHorizontalFov(config.render.widthPx, config.render.heightPx, radians(config.render.hfovDeg));
+  s.view = channelViewOf(config.view, config.render.widthPx, config.render.heightPx, radians(config.render.hfovDeg));
   s.render = config.render;
   s.prp = config.warp;
   s.output = config.output;

@@ -7,6 +7,7 @@
 
 #include <service/ServiceConfig.h>
 #include <service/ServiceMetrics.h>
+#include "ChannelView.h"
 #include "FieldLoop.h"
 #include "RenderLoop.h"
 
@@ -28,12 +29,6 @@
 #include <thread>
 
 namespace fieldcast::app {
-
-/// What a channel looks at: where its eye sits on the ownship and its display window.
-struct ChannelView {
-  ViewOffset offset;   ///< from the ownship's pose
-  Intrinsics display;  ///< the display window's frustum (without margins)
-};
 
 /// A channel's own settings.
 struct ChannelSettings {

@@ -241,18 +241,16 @@ void HostSession::applyViewDefinition(const cigi::ViewDefinition& definition) {
   take(definition.rightEnabled, definition.rightDeg, angles.rightRad);
   take(definition.topEnabled, definition.topDeg, angles.topRad);
   take(definition.bottomEnabled, definition.bottomDeg, angles.bottomRad);
-  // A window around the view axis, under 80° from it on every side: what the caster's columns
-  // and the frame's margins are made for. Orthographic views are not rendered.
-  const double maxRad = radians(80.0);
-  const bool aroundTheAxis = angles.leftRad < 0.0 && angles.rightRad > 0.0 && angles.bottomRad < 0.0 &&
-                             angles.topRad > 0.0 && -angles.leftRad < maxRad && angles.rightRad < maxRad &&
-                             -angles.bottomRad < maxRad && angles.topRad < maxRad;  // false for NaN too
+  // A window each edge of which lies under 80° from the view axis (FrustumAngles::renderable), on
+  // or off the axis. Orthographic views are not rendered.
+  const bool renderable = angles.renderable();
   const bool supported = definition.projectionType == cigi::ProjectionType::Perspective;
-  if (!aroundTheAxis || !supported) {
+  if (!renderable || !supported) {
     if (mViewDefinitionsIgnored.fetch_add(1, std::memory_order_relaxed) == 0) {
       spdlog::warn("host: View Definition ignored: {}",
-                   supported ? "the view axis must lie inside the window, each side under 80° from it"
-                             : "orthographic views are not rendered");
+                   supported
+                       ? "left must lie left of right and bottom below top, each edge under 80° from the view axis"
+                       : "orthographic views are not rendered");
     }
     return;
   }

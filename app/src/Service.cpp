@@ -341,11 +341,12 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
   }
   if (p.hostSession) {
     p.hostSession->setUtcOffset(config.host.celestialUtcOffsetH);
-    p.hostSession->setView(HostView{config.host.viewId, config.host.viewGroup, config.view,
-                                    [&p](const ViewOffset& offset) { p.channel->setViewOffset(offset); },
-                                    p.channel->settings().view.display,
-                                    [&p](const Intrinsics& display) { p.channel->setDisplay(display); },
-                                    [&p](warp::Mirror mirror) { p.channel->setMirror(mirror); }});
+    // View Control moves the head: a stereo eye keeps its place beside it
+    p.hostSession->setView(HostView{
+        config.host.viewId, config.host.viewGroup, config.view.offset,
+        [&p, view = config.view](const ViewOffset& head) { p.channel->setViewOffset(eyeOffset(head, view)); },
+        p.channel->settings().view.display, [&p](const Intrinsics& display) { p.channel->setDisplay(display); },
+        [&p](warp::Mirror mirror) { p.channel->setMirror(mirror); }});
   }
 
   const std::pair<const char*, const std::string*> gpioLines[] = {{"sync", &config.input.sync},

@@ -3,19 +3,34 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <sstream>
 
 namespace fieldcast::app {
 namespace {
 
-ViewOffset readViewOffset(ConfigReader& t) {
-  ViewOffset v;
+ViewConfig readViewConfig(ConfigReader& t) {
+  ViewConfig v;
   const std::vector<double> p = t.numbers("offset_m", {0.0, 0.0, 0.0}, 3);
   const std::vector<double> a = t.numbers("offset_deg", {0.0, 0.0, 0.0}, 3);
-  v.positionM = {p[0], p[1], p[2]};
-  v.headingRad = radians(a[0]);
-  v.pitchRad = radians(a[1]);
-  v.rollRad = radians(a[2]);
+  v.offset.positionM = {p[0], p[1], p[2]};
+  v.offset.headingRad = radians(a[0]);
+  v.offset.pitchRad = radians(a[1]);
+  v.offset.rollRad = radians(a[2]);
+  if (t.has("frustum_deg")) {
+    const std::vector<double> f = t.numbers("frustum_deg", {}, 4);
+    const FrustumAngles angles{radians(f[0]), radians(f[1]), radians(f[2]), radians(f[3])};
+    if (!angles.renderable()) {
+      t.fail("frustum_deg",
+             "expected [left, right, top, bottom] degrees, left below right and bottom below top, "
+             "each from -80 to 80 (exclusive)");
+    }
+    v.frustum = angles;
+  }
+  v.eye = t.choice("eye", Eye::Centre, {{"centre", Eye::Centre}, {"left", Eye::Left}, {"right", Eye::Right}});
+  v.eyeSeparationM = t.number("eye_separation_m", v.eyeSeparationM, 0.0, 10.0);
+  v.convergenceM = t.number("convergence_m", v.convergenceM, 0.1, std::numeric_limits<double>::infinity());
   t.finish();
   return v;
 }
@@ -83,7 +98,7 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
   c.output = section("output", io::readStreamFormat);
   c.render = section("render",
                      [&](ConfigReader& t) { return core::readRenderConfig(t, c.output.widthPx, c.output.heightPx); });
-  c.view = section("view", readViewOffset);
+  c.view = section("view", readViewConfig);
   c.warp = section("warp", warp::readPrpSettings);
   // The one place a warp's needs reach the renderer.
   if (warp::needsRangeImage(c.warp.warper.warp)) c.render.settings.rangeImage = true;
@@ -120,9 +135,23 @@ std::string describe(const ServiceConfig& c) {
     << (c.output.scan == ScanMode::Interlaced ? "interlaced" : "progressive") << ' ' << c.output.fieldRate.hz()
     << " Hz " << toString(c.output.pixelFormat);
   constexpr const char* kMirrors[] = {"", " mirrored left-right", " mirrored top-bottom", " mirrored both ways"};
-  s << kMirrors[static_cast<int>(c.warp.warper.mirror)] << "; render " << c.render.widthPx << "x" << c.render.heightPx
-    << " fov " << c.render.hfovDeg << " deg; terrain "
-    << (c.terrain.database.empty() ? "builtin" : c.terrain.database.string());
+  s << kMirrors[static_cast<int>(c.warp.warper.mirror)] << "; render " << c.render.widthPx << "x" << c.render.heightPx;
+  if (c.view.frustum) {
+    const auto deg = [](double rad) { return rad * 180.0 / std::numbers::pi; };
+    s << " frustum " << deg(c.view.frustum->leftRad) << "/" << deg(c.view.frustum->rightRad) << "/"
+      << deg(c.view.frustum->topRad) << "/" << deg(c.view.frustum->bottomRad) << " deg";
+  } else {
+    s << " fov " << c.render.hfovDeg << " deg";
+  }
+  if (c.view.eye != Eye::Centre) {
+    s << (c.view.eye == Eye::Left ? ", left eye " : ", right eye ") << c.view.eyeSeparationM << " m apart, ";
+    if (std::isfinite(c.view.convergenceM)) {
+      s << "converging at " << c.view.convergenceM << " m";
+    } else {
+      s << "axes parallel";
+    }
+  }
+  s << "; terrain " << (c.terrain.database.empty() ? "builtin" : c.terrain.database.string());
   return s.str();
 }
 

@@ -661,9 +661,9 @@ TEST_F(HostSessionTest, ViewDefinitionChangesTheDisplayFrustum) {
   EXPECT_EQ(mSession.figures().viewDefinitions, 2u);
 
   // Not rendered: ignored and counted, nothing applied.
-  cigi::ViewDefinition offAxis = definition;
-  offAxis.leftEnabled = true;
-  offAxis.leftDeg = 5.0f;  // the axis left of the window
+  cigi::ViewDefinition crossed = definition;
+  crossed.leftEnabled = true;
+  crossed.leftDeg = 40.0f;  // right of the right edge
   cigi::ViewDefinition wide = definition;
   wide.rightEnabled = true;
   wide.rightDeg = 85.0f;
@@ -671,7 +671,7 @@ TEST_F(HostSessionTest, ViewDefinitionChangesTheDisplayFrustum) {
   orthographic.projectionType = cigi::ProjectionType::Orthographic;
   cigi::ViewDefinition notANumber = definition;
   notANumber.topDeg = std::numeric_limits<float>::quiet_NaN();
-  send({offAxis, wide, orthographic, notANumber}, 1.2);
+  send({crossed, wide, orthographic, notANumber}, 1.2);
   EXPECT_EQ(applied.size(), 2u);
   EXPECT_EQ(mSession.figures().viewDefinitionsIgnored, 4u);
   cigi::ViewDefinition another = definition;
@@ -691,6 +691,18 @@ TEST_F(HostSessionTest, ViewDefinitionChangesTheDisplayFrustum) {
     EXPECT_EQ(mirrors.back(), mirror);
   }
   EXPECT_EQ(mirrors.size(), 5u);
+
+  // A window wholly off the view axis (a flat wall's side screen) is rendered: the axis left of it
+  cigi::ViewDefinition offAxis = definition;
+  offAxis.leftEnabled = offAxis.rightEnabled = true;
+  offAxis.leftDeg = 5.0f;
+  offAxis.rightDeg = 45.0f;
+  const std::size_t appliedBefore = applied.size();
+  send({offAxis}, 1.5);
+  ASSERT_EQ(applied.size(), appliedBefore + 1);
+  EXPECT_LT(applied.back().cxPx, 0.0);
+  EXPECT_NEAR(applied.back().frustum().leftRad, radians(5.0), 1e-6);
+  EXPECT_EQ(mSession.figures().viewDefinitionsIgnored, 4u);
 }
 
 // The render loop renders each frame with the display window it reads before the frame: a

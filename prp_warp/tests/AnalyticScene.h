@@ -68,15 +68,15 @@ inline glm::dvec3 renderPixel(const Pose& pose, const Intrinsics& k, glm::dvec2 
   return sum / static_cast<double>(ss * ss);
 }
 
-/// A frame of the scene: display window `displayW`×`displayH` with `margin`, horizontal field of
-/// view `hfovRad`, rendered at `pose` (the IG renders without roll, so pass roll 0), with range
-/// image and the nine control points.
-inline Frame renderFrame(const Pose& pose, int displayW, int displayH, MarginPx margin, double hfovRad,
+/// A frame of the scene: display window `display` with `margin`, rendered at `pose` (the IG renders
+/// without roll, so pass roll 0), with range image and the nine control points.
+inline Frame renderFrame(const Pose& pose, const Intrinsics& display, MarginPx margin,
                          PixelFormat format = PixelFormat::Rgb8, int ss = 2, bool withRange = true) {
+  const int displayW = display.widthPx, displayH = display.heightPx;
   Frame f;
   f.pose = pose;
   f.margin = margin;
-  f.intrinsics = Intrinsics::fromHorizontalFov(displayW, displayH, hfovRad).withMargin(margin.x, margin.y);
+  f.intrinsics = display.withMargin(margin.x, margin.y);
   const int w = f.intrinsics.widthPx, h = f.intrinsics.heightPx;
   f.image.resize(w, h, format);
   if (withRange) f.rangeM.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0.0f);
@@ -108,6 +108,12 @@ inline Frame renderFrame(const Pose& pose, int displayW, int displayH, MarginPx 
     f.controlPoints.push_back(cp);
   }
   return f;
+}
+
+/// The same with a centred display window `hfovRad` wide.
+inline Frame renderFrame(const Pose& pose, int displayW, int displayH, MarginPx margin, double hfovRad,
+                         PixelFormat format = PixelFormat::Rgb8, int ss = 2, bool withRange = true) {
+  return renderFrame(pose, Intrinsics::fromHorizontalFov(displayW, displayH, hfovRad), margin, format, ss, withRange);
 }
 
 /// The true field: the rows of `parity` of the raster seen from `pose`, in the frame's format.

@@ -182,6 +182,29 @@ TEST(AppConfig, MirrorIsOneOfFourWords) {
   EXPECT_NE(sideways.output.find("warp.mirror"), std::string::npos) << sideways.output;
 }
 
+TEST(AppConfig, ViewTakesAWindowAndAStereoEye) {
+  const std::string shipped = "--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml";
+  const auto offAxis = run(shipped +
+                           " --set 'view.frustum_deg=[10, 50, 20, -12]' --set view.eye=left "
+                           "--set view.eye_separation_m=0.065 --set view.convergence_m=3");
+  EXPECT_EQ(offAxis.exitCode, 0) << offAxis.output;
+  EXPECT_NE(
+      offAxis.output.find("frustum 10.000/50.000/20.000/-12.000 deg, left eye 0.065 m apart, converging at 3.000 m"),
+      std::string::npos)
+      << offAxis.output;
+  const auto parallel = run(shipped + " --set view.eye=right");
+  EXPECT_NE(parallel.output.find("fov 60.000 deg, right eye 0.064 m apart, axes parallel"), std::string::npos)
+      << parallel.output;
+  for (const char* bad : {"[20, 10, 20, -12]", "[-85, 30, 20, -12]", "[-30, 30, -5, 5]", "[-30, 30, 20]"}) {
+    const auto r = run(shipped + " --set 'view.frustum_deg=" + bad + "'");
+    EXPECT_EQ(r.exitCode, 1) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find("view.frustum_deg"), std::string::npos) << r.output;
+  }
+  const auto cyclops = run(shipped + " --set view.eye=middle");
+  EXPECT_EQ(cyclops.exitCode, 1);
+  EXPECT_NE(cyclops.output.find("view.eye"), std::string::npos) << cyclops.output;
+}
+
 TEST(AppConfig, MalformedSetIsAnError) {
   const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml --set novalue");
   EXPECT_EQ(r.exitCode, 1);

@@ -19,7 +19,11 @@
 #include <fieldcast/ConfigReader.h>
 #include <fieldcast/Conventions.h>
 
+#include <fieldcast/Intrinsics.h>
+
 #include <filesystem>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,12 +71,28 @@ struct ThreadsConfig {
   int fieldThreadCpu = -1;          ///< pin the field thread to this CPU; -1: no pinning
 };
 
+/// Which eye of a stereo pair a channel shows.
+enum class Eye { Centre, Left, Right };
+
+/// [view]: the channel's eye on the ownship and its display window (README, "Channels").
+struct ViewConfig {
+  ViewOffset offset;  ///< from the ownship (a stereo pair's head: each eye sits beside it)
+  /// The display window's angles from the view axis (left and bottom negative); none: [render]
+  /// fov_deg, centred, square pixels.
+  std::optional<FrustumAngles> frustum;
+  Eye eye = Eye::Centre;
+  double eyeSeparationM = 0.064;  ///< interpupillary distance
+  /// Distance of zero parallax (the screen's, for a display at a distance); infinite: the eyes'
+  /// axes parallel (a collimated display).
+  double convergenceM = std::numeric_limits<double>::infinity();
+};
+
 /// The whole configuration.
 struct ServiceConfig {
   std::string sourcePath;
   core::TerrainConfig terrain;
   core::RenderConfig render;
-  ViewOffset view;  ///< [view]: the channel's eye relative to the ownship
+  ViewConfig view;
   warp::PrpSettings warp;
   io::StreamFormat output;
   motion::MotionConfig motion;

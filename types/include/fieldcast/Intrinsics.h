@@ -13,6 +13,16 @@ struct FrustumAngles {
   double rightRad = 0.0;
   double topRad = 0.0;
   double bottomRad = 0.0;
+
+  /// Whether this is a window the renderer and the warps draw: left of right and below top, each
+  /// edge under 80° from the view axis on either side (a window may lie wholly off the axis, as
+  /// the side screens of a flat wall do). False when an angle is not a number.
+  bool renderable() const noexcept {
+    constexpr double kMaxRad = 80.0 * 3.14159265358979323846 / 180.0;
+    const auto within = [](double a) { return a > -kMaxRad && a < kMaxRad; };
+    return leftRad < rightRad && bottomRad < topRad && within(leftRad) && within(rightRad) && within(topRad) &&
+           within(bottomRad);
+  }
 };
 
 /// Pinhole intrinsics of an image `widthPx` × `heightPx`.
