@@ -7,9 +7,27 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 
 namespace fieldcast::app {
+
+namespace {
+
+// The largest frame the renderer makes for `display` at any roll: the warp turns the window about
+// the view axis, and the frame must hold it. A centred 4:3 window's diagonal (1.7 × its width); a
+// window far off the axis, which a roll swings round the axis, more.
+core::FrameLayout largestFrame(const Intrinsics& display, double marginFraction) noexcept {
+  core::FrameLayout largest = core::layoutFrame(display, marginFraction, 0.0);
+  for (int deg = 5; deg <= 180; deg += 5) {
+    const core::FrameLayout l = core::layoutFrame(display, marginFraction, radians(deg));
+    largest.frame.widthPx = std::max(largest.frame.widthPx, l.frame.widthPx);
+    largest.frame.heightPx = std::max(largest.frame.heightPx, l.frame.heightPx);
+  }
+  return largest;
+}
+
+}  // namespace
 
 ChannelSettings channelSettingsOf(const ServiceConfig& config) {
   ChannelSettings s;
@@ -36,8 +54,11 @@ Channel::Channel(const ChannelSettings& settings, core::TileCache& terrain, cons
   warper.rasterWidthPx = settings.output.widthPx;
   warper.rasterHeightPx = settings.output.heightPx;
   warper.outputFormat = settings.output.pixelFormat;
-  warper.maxFrameWidthPx = settings.view.display.widthPx * 2;
-  warper.maxFrameHeightPx = settings.view.display.heightPx * 2;
+  // The flicker filter's buffer holds the largest frame of the configured window (a host's View
+  // Definition may ask for a larger one: its frames then go unfiltered rather than allocate)
+  const core::FrameLayout largest = largestFrame(settings.view.display, settings.render.settings.marginFraction);
+  warper.maxFrameWidthPx = largest.frame.widthPx;
+  warper.maxFrameHeightPx = largest.frame.heightPx;
   mWarper = std::make_unique<warp::FieldWarper>(warper);
   io::Sinks sinks = io::makeSinks(settings.sinks, settings.output, std::move(onKey));
   mSinks = std::move(sinks.hub);
