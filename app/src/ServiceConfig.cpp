@@ -1,5 +1,7 @@
 #include <service/ServiceConfig.h>
 
+#include "ChannelView.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -30,7 +32,7 @@ ViewConfig readViewConfig(ConfigReader& t) {
   }
   v.eye = t.choice("eye", Eye::Centre, {{"centre", Eye::Centre}, {"left", Eye::Left}, {"right", Eye::Right}});
   v.eyeSeparationM = t.number("eye_separation_m", v.eyeSeparationM, 0.0, 10.0);
-  v.convergenceM = t.number("convergence_m", v.convergenceM, 0.1, std::numeric_limits<double>::infinity());
+  if (t.has("convergence_m")) v.convergenceM = t.number("convergence_m", v.convergenceM, 0.1, 1e6);
   t.finish();
   return v;
 }
@@ -99,6 +101,14 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
   c.render = section("render",
                      [&](ConfigReader& t) { return core::readRenderConfig(t, c.output.widthPx, c.output.heightPx); });
   c.view = section("view", readViewConfig);
+  // A stereo eye's window is the configured one shifted for the convergence: it must still be one
+  // the renderer draws
+  const ChannelView eyeView = channelViewOf(c.view, c.render.widthPx, c.render.heightPx, radians(c.render.hfovDeg));
+  if (!eyeView.display.frustum().renderable()) {
+    top.fail("view.convergence_m",
+             "the eye's window, shifted to converge there, has an edge 80 degrees or more from "
+             "its axis: converge farther, or narrow the window");
+  }
   c.warp = section("warp", warp::readPrpSettings);
   // The one place a warp's needs reach the renderer.
   if (warp::needsRangeImage(c.warp.warper.warp)) c.render.settings.rangeImage = true;
@@ -140,6 +150,9 @@ std::string describe(const ServiceConfig& c) {
     const auto deg = [](double rad) { return rad * 180.0 / std::numbers::pi; };
     s << " frustum " << deg(c.view.frustum->leftRad) << "/" << deg(c.view.frustum->rightRad) << "/"
       << deg(c.view.frustum->topRad) << "/" << deg(c.view.frustum->bottomRad) << " deg";
+    // A window whose angles do not match the image's shape makes pixels that are not square
+    const Intrinsics k = Intrinsics::fromFrustum(c.render.widthPx, c.render.heightPx, *c.view.frustum);
+    if (std::abs(k.fxPx / k.fyPx - 1.0) > 0.005) s << " (pixels " << k.fxPx / k.fyPx << " wide for 1 high)";
   } else {
     s << " fov " << c.render.hfovDeg << " deg";
   }

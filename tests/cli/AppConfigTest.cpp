@@ -188,9 +188,10 @@ TEST(AppConfig, ViewTakesAWindowAndAStereoEye) {
                            " --set 'view.frustum_deg=[10, 50, 20, -12]' --set view.eye=left "
                            "--set view.eye_separation_m=0.065 --set view.convergence_m=3");
   EXPECT_EQ(offAxis.exitCode, 0) << offAxis.output;
-  EXPECT_NE(
-      offAxis.output.find("frustum 10.000/50.000/20.000/-12.000 deg, left eye 0.065 m apart, converging at 3.000 m"),
-      std::string::npos)
+  // (a window 40° wide and 32° high on a 720 × 486 image: pixels narrower than high, and said so)
+  EXPECT_NE(offAxis.output.find("frustum 10.000/50.000/20.000/-12.000 deg (pixels 0.841 wide for 1 high), left eye "
+                                "0.065 m apart, converging at 3.000 m"),
+            std::string::npos)
       << offAxis.output;
   const auto parallel = run(shipped + " --set view.eye=right");
   EXPECT_NE(parallel.output.find("fov 60.000 deg, right eye 0.064 m apart, axes parallel"), std::string::npos)
@@ -200,6 +201,12 @@ TEST(AppConfig, ViewTakesAWindowAndAStereoEye) {
     EXPECT_EQ(r.exitCode, 1) << bad << ": " << r.output;
     EXPECT_NE(r.output.find("view.frustum_deg"), std::string::npos) << r.output;
   }
+  // An eye converging so near that its shifted window reaches 80° from its axis
+  const auto crossEyed = run(shipped +
+                             " --set render.fov_deg=150 --set view.eye=left --set view.eye_separation_m=0.4 "
+                             "--set view.convergence_m=0.1");
+  EXPECT_EQ(crossEyed.exitCode, 1) << crossEyed.output;
+  EXPECT_NE(crossEyed.output.find("view.convergence_m: the eye's window"), std::string::npos) << crossEyed.output;
   const auto cyclops = run(shipped + " --set view.eye=middle");
   EXPECT_EQ(cyclops.exitCode, 1);
   EXPECT_NE(cyclops.output.find("view.eye"), std::string::npos) << cyclops.output;

@@ -19,14 +19,11 @@ namespace fieldcast::core::plane_march {
 // The grid helpers and the tile access it shares with the per-ray march (it never marches a ray
 // of its own).
 using ray_march::ceilToInt;
-using ray_march::colourAt;
 using ray_march::floorToInt;
 using ray_march::heightAt;
 using ray_march::levelIndex;
 using ray_march::pow2;
 using ray_march::segmentLight;
-using ray_march::stickAt;
-using ray_march::tileAt;
 
 namespace {
 

@@ -20,7 +20,6 @@
 
 #include <glm/vec2.hpp>
 
-#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>

@@ -187,7 +187,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   // Walked too far (along a hedge, under a long deck): the per-ray march from here, else the
   // ground here
   if (const std::optional<SeenThrough> beyond = marchOn(s)) return *beyond;
-  return solid(s, colourAt(f, t, 0, std::clamp(i, 0, width - 1), std::clamp(j, 0, height - 1)));
+  return solid(s, windowColour(f, t, window, 0, std::clamp(i, 0, width - 1), std::clamp(j, 0, height - 1)));
 }
 
 SpanPixel seeThroughPixel(const SeeThroughColumn& column, int q, float rangeM) noexcept {
