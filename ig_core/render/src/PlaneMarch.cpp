@@ -121,6 +121,21 @@ inline const StickVoxel& crossingStick(const CasterFrame& f, CasterThread& t, Ti
   }
 }
 
+// Crossing x's colour from its segment's two voxels' colours c0, c1: linear between them, blended
+// with the next level, relit for the frame's sun.
+__attribute__((always_inline)) inline void colourCrossing(const CasterFrame& f, CasterThread& t, TileWindows& w,
+                                                          const ColumnPlane& c, Crossing& x, std::uint32_t c0,
+                                                          std::uint32_t c1) noexcept {
+  const int l = x.level;
+  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
+  x.haveColour = true;
+  if (f.blend && l + 1 < f.levels) {
+    const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
+    if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
+  }
+  if (f.shading.light().relit()) relightCrossing(f, t, c, x);
+}
+
 // Colour of a crossing on a grid line of the minor axis (Crossing::onMinorLine): linear along that
 // line between voxels (i, j) and (i + 1, j), blended with the next level as crossingColour does.
 [[gnu::noinline]] void minorLineColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
@@ -130,13 +145,7 @@ inline const StickVoxel& crossingStick(const CasterFrame& f, CasterThread& t, Ti
   const int vy = c.xMajor ? x.j : x.i;
   const std::uint32_t c0 = windowColour(f, t, w, l, vx, vy);
   const std::uint32_t c1 = c.xMajor ? windowColour(f, t, w, l, vx + 1, vy) : windowColour(f, t, w, l, vx, vy + 1);
-  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
-  x.haveColour = true;
-  if (f.blend && l + 1 < f.levels) {
-    const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
-    if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
-  }
-  if (f.shading.light().relit()) relightCrossing(f, t, c, x);
+  colourCrossing(f, t, w, c, x, c0, c1);
 }
 
 // Colour of a crossing: linear along the grid line at its level (minorLineColour on a minor line),
@@ -163,13 +172,7 @@ __attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFram
     c0 = windowColour(f, t, w, l, vx, vy);
     c1 = c.xMajor ? windowColour(f, t, w, l, vx, vy + 1) : windowColour(f, t, w, l, vx + 1, vy);
   }
-  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
-  x.haveColour = true;
-  if (f.blend && l + 1 < f.levels) {
-    const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
-    if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
-  }
-  if (f.shading.light().relit()) relightCrossing(f, t, c, x);
+  colourCrossing(f, t, w, c, x, c0, c1);
   return x.colour;
 }
 
