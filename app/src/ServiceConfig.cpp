@@ -2,11 +2,12 @@
 
 #include "ChannelView.h"
 
+#include <fieldcast/Pose.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <sstream>
 
 namespace fieldcast::app {
@@ -147,9 +148,8 @@ std::string describe(const ServiceConfig& c) {
   constexpr const char* kMirrors[] = {"", " mirrored left-right", " mirrored top-bottom", " mirrored both ways"};
   s << kMirrors[static_cast<int>(c.warp.warper.mirror)] << "; render " << c.render.widthPx << "x" << c.render.heightPx;
   if (c.view.frustum) {
-    const auto deg = [](double rad) { return rad * 180.0 / std::numbers::pi; };
-    s << " frustum " << deg(c.view.frustum->leftRad) << "/" << deg(c.view.frustum->rightRad) << "/"
-      << deg(c.view.frustum->topRad) << "/" << deg(c.view.frustum->bottomRad) << " deg";
+    s << " frustum " << degrees(c.view.frustum->leftRad) << "/" << degrees(c.view.frustum->rightRad) << "/"
+      << degrees(c.view.frustum->topRad) << "/" << degrees(c.view.frustum->bottomRad) << " deg";
     // A window whose angles do not match the image's shape makes pixels that are not square
     const Intrinsics k = Intrinsics::fromFrustum(c.render.widthPx, c.render.heightPx, *c.view.frustum);
     if (std::abs(k.fxPx / k.fyPx - 1.0) > 0.005) s << " (pixels " << k.fxPx / k.fyPx << " wide for 1 high)";

@@ -69,7 +69,8 @@ RandomStick randomStick(std::mt19937& rng) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   RandomStick s;
   s.texels.resize(1 + rng() % 40);
-  for (std::uint32_t& texel : s.texels) texel = (rng() & 0xFFFFFFu) | (rng() % 3 == 0 ? (rng() & 0xFFu) : 0xFFu) << 24;
+  for (std::uint32_t& texel : s.texels)
+    texel = static_cast<std::uint32_t>((rng() & 0xFFFFFFu) | (rng() % 3 == 0 ? (rng() & 0xFFu) : 0xFFu) << 24);
   const float length = static_cast<float>(s.texels.size());
   const auto coordinate = [&] { return rng() % 20 == 0 ? std::nanf("") : -3.0f + (length + 6.0f) * unit(rng); };
   s.span = StickSpan{s.texels, coordinate(), coordinate(), 0.5f + 0.7f * unit(rng), nullptr};

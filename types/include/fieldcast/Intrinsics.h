@@ -3,6 +3,7 @@
 // top-left corner of the image, u right, v down, pixel (i, j) has its centre at (i + ½, j + ½).
 
 #include <cmath>
+#include <numbers>
 
 namespace fieldcast {
 
@@ -18,7 +19,7 @@ struct FrustumAngles {
   /// edge under 80° from the view axis on either side (a window may lie wholly off the axis, as
   /// the side screens of a flat wall do). False when an angle is not a number.
   bool renderable() const noexcept {
-    constexpr double kMaxRad = 80.0 * 3.14159265358979323846 / 180.0;
+    constexpr double kMaxRad = 80.0 * std::numbers::pi / 180.0;
     const auto within = [](double a) { return a > -kMaxRad && a < kMaxRad; };
     return leftRad < rightRad && bottomRad < topRad && within(leftRad) && within(rightRad) && within(topRad) &&
            within(bottomRad);
