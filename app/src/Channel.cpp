@@ -141,12 +141,12 @@ void Channel::startFields(PlanFields plan, FieldLoop::BeforeField beforeField, P
       prefaultStack();
       const WarmUp warm = warmUp();
       const FieldStart start = plan(warm);
-      mFieldClock = std::make_unique<warp::FieldClock>(mClock, clockConfig, start.t0);
+      mFieldClock = std::make_unique<warp::FieldClock>(mClock, clockConfig, start.t0, start.firstField);
       mFieldLoop = std::make_unique<FieldLoop>(*mFieldClock, mClock, *mWarper, mFrames, mMotion, *mSinks, mMetrics,
                                                pendingInput);
       if (beforeField) mFieldLoop->setBeforeField(std::move(beforeField));
       mFieldClockReady.store(true, std::memory_order_release);
-      mFieldLoop->run(mStopFields, start.lastField);
+      mFieldLoop->run(mStopFields, start.end);
     } catch (const std::exception& e) {
       mOnFatal(std::string("fields: ") + e.what());
     }

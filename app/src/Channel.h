@@ -42,8 +42,9 @@ struct ChannelSettings {
 
 /// When the field clock starts and how many fields it makes.
 struct FieldStart {
-  TimePoint t0;                 ///< display time of field 0
-  std::uint64_t lastField = 0;  ///< stop before this field; 0: until stopped
+  TimePoint t0;                      ///< display time of field 0 (a frame lock's epoch)
+  std::uint64_t firstField = 0;      ///< the first field made (a channel joining a lock late: where the others are)
+  TimePoint end = TimePoint::max();  ///< no field displayed at or after this is made
 };
 
 /// What the field thread's warm-up did (DESIGN.md §4: the first field's deadline comes after it).

@@ -30,11 +30,11 @@ FieldLoop::FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::Fie
   mLastViolations = totals.marginViolations.load(std::memory_order_relaxed);
 }
 
-void FieldLoop::run(const std::atomic<bool>& stop, std::uint64_t lastField) noexcept {
+void FieldLoop::run(const std::atomic<bool>& stop, TimePoint end) noexcept {
   while (!stop.load(std::memory_order_acquire)) {
     const warp::FieldTick tick = mClock.next();
     if (stop.load(std::memory_order_acquire)) break;
-    if (lastField != 0 && tick.fieldNumber >= lastField) break;
+    if (tick.displayTime >= end) break;
     emit(tick);
   }
 }
@@ -42,12 +42,17 @@ void FieldLoop::run(const std::atomic<bool>& stop, std::uint64_t lastField) noex
 void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   const TimePoint start = mTime.now();
   ServiceCounters& counters = mMetrics.counters;
+  // The first field planned (a channel joining a frame lock starts at the others' number)
+  if (!mFirstFieldKnown) {
+    mFirstFieldKnown = true;
+    mFirstField = tick.fieldNumber - tick.missedBefore;
+  }
   if (tick.missedBefore > 0) {
     counters.fieldsMissed.fetch_add(tick.missedBefore, std::memory_order_relaxed);
     // The fields missed just before this one, as far as they lie in the first second.
-    if (tick.fieldNumber - tick.missedBefore < mFirstSecondFields) {
-      const std::uint64_t early =
-          std::min(tick.fieldNumber, mFirstSecondFields) - (tick.fieldNumber - tick.missedBefore);
+    const std::uint64_t sinceFirst = tick.fieldNumber - mFirstField;
+    if (sinceFirst - tick.missedBefore < mFirstSecondFields) {
+      const std::uint64_t early = std::min(sinceFirst, mFirstSecondFields) - (sinceFirst - tick.missedBefore);
       counters.fieldsMissedFirstSecond.fetch_add(early, std::memory_order_relaxed);
     }
   }

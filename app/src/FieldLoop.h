@@ -35,9 +35,9 @@ class FieldLoop {
             const motion::MotionSource& motion, io::SinkHub& sinks, ServiceMetrics& metrics,
             PendingInput* pendingInput = nullptr);
 
-  /// Emits fields until `stop` is set, or until `lastField` (exclusive) when non-zero. Field
+  /// Emits fields until `stop` is set or the next field's display time is `end` or later. Field
   /// thread body. RT-safe after the first field.
-  void run(const std::atomic<bool>& stop, std::uint64_t lastField = 0) noexcept;
+  void run(const std::atomic<bool>& stop, TimePoint end = TimePoint::max()) noexcept;
 
   /// Makes one field for `tick` and publishes it (the body of run(); exposed for virtual-time tests).
   void emit(const warp::FieldTick& tick) noexcept;
@@ -64,6 +64,8 @@ class FieldLoop {
   Field mField;                          // reused for every field: allocated once at construction
   Frame mNoFrame;                        // the empty frame warped (to black) before the first frame arrives
   std::uint64_t mFirstSecondFields = 0;  // fields in the run's first second
+  bool mFirstFieldKnown = false;
+  std::uint64_t mFirstField = 0;  // the run's first field's number
   // The warper's totals already reported (from construction: a warm-up before is not counted).
   std::uint64_t mLastFallbacks = 0;
   std::uint64_t mLastFallbacksByReason[4] = {};

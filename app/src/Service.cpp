@@ -11,6 +11,7 @@
 #include "TerrainCeiling.h"
 #include "ThreadScheduling.h"
 
+#include <io_bridge/FieldLockLink.h>
 #include <io_bridge/GpioInput.h>
 #include <io_bridge/HostLink.h>
 #include <io_bridge/InputSources.h>
@@ -163,6 +164,10 @@ struct Service::Parts {
   std::unique_ptr<io::GpioInputs> gpio;     // the external field sync and the cockpit discretes, when configured
   std::unique_ptr<CockpitActions> cockpit;  // freeze/reset/trigger: the ownship of a flight or the stick model
   std::uint64_t syncPulsesSeen = 0;
+  // [lock]: the software frame lock with the other channels, and the epoch this channel is on
+  std::unique_ptr<io::FieldLockLink> lock;
+  TimePoint lockEpoch{};
+  std::uint64_t lockFirstField = 0;
   KeyboardFlight keyboard;  // the live window's keys, when there is no stick
   PendingInput pendingInput{0};
   TimePoint lastInputTime{};
@@ -189,6 +194,41 @@ struct Service::Parts {
     }
     failed.store(true, std::memory_order_release);
     if (channel) channel->requestStop();
+  }
+
+  // At the start: join the lock the other channels hold (the earliest epoch heard) at its first
+  // field displayed after this channel is ready, a frame's first field (even); with none heard,
+  // this channel's field 0 is the lock's epoch.
+  void joinFrameLock(FieldStart& start, TimePoint& firstTime) {
+    const std::optional<TimePoint> heard = lock->earliestEpochHeard();
+    if (heard && *heard < start.t0) {
+      const RationalRate rate = config.output.fieldRate;
+      std::uint64_t k = warp::firstFieldAtOrAfter(rate, *heard, start.t0);
+      k += k & 1U;
+      start.t0 = *heard;
+      start.firstField = k;
+      firstTime = *heard + rate.tickOffset(static_cast<std::int64_t>(k));
+      spdlog::info("frame lock: joined at field {} (the lock's field 0 is {:.3f} s before it)", k,
+                   toSeconds(firstTime - *heard));
+    } else {
+      spdlog::info("frame lock: this channel's field 0 is the lock's epoch ({} announced)",
+                   heard ? "a later one was" : "none was yet");
+    }
+    lockEpoch = start.t0;
+    lockFirstField = start.firstField;
+    lock->announce(lockEpoch, start.firstField);
+  }
+
+  // Per field: a peer's earlier epoch moves this channel onto it (from the next field on), and the
+  // flight with it, so every channel shows the flight's same instant in its field k.
+  void followFrameLock(const warp::FieldTick& tick) noexcept {
+    const std::optional<TimePoint> heard = lock->earliestEpochHeard();
+    if (heard && *heard < lockEpoch) {
+      lockEpoch = *heard;
+      channel->fieldClock()->lockTo(lockEpoch);
+      if (flown) flown->setStart(lockEpoch);
+    }
+    lock->announce(lockEpoch, tick.fieldNumber);
   }
 
   // Per field: a new external sync pulse, once the estimator is locked, disciplines the clock.
@@ -321,6 +361,11 @@ Service::Service(const ServiceConfig& config) : mParts(std::make_unique<Parts>()
     p.ownship = p.cockpit.get();
   }
 
+  if (!config.lock.listen.empty()) {
+    p.lock = std::make_unique<io::FieldLockLink>(config.lock, config.output.fieldRate, p.clock);
+    spdlog::info("frame lock: listening on {}, announcing to {} other channels", config.lock.listen,
+                 config.lock.peers.size());
+  }
   p.channel = std::make_unique<Channel>(
       channelSettingsOf(p.config), *p.terrain, *p.ownship, p.clock, p.metrics,
       [&p](const std::string& why) { p.fail(why); },
@@ -398,6 +443,7 @@ void Service::start() {
   if (p.flown) p.flown->setStart(p.clock.now());  // until the first field's time is known
   if (p.stick) p.stick->start();
   if (p.gpio) p.gpio->start();
+  if (p.lock) p.lock->start();  // hears the other channels during the warm-up
   if (p.hostLink) p.hostLink->start();
 
   if (p.hostSession) {
@@ -415,7 +461,7 @@ void Service::start() {
   }
 
   FieldLoop::BeforeField beforeField;
-  if (p.flightModel || p.gpio || p.hostLink || p.cockpit) {
+  if (p.flightModel || p.gpio || p.hostLink || p.cockpit || p.lock) {
     beforeField = [&p](const warp::FieldTick& tick) {
       // The stick is read once per field: the cockpit's buttons and the flight model see one state.
       const TimePoint now = p.clock.now();
@@ -423,6 +469,7 @@ void Service::start() {
       if (p.stick) stickState = p.stick->controlsAt(now);
       const io::ControlState* stick = p.stick ? &stickState : nullptr;
       if (p.gpio) p.applyExternalSync();
+      if (p.lock) p.followFrameLock(tick);
       if (p.cockpit) p.actOnCockpit(tick, stick);
       if (p.hostLink) p.hostLink->fieldStarted(tick.fieldNumber, tick.displayTime);  // its Start of Frame
       if (p.flightModel) p.stepFlight(tick, now, stick);
@@ -430,23 +477,27 @@ void Service::start() {
   }
   // Runs on the field thread once it is warm: the first deadline comes after the warm-up.
   auto plan = [&p, begin, memory = memory.locked](const WarmUp& warm) {
-    const Nanoseconds period = p.config.output.fieldRate.period();
+    const RationalRate rate = p.config.output.fieldRate;
     FieldStart start;
     start.t0 = warm.done + p.config.warp.lead + kFirstFieldMargin;
-    const auto fieldsUntil = [&](TimePoint end) {  // fields displayed before `end`
-      return end <= start.t0 ? std::uint64_t{1} : static_cast<std::uint64_t>((end - start.t0) / period) + 1;
-    };
+    TimePoint firstTime = start.t0;
+    if (p.lock) p.joinFrameLock(start, firstTime);
+    const auto fieldAt = [&](std::uint64_t k) { return start.t0 + rate.tickOffset(static_cast<std::int64_t>(k)); };
     if (p.config.motion.durationS > 0) {
-      start.lastField =
-          static_cast<std::uint64_t>(std::llround(p.config.motion.durationS * p.config.output.fieldRate.hz()));
+      start.end =
+          fieldAt(start.firstField + static_cast<std::uint64_t>(std::llround(p.config.motion.durationS * rate.hz())));
     }
+    // The flight starts at field 0: with a frame lock, every channel flies the same instant in
+    // its field k. (A channel that moves onto an earlier lock later keeps this end instant.)
     if (p.flown) p.flown->setStart(start.t0);
     if (p.flight && p.flight->end() == motion::FlightEnd::Stop) {
-      const std::uint64_t flightFields = fieldsUntil(start.t0 + fromSeconds(p.flight->durationS()));
-      start.lastField = start.lastField == 0 ? flightFields : std::min(start.lastField, flightFields);
+      // The fields displayed up to the flight's end, the last one included
+      const std::uint64_t flightFields =
+          warp::firstFieldAtOrAfter(rate, start.t0, start.t0 + fromSeconds(p.flight->durationS()) + Nanoseconds{1});
+      start.end = std::min(start.end, fieldAt(flightFields));
     }
     StartupFigures s;
-    s.toFirstFieldS = toSeconds(start.t0 - p.config.warp.lead - begin);
+    s.toFirstFieldS = toSeconds(firstTime - p.config.warp.lead - begin);
     s.warmUpWarpMs = warm.warpMs;
     s.warmUpFrame = warm.frameNumber;
     s.memoryLocked = memory;
@@ -497,6 +548,7 @@ ServiceFigures Service::stop() {
   p.channel->stop();  // fields, then rendering, then the outputs are finalised
   if (p.stick) p.stick->stop();
   if (p.gpio) p.gpio->stop();
+  if (p.lock) p.lock->stop();
   if (p.hostLink) p.hostLink->stop();
   if (p.started.load()) (void)p.metrics.tileMissesSince(p.currentTerrain()->stats().viewMisses);
   p.metrics.closeFieldLog();  // the fields have stopped: its last records are written
@@ -511,6 +563,17 @@ ServiceFigures Service::stop() {
     if (p.cockpit) {
       const CockpitFigures c = p.cockpit->figures();
       summary["cockpit"] = {{"freezes", c.freezes}, {"resets", c.resets}, {"triggers", c.triggers}};
+    }
+    if (p.lock) {
+      const io::FieldLockCounters c = p.lock->counters();
+      const warp::FieldClock* clock = p.channel->fieldClock();
+      summary["lock"] = {{"epoch_ns", p.lockEpoch.time_since_epoch().count()},
+                         {"first_field", p.lockFirstField},
+                         {"relocks", clock ? clock->relocks() : 0},
+                         {"announcements_sent", c.sent},
+                         {"announcements_heard", c.received},
+                         {"other_rate", c.otherRate},
+                         {"malformed", c.malformed}};
     }
     if (p.hostLink)
       summary["host"] = hostSummary(p.hostLink->counters(), p.hostSession->figures(), p.hostMotion->counters());

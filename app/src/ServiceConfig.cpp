@@ -38,6 +38,25 @@ ViewConfig readViewConfig(ConfigReader& t) {
   return v;
 }
 
+io::FieldLockConfig readLockConfig(ConfigReader& t) {
+  io::FieldLockConfig l;
+  l.listen = t.string("listen", "");
+  if (std::optional<std::vector<std::string>> peers = t.strings("peers")) l.peers = *peers;
+  const auto check = [&t](const char* key, const std::string& address) {
+    try {
+      (void)io::parseUdpAddress(address, key);
+    } catch (const std::invalid_argument&) {
+      t.fail(key, "expected \"address:port\" (IPv4), got \"" + address + "\"");
+    }
+  };
+  if (!l.listen.empty()) check("listen", l.listen);
+  for (const std::string& peer : l.peers) check("peers", peer);
+  if (l.listen.empty() && !l.peers.empty())
+    t.fail("listen", "the lock needs this channel's own address to hear its peers");
+  t.finish();
+  return l;
+}
+
 HostConfig readHostConfig(ConfigReader& t) {
   HostConfig h;
   h.link.listenAddress = t.nonEmptyString("listen_address", h.link.listenAddress);
@@ -115,8 +134,12 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
   if (warp::needsRangeImage(c.warp.warper.warp)) c.render.settings.rangeImage = true;
   c.motion = section("motion", motion::readMotionConfig);
   c.host = section("host", readHostConfig);
+  c.lock = section("lock", readLockConfig);
   c.sinks = section("sinks", io::readSinksConfig);
   c.input = section("input", io::readInputConfig);
+  if (!c.lock.listen.empty() && !c.input.sync.empty()) {
+    top.fail("lock.listen", "a channel locks to the GPIO sync input (input.sync) or to the other channels, not both");
+  }
   {
     ConfigReader t = top.table("metrics");
     c.metrics.logIntervalS = t.number("log_interval_s", 1.0, 0.1, 3600.0);
@@ -165,6 +188,7 @@ std::string describe(const ServiceConfig& c) {
     }
   }
   s << "; terrain " << (c.terrain.database.empty() ? "builtin" : c.terrain.database.string());
+  if (!c.lock.listen.empty()) s << "; frame lock on " << c.lock.listen << " with " << c.lock.peers.size() << " peers";
   return s.str();
 }
 

@@ -148,7 +148,7 @@ TEST(FieldLoop, RunStopsAtTheLastFieldAsked) {
   Rig rig;
   FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
   std::atomic<bool> stop{false};
-  loop.run(stop, 30);
+  loop.run(stop, rig.fieldClock->displayTime(30));
   rig.hub->stop();
   EXPECT_EQ(rig.seen->numbers.size(), 30u);
 }

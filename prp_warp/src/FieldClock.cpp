@@ -31,12 +31,26 @@ void validateFieldClockConfig(const FieldClockConfig& c, const char* where) {
   }
 }
 
-FieldClock::FieldClock(Clock& clock, const FieldClockConfig& config, TimePoint t0)
-    : mClock(clock), mConfig(config), mAnchorTime(t0) {
+std::uint64_t firstFieldAtOrAfter(const RationalRate& rate, TimePoint epoch, TimePoint t) noexcept {
+  if (t <= epoch) return 0;
+  const auto at = [&](std::uint64_t k) { return epoch + rate.tickOffset(static_cast<std::int64_t>(k)); };
+  // The estimate in doubles is within a field of the answer; step to it exactly
+  const double periods = static_cast<double>((t - epoch).count()) / static_cast<double>(rate.period().count());
+  auto k = static_cast<std::uint64_t>(std::max(0.0, std::floor(periods)));
+  while (k > 0 && at(k - 1) >= t) --k;
+  while (at(k) < t) ++k;
+  return k;
+}
+
+std::int64_t FieldClock::nominalPeriodQ(const RationalRate& rate) noexcept {
+  // Exact to the rounding of one 1/1024 ns
+  return (rate.denominator * 1'000'000'000LL * (1LL << kQBits) + rate.numerator / 2) / rate.numerator;
+}
+
+FieldClock::FieldClock(Clock& clock, const FieldClockConfig& config, TimePoint t0, std::uint64_t firstField)
+    : mClock(clock), mConfig(config), mAnchorTime(t0), mNextField(firstField) {
   validateFieldClockConfig(config);
-  // Nominal period in 1/1024 ns, exact to the rounding of one 1/1024 ns
-  mPeriodQ =
-      (config.rate.denominator * 1'000'000'000LL * (1LL << kQBits) + config.rate.numerator / 2) / config.rate.numerator;
+  mPeriodQ = nominalPeriodQ(config.rate);
 }
 
 Nanoseconds FieldClock::offsetFromAnchor(std::uint64_t n) const noexcept {
@@ -96,7 +110,30 @@ void FieldClock::applyPendingSync() noexcept {
   mSyncApplied.fetch_add(1, std::memory_order_relaxed);
 }
 
+void FieldClock::lockTo(TimePoint epoch) noexcept {
+  mPendingLock.store(Edge{epoch.time_since_epoch().count(), ++mLockSequence});
+}
+
+void FieldClock::applyPendingLock() noexcept {
+  const Edge lock = mPendingLock.load();
+  if (lock.sequence == mLocksConsumed) return;
+  mLocksConsumed = lock.sequence;
+  const TimePoint epoch{Nanoseconds{lock.timeNs}};
+  const TimePoint due = displayTime(mNextField);  // what the old schedule would show next
+  mAnchorField = 0;
+  mAnchorTime = epoch;
+  mDisciplined = false;
+  mPeriodQ = nominalPeriodQ(mConfig.rate);
+  // The first field of the new schedule displayed at `due` or later, of the same parity when
+  // interlaced
+  std::uint64_t k = firstFieldAtOrAfter(mConfig.rate, epoch, due);
+  if (mConfig.scan == ScanMode::Interlaced && (k & 1U) != (mNextField & 1U)) ++k;
+  mNextField = k;
+  mRelocks.fetch_add(1, std::memory_order_relaxed);
+}
+
 FieldTick FieldClock::next() noexcept {
+  applyPendingLock();
   applyPendingSync();
   std::uint64_t k = mNextField;
   // Skip what can no longer be made: one field late is one field missed, never a burst

@@ -131,6 +131,44 @@ TEST(FieldClock, ASyncGlitchIsRejected) {
   EXPECT_LE(std::abs((fc.displayTime(3) - (kT0 + 3 * period)).count()), 2);
 }
 
+TEST(FieldClock, AChannelJoiningLateStartsAtTheLocksFieldNumber) {
+  // Field 0 was displayed 10 s ago (another channel's epoch); this one starts at field 600.
+  VirtualClock clock(kT0 + std::chrono::seconds(10) - milliseconds(50));
+  FieldClockConfig cfg;
+  cfg.rate = {60, 1};
+  FieldClock fc(clock, cfg, kT0, 600);
+  for (std::uint64_t k = 600; k < 610; ++k) {
+    const FieldTick tick = fc.next();
+    ASSERT_EQ(tick.fieldNumber, k);
+    ASSERT_EQ(tick.displayTime, kT0 + cfg.rate.tickOffset(static_cast<std::int64_t>(k)));
+    ASSERT_EQ(tick.missedBefore, 0u);
+  }
+}
+
+TEST(FieldClock, LockingToAnotherEpochTakesItsFieldNumbersAndKeepsTheFieldOrder) {
+  VirtualClock clock(kT0 - milliseconds(50));
+  FieldClockConfig cfg;  // 59.94 Hz interlaced
+  FieldClock fc(clock, cfg, kT0);
+  for (int k = 0; k < 5; ++k) fc.next();  // fields 0–4; field 5 (top, odd) would come next
+  const TimePoint due = fc.displayTime(5);
+  // The other channels' field 0 was 1000.3 fields before ours
+  const Nanoseconds period = cfg.rate.period();
+  const TimePoint epoch = kT0 - 1000 * period - period * 3 / 10;
+  fc.lockTo(epoch);
+  const FieldTick tick = fc.next();
+  // Their schedule's first field displayed at or after `due` is 1006 (at due + 0.7 periods), but
+  // field 5 is odd: 1007 keeps the interlaced order.
+  EXPECT_EQ(tick.fieldNumber, 1007u);
+  EXPECT_EQ(tick.displayTime, epoch + cfg.rate.tickOffset(1007));
+  EXPECT_GE(tick.displayTime, due);
+  EXPECT_EQ(tick.parity, fc.parity(5));
+  EXPECT_EQ(tick.missedBefore, 0u);
+  EXPECT_EQ(fc.relocks(), 1u);
+  EXPECT_EQ(fc.missedFields(), 0u);
+  // and the schedule goes on on theirs
+  EXPECT_EQ(fc.next().displayTime, epoch + cfg.rate.tickOffset(1008));
+}
+
 TEST(FieldClock, RejectsBadConfiguration) {
   VirtualClock clock;
   FieldClockConfig bad;

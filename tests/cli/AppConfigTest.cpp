@@ -212,6 +212,25 @@ TEST(AppConfig, ViewTakesAWindowAndAStereoEye) {
   EXPECT_NE(cyclops.output.find("view.eye"), std::string::npos) << cyclops.output;
 }
 
+TEST(AppConfig, LockTakesThisChannelsAddressAndItsPeers) {
+  const std::string shipped = "--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml";
+  const auto locked = run(
+      shipped + " --set 'lock.listen=\"127.0.0.1:7301\"' --set 'lock.peers=[\"127.0.0.1:7302\", \"127.0.0.1:7303\"]'");
+  EXPECT_EQ(locked.exitCode, 0) << locked.output;
+  EXPECT_NE(locked.output.find("frame lock on 127.0.0.1:7301 with 2 peers"), std::string::npos) << locked.output;
+  const std::pair<const char*, const char*> bad[] = {
+      {" --set 'lock.listen=\"localhost:7301\"'", "lock.listen: expected \"address:port\""},
+      {" --set 'lock.listen=\"127.0.0.1:7301\"' --set 'lock.peers=[\"127.0.0.1\"]'", "lock.peers: expected"},
+      {" --set 'lock.peers=[\"127.0.0.1:7302\"]'", "lock.listen: the lock needs this channel's own address"},
+      {" --set 'lock.listen=\"127.0.0.1:7301\"' --set 'input.sync=\"gpiochip0:17\"'",
+       "lock.listen: a channel locks to the GPIO sync input (input.sync) or to the other channels, not both"}};
+  for (const auto& [set, message] : bad) {
+    const auto r = run(shipped + set);
+    EXPECT_EQ(r.exitCode, 1) << set << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+  }
+}
+
 TEST(AppConfig, MalformedSetIsAnError) {
   const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml --set novalue");
   EXPECT_EQ(r.exitCode, 1);

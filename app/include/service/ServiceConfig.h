@@ -8,6 +8,7 @@
 #include <ig_core/Georeference.h>
 #include <ig_core/RenderConfig.h>
 #include <ig_core/TerrainConfig.h>
+#include <io_bridge/FieldLockLink.h>
 #include <io_bridge/HostLink.h>
 #include <io_bridge/InputConfig.h>
 #include <io_bridge/SinksConfig.h>
@@ -97,6 +98,7 @@ struct ServiceConfig {
   io::StreamFormat output;
   motion::MotionConfig motion;
   HostConfig host;
+  io::FieldLockConfig lock;  ///< [lock]: the software frame lock with the other channels
   io::SinksConfig sinks;
   io::InputConfig input;
   MetricsConfig metrics;

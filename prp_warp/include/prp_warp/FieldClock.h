@@ -2,7 +2,8 @@
 // The field clock (DESIGN.md §4): field k is shown at t_k = t_0 + k·T. The field thread sleeps to
 // absolute wake-up instants (t_k − lead), never relative delays; a field that can no longer be
 // made in time is counted as missed and skipped — the schedule goes on, there is never a burst
-// to catch up. An external sync edge (GPIO genlock) disciplines t_0 and T.
+// to catch up. An external sync edge (GPIO genlock) disciplines t_0 and T; a frame lock shared
+// with other channels (lockTo) moves the whole schedule onto their field numbers and epoch.
 
 #include <fieldcast/Field.h>
 #include <fieldcast/SeqLock.h>
@@ -37,6 +38,10 @@ struct FieldTick {
   std::uint64_t missedBefore = 0;  ///< fields skipped just before this one
 };
 
+/// The first field k of the schedule t_k = epoch + k·T (T of `rate`, exact) displayed at `t` or
+/// later; 0 when `t` is at or before the epoch. RT-safe.
+std::uint64_t firstFieldAtOrAfter(const RationalRate& rate, TimePoint epoch, TimePoint t) noexcept;
+
 /// Throws std::invalid_argument when the rate is not 50, 59.94 (60000/1001) or 60 Hz, or the
 /// lead/minWork are negative or longer than a period. `where` prefixes the message.
 void validateFieldClockConfig(const FieldClockConfig& config, const char* where = "field clock");
@@ -45,8 +50,10 @@ void validateFieldClockConfig(const FieldClockConfig& config, const char* where 
 /// be called from any one other thread (the GPIO thread).
 class FieldClock {
  public:
-  /// Field 0 is displayed at `t0`. `clock` must outlive the FieldClock. Throws on a bad config.
-  FieldClock(Clock& clock, const FieldClockConfig& config, TimePoint t0);
+  /// Field 0 is displayed at `t0`; the first field made is `firstField` (a channel joining a
+  /// frame lock late starts at the field the others are at). `clock` must outlive the
+  /// FieldClock. Throws on a bad config.
+  FieldClock(Clock& clock, const FieldClockConfig& config, TimePoint t0, std::uint64_t firstField = 0);
 
   /// Sleeps until the wake-up of the next field that can still be made and returns it; fields
   /// whose latest start (t_k − minWork) has passed are skipped and counted as missed. RT-safe.
@@ -55,6 +62,13 @@ class FieldClock {
   /// Reports an external sync edge at `edgeTime` (it marks the display time of some field).
   /// Applied by the field thread at its next next(). Wait-free, RT-safe.
   void externalSync(TimePoint edgeTime) noexcept;
+
+  /// Moves the schedule onto another lock's: field 0 displayed at `epoch`, the nominal period.
+  /// Applied at the next next(), which goes on with the first field of the new schedule that is
+  /// displayed no earlier than the field it would have made, of the same parity (an interlaced
+  /// stream keeps its field order); the fields jumped over are not counted as missed. Wait-free,
+  /// RT-safe, from any one thread.
+  void lockTo(TimePoint epoch) noexcept;
 
   /// Display time of field k under the current discipline. Field thread. RT-safe.
   TimePoint displayTime(std::uint64_t k) const noexcept;
@@ -68,6 +82,8 @@ class FieldClock {
   /// Sync edges applied and rejected so far (any thread).
   std::uint64_t syncEdgesApplied() const noexcept { return mSyncApplied.load(std::memory_order_relaxed); }
   std::uint64_t syncEdgesRejected() const noexcept { return mSyncRejected.load(std::memory_order_relaxed); }
+  /// Times lockTo moved the schedule (any thread).
+  std::uint64_t relocks() const noexcept { return mRelocks.load(std::memory_order_relaxed); }
   const FieldClockConfig& config() const noexcept { return mConfig; }
 
  private:
@@ -75,7 +91,9 @@ class FieldClock {
   static constexpr int kQBits = 10;
   static constexpr std::int64_t kQHalf = std::int64_t{1} << (kQBits - 1);
 
+  static std::int64_t nominalPeriodQ(const RationalRate& rate) noexcept;
   void applyPendingSync() noexcept;
+  void applyPendingLock() noexcept;
   /// Offset of field anchor + n from the anchor, n ≥ 0.
   Nanoseconds offsetFromAnchor(std::uint64_t n) const noexcept;
 
@@ -99,9 +117,14 @@ class FieldClock {
   bool mHavePreviousEdge = false;
   TimePoint mPreviousEdge{};
   std::uint64_t mPreviousEdgeField = 0;
+  // Frame lock: an epoch posted by lockTo, consumed here.
+  SeqLock<Edge> mPendingLock;
+  std::uint64_t mLockSequence = 0;   // writer side
+  std::uint64_t mLocksConsumed = 0;  // field-thread side
   std::atomic<std::uint64_t> mMissed{0};
   std::atomic<std::uint64_t> mSyncApplied{0};
   std::atomic<std::uint64_t> mSyncRejected{0};
+  std::atomic<std::uint64_t> mRelocks{0};
 };
 
 }  // namespace fieldcast::warp

@@ -1,0 +1,132 @@
+// The frame lock's announcements on loopback: the wire format, the earliest epoch winning, and
+// what is not a lock of this channel (another rate, not an announcement, not this clock's).
+#include <io_bridge/FieldLockLink.h>
+
+#include <arpa/inet.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <thread>
+
+namespace fieldcast::io {
+namespace {
+
+using namespace std::chrono_literals;
+
+const RationalRate kNtsc{60000, 1001};
+
+std::string loopback(std::uint16_t port) { return "127.0.0.1:" + std::to_string(port); }
+
+// Waits up to 3 s for `done`.
+template <typename Done>
+bool within3s(Done done) {
+  for (int i = 0; i < 300 && !done(); ++i) std::this_thread::sleep_for(10ms);
+  return done();
+}
+
+TEST(FieldLockLink, AnAnnouncementIsFortyBigEndianBytesAndReadsBack) {
+  LockAnnouncement a;
+  a.rate = kNtsc;
+  a.epoch = TimePoint{Nanoseconds{0x0102030405060708}};
+  a.newestField = 4242;
+  a.senderPid = 77;
+  const auto bytes = encodeLockAnnouncement(a);
+  EXPECT_EQ(std::string(bytes.begin(), bytes.begin() + 4), "FCLK");
+  EXPECT_EQ(bytes[5], 1);      // version 1, big-endian
+  EXPECT_EQ(bytes[10], 0xEA);  // 60000 = 0x0000EA60
+  EXPECT_EQ(bytes[16], 0x01);  // the epoch's most significant byte first
+  EXPECT_EQ(bytes[23], 0x08);
+  const std::optional<LockAnnouncement> back = decodeLockAnnouncement(bytes);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->rate.numerator, 60000);
+  EXPECT_EQ(back->rate.denominator, 1001);
+  EXPECT_EQ(back->epoch, a.epoch);
+  EXPECT_EQ(back->newestField, 4242u);
+  EXPECT_EQ(back->senderPid, 77u);
+
+  auto wrong = bytes;
+  wrong[0] = 'X';
+  EXPECT_FALSE(decodeLockAnnouncement(wrong));
+  wrong = bytes;
+  wrong[5] = 2;  // a later version
+  EXPECT_FALSE(decodeLockAnnouncement(wrong));
+  EXPECT_FALSE(decodeLockAnnouncement(std::span(bytes.data(), 39)));
+}
+
+TEST(FieldLockLink, EachChannelHearsTheOthersAndTheEarliestEpochIsKept) {
+  SystemClock clock;
+  const TimePoint now = clock.now();
+  FieldLockConfig ca{"127.0.0.1:0", {}, 20ms}, cb = ca, cc = ca;
+  FieldLockLink a(ca, kNtsc, clock);
+  // b and c know a's port; a learns theirs below (a link's peers are fixed: a new one for a)
+  cb.peers = {loopback(a.port())};
+  cc.peers = {loopback(a.port())};
+  FieldLockLink b(cb, kNtsc, clock), c(cc, kNtsc, clock);
+  ca.peers = {loopback(b.port()), loopback(c.port())};
+  ca.listen = "127.0.0.1:0";
+  FieldLockLink a2(ca, kNtsc, clock);  // a's sender, to b and c
+  a2.announce(now - 5s, 300);
+  b.announce(now - 2s, 120);
+  c.announce(now - 9s, 540);
+  for (FieldLockLink* link : {&a, &a2, &b, &c}) link->start();
+
+  EXPECT_FALSE(a2.earliestEpochHeard());  // nobody sends to a2
+  ASSERT_TRUE(within3s([&] { return a.earliestEpochHeard() == now - 9s; }))
+      << "a heard neither b (2 s ago) then c (9 s ago, the earliest)";
+  ASSERT_TRUE(within3s([&] { return b.earliestEpochHeard() == now - 5s; }));
+  ASSERT_TRUE(within3s([&] { return c.earliestEpochHeard() == now - 5s; }));  // later than its own: kept anyway
+  // An epoch announced later than the earliest does not displace it
+  std::this_thread::sleep_for(100ms);
+  EXPECT_EQ(a.earliestEpochHeard(), now - 9s);
+  for (FieldLockLink* link : {&a, &a2, &b, &c}) link->stop();
+  EXPECT_GT(a2.counters().sent, 2u);
+  EXPECT_GT(a.counters().received, 4u);
+  EXPECT_EQ(a.counters().malformed, 0u);
+}
+
+TEST(FieldLockLink, AnotherRateAGarbageDatagramAndAnEpochNotOfThisClockAreNotHeard) {
+  SystemClock clock;
+  FieldLockLink link({"127.0.0.1:0", {}, 20ms}, kNtsc, clock);
+  link.start();
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  const sockaddr_in to = parseUdpAddress(loopback(link.port()), "test");
+  const auto send = [&](std::span<const std::uint8_t> bytes) {
+    ::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+  };
+  LockAnnouncement fifty;
+  fifty.rate = {50, 1};
+  fifty.epoch = clock.now() - 1s;
+  send(encodeLockAnnouncement(fifty));
+  const std::uint8_t garbage[40] = {'F', 'C', 'L', 'X'};
+  send(garbage);
+  LockAnnouncement future;
+  future.rate = kNtsc;
+  future.epoch = clock.now() + 3600s;  // another machine's clock, say
+  send(encodeLockAnnouncement(future));
+  ASSERT_TRUE(within3s([&] { return link.counters().otherRate == 1 && link.counters().malformed == 2; }));
+  EXPECT_FALSE(link.earliestEpochHeard());
+  EXPECT_EQ(link.counters().received, 0u);
+  ::close(fd);
+  link.stop();
+}
+
+TEST(FieldLockLink, BadAddressesFailNamingTheKey) {
+  SystemClock clock;
+  try {
+    FieldLockLink link({"localhost:7300", {}, 100ms}, kNtsc, clock);
+    FAIL() << "a name is not an IPv4 address";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("lock.listen"), std::string::npos) << e.what();
+  }
+  try {
+    FieldLockLink link({"127.0.0.1:0", {"127.0.0.1:70000"}, 100ms}, kNtsc, clock);
+    FAIL() << "port 70000";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("lock.peers"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace fieldcast::io
