@@ -479,7 +479,8 @@ void Service::start() {
   auto plan = [&p, begin, memory = memory.locked](const WarmUp& warm) {
     const RationalRate rate = p.config.output.fieldRate;
     FieldStart start;
-    start.t0 = warm.done + p.config.warp.lead + kFirstFieldMargin;
+    if (p.lock) p.lock->awaitPeers();  // a lock the others hold is joined, not begun anew
+    start.t0 = std::max(warm.done, p.clock.now()) + p.config.warp.lead + kFirstFieldMargin;
     TimePoint firstTime = start.t0;
     if (p.lock) p.joinFrameLock(start, firstTime);
     const auto fieldAt = [&](std::uint64_t k) { return start.t0 + rate.tickOffset(static_cast<std::int64_t>(k)); };

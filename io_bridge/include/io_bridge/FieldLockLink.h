@@ -76,6 +76,11 @@ class FieldLockLink {
   void stop();
   std::uint16_t port() const noexcept { return mPort; }
 
+  /// Blocks until a peer's announcement has been heard or the link has listened for three
+  /// announcement intervals since start(): a channel starting beside running ones joins their
+  /// lock instead of beginning its own. Not RT-safe (before the fields start).
+  void awaitPeers() const;
+
   /// The earliest epoch a peer of this field rate has announced; empty when none was heard.
   /// Wait-free, RT-safe.
   std::optional<TimePoint> earliestEpochHeard() const noexcept;
@@ -87,7 +92,7 @@ class FieldLockLink {
  private:
   void run() noexcept;
   void receiveAll() noexcept;
-  void sendAnnouncement() noexcept;
+  bool sendAnnouncement() noexcept;  // false: nothing to announce yet
 
   struct Own {
     std::int64_t epochNs = 0;
@@ -104,6 +109,7 @@ class FieldLockLink {
   std::uint32_t mPid = 0;
   SeqLock<Own> mOwn;
   std::atomic<std::int64_t> mEarliestNs;  // INT64_MAX: none heard
+  TimePoint mStarted{};
   std::atomic<bool> mStop{false};
   std::thread mThread;
   std::atomic<std::uint64_t> mSent{0}, mReceived{0}, mOtherRate{0}, mMalformed{0}, mSendErrors{0};

@@ -111,7 +111,13 @@ FieldLockLink::~FieldLockLink() {
 void FieldLockLink::start() {
   if (mThread.joinable()) return;
   mStop.store(false);
+  mStarted = mClock.now();
   mThread = std::thread([this] { run(); });
+}
+
+void FieldLockLink::awaitPeers() const {
+  const TimePoint enough = mStarted + 3 * mInterval;
+  while (!earliestEpochHeard() && mClock.now() < enough) std::this_thread::sleep_for(std::chrono::milliseconds(5));
 }
 
 void FieldLockLink::stop() {
@@ -141,15 +147,18 @@ FieldLockCounters FieldLockLink::counters() const noexcept {
 
 void FieldLockLink::run() noexcept {
   TimePoint nextAnnouncement = mClock.now();
+  bool announced = false;
   while (!mStop.load(std::memory_order_acquire)) {
     const TimePoint now = mClock.now();
-    if (now >= nextAnnouncement) {
-      sendAnnouncement();
+    // The first announcement goes out at once: a channel starting now may be listening for it
+    const bool first = !announced && mOwn.load().valid;
+    if (now >= nextAnnouncement || first) {
+      announced = sendAnnouncement();
       nextAnnouncement = now + mInterval;
     }
-    // Wake for the next announcement, and at least every 50 ms to see a stop
+    // Wake for the next announcement, and at least every 20 ms to see a stop or a first epoch
     const auto waitMs = std::clamp<std::int64_t>(
-        std::chrono::duration_cast<std::chrono::milliseconds>(nextAnnouncement - mClock.now()).count(), 0, 50);
+        std::chrono::duration_cast<std::chrono::milliseconds>(nextAnnouncement - mClock.now()).count(), 0, 20);
     pollfd fd{mSocket, POLLIN, 0};
     const int ready = ::poll(&fd, 1, static_cast<int>(waitMs));
     if (ready > 0) receiveAll();
@@ -181,9 +190,9 @@ void FieldLockLink::receiveAll() noexcept {
   }
 }
 
-void FieldLockLink::sendAnnouncement() noexcept {
+bool FieldLockLink::sendAnnouncement() noexcept {
   const Own own = mOwn.load();
-  if (!own.valid) return;
+  if (!own.valid) return false;
   LockAnnouncement a;
   a.rate = mRate;
   a.epoch = TimePoint{Nanoseconds{own.epochNs}};
@@ -200,6 +209,7 @@ void FieldLockLink::sendAnnouncement() noexcept {
       spdlog::debug("frame lock: send to {}: {}", describe(peer), std::strerror(errno));
     }
   }
+  return true;
 }
 
 }  // namespace fieldcast::io
