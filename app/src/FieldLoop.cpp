@@ -79,6 +79,7 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
     mSinks.publish(mField);
     const TimePoint emitted = mTime.now();
     counters.fieldsEmitted.fetch_add(1, std::memory_order_relaxed);
+    if (emitted > tick.displayTime) counters.fieldsLate.fetch_add(1, std::memory_order_relaxed);
     if (hostSample.valid && !(hostSample == mLastHostSample)) {
       // The first emitted field made from this sample: arrival → this field.
       mMetrics.record(Measure::HostToEmission, emitted - hostSample.arrival);

@@ -110,6 +110,7 @@ ServiceFigures ServiceMetrics::figures(TimePoint now) {
   f.fallbacksDegenerate = counters.warpFallbacksByReason[2].load();
   f.fallbacksNoRange = counters.warpFallbacksByReason[3].load();
   f.fieldsMissedFirstSecond = counters.fieldsMissedFirstSecond.load();
+  f.fieldsLate = counters.fieldsLate.load();
   f.startup = mStartup;
   f.tileMissesRun = mLastTileMisses - mStartup.tileMisses;
   f.visibilityM = mVisibilityM;
@@ -138,6 +139,7 @@ nlohmann::json toJson(const ServiceFigures& f) {
                       {"fields_black", f.fieldsBlack},
                       {"fields_held", f.fieldsHeld},
                       {"fields_missed", f.fieldsMissed},
+                      {"fields_late", f.fieldsLate},
                       {"margin_violation_px", f.marginViolations},
                       {"warp_fallbacks", f.warpFallbacks},
                       {"warp_fallbacks_by_reason",
@@ -176,7 +178,7 @@ std::string describe(const ServiceFigures& f) {
   std::snprintf(
       text, sizeof text,
       "ran %.1f s: %llu frames (%.1f Hz), %llu fields emitted (%llu black before the first frame), "
-      "%llu missed (%llu in the first second), %llu margin-violation px, %llu warp fallbacks "
+      "%llu missed (%llu in the first second), %llu late, %llu margin-violation px, %llu warp fallbacks "
       "(few points %llu, all sky %llu, degenerate %llu, no range image %llu)\n"
       "  render ms p50 %s p99 %s | warp ms p50 %s p99 %s max %s | frame age ms p50 %s p99 %s | "
       "field jitter ms p50 %s p99 %s max %s",
@@ -184,12 +186,12 @@ std::string describe(const ServiceFigures& f) {
       f.durationS > 0 ? static_cast<double>(f.framesRendered) / f.durationS : 0.0,
       static_cast<unsigned long long>(f.fieldsEmitted), static_cast<unsigned long long>(f.fieldsBlack),
       static_cast<unsigned long long>(f.fieldsMissed), static_cast<unsigned long long>(f.fieldsMissedFirstSecond),
-      static_cast<unsigned long long>(f.marginViolations), static_cast<unsigned long long>(f.warpFallbacks),
-      static_cast<unsigned long long>(f.fallbacksFewPoints), static_cast<unsigned long long>(f.fallbacksAllSky),
-      static_cast<unsigned long long>(f.fallbacksDegenerate), static_cast<unsigned long long>(f.fallbacksNoRange),
-      ms(f.render.p50S).c_str(), ms(f.render.p99S).c_str(), ms(f.warp.p50S).c_str(), ms(f.warp.p99S).c_str(),
-      ms(f.warp.maxS).c_str(), ms(f.frameAge.p50S).c_str(), ms(f.frameAge.p99S).c_str(), ms(f.jitter.p50S).c_str(),
-      ms(f.jitter.p99S).c_str(), ms(f.jitter.maxS).c_str());
+      static_cast<unsigned long long>(f.fieldsLate), static_cast<unsigned long long>(f.marginViolations),
+      static_cast<unsigned long long>(f.warpFallbacks), static_cast<unsigned long long>(f.fallbacksFewPoints),
+      static_cast<unsigned long long>(f.fallbacksAllSky), static_cast<unsigned long long>(f.fallbacksDegenerate),
+      static_cast<unsigned long long>(f.fallbacksNoRange), ms(f.render.p50S).c_str(), ms(f.render.p99S).c_str(),
+      ms(f.warp.p50S).c_str(), ms(f.warp.p99S).c_str(), ms(f.warp.maxS).c_str(), ms(f.frameAge.p50S).c_str(),
+      ms(f.frameAge.p99S).c_str(), ms(f.jitter.p50S).c_str(), ms(f.jitter.p99S).c_str(), ms(f.jitter.maxS).c_str());
   std::string result = text;
   std::snprintf(text, sizeof text,
                 "\n  start-up %.2f s to the first field (warm-up warp %.2f ms, memory %s), %llu tile misses before it, "

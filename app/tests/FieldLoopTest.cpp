@@ -144,6 +144,22 @@ TEST(FieldLoop, AFieldThatCannotBeMadeIsCountedAndTheScheduleGoesOn) {
   EXPECT_EQ(rig.seen->numbers[1], 3u);  // no burst of late fields
 }
 
+TEST(FieldLoop, AFieldHandedOverAfterItsDisplayTimeIsCountedLate) {
+  Rig rig;
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
+  // Field 1's work starts in time (at its wake-up, the lead before its display time) but takes
+  // longer than the lead; fields 0 and 2 take no time.
+  loop.setBeforeField([&rig](const warp::FieldTick& tick) {
+    if (tick.fieldNumber == 1) rig.clock.advance(rig.clockConfig.lead + 1ms);
+  });
+  for (int k = 0; k < 3; ++k) loop.emit(rig.fieldClock->next());
+  rig.hub->stop();
+  const ServiceFigures f = rig.metrics.figures(rig.clock.now());
+  EXPECT_EQ(f.fieldsEmitted, 3u);
+  EXPECT_EQ(f.fieldsLate, 1u);
+  EXPECT_EQ(f.fieldsMissed, 0u);
+}
+
 TEST(FieldLoop, RunStopsAtTheLastFieldAsked) {
   Rig rig;
   FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);

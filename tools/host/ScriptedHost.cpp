@@ -93,7 +93,7 @@ class Recording {
 
   // Recorded as it is handed to the socket, before any answer to it can arrive: the capture keeps
   // cause before effect.
-  void sending(std::span<const std::uint8_t> datagram) { capture(mHost, mIg, datagram); }
+  void sending(std::span<const std::uint8_t> datagram, io::UdpEndpoint to) { capture(mHost, to, datagram); }
   void received(const sockaddr_in& from, std::span<const std::uint8_t> datagram) {
     capture(endpointOf(from), mHost, datagram);
   }
@@ -174,9 +174,23 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
   }
   Socket socket(options.localPort);
   Recording recording(recorders, socket.local(), endpointOf(ig));
+  std::vector<sockaddr_in> others;  // the rig's other channels
+  for (const std::uint16_t port : options.otherIgPorts) {
+    others.push_back(ig);
+    others.back().sin_port = htons(port);
+  }
+  std::atomic<std::uint64_t> otherSendErrors{0};
+  const auto sendTo = [&](const sockaddr_in& to, std::span<const std::uint8_t> bytes) {
+    recording.sending(bytes, endpointOf(to));
+    return ::sendto(socket.fd(), bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+  };
+  // To every channel; the result is the measured IG's (another channel not running yet is no error)
   const auto send = [&](std::span<const std::uint8_t> bytes) {
-    recording.sending(bytes);
-    return ::sendto(socket.fd(), bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&ig), sizeof ig);
+    const ssize_t result = sendTo(ig, bytes);
+    for (const sockaddr_in& other : others) {
+      if (sendTo(other, bytes) < 0) otherSendErrors.fetch_add(1, std::memory_order_relaxed);
+    }
+    return result;
   };
 
   std::mutex mutex;  // guards pending, the report's lists and counters shared with the reader
@@ -186,6 +200,7 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
   std::vector<std::pair<glm::dvec3, double>> answers;  // where a valid answer was asked, and its height
   std::vector<LosAnswer> losAnswers;
   ScriptedHostReport report;
+  report.otherStartOfFrames.assign(others.size(), 0);
   std::atomic<bool> stop{false};
   std::atomic<bool> heard{false};  // a Start of Frame has arrived
 
@@ -217,6 +232,17 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
       const Steady::time_point arrival = Steady::now();
       const std::span<const std::uint8_t> datagram(buffer.data(), static_cast<std::size_t>(n));
       recording.received(from, datagram);
+      if (from.sin_port != ig.sin_port) {  // another channel of the rig: its Start of Frames counted
+        const auto other = std::find_if(others.begin(), others.end(),
+                                        [&](const sockaddr_in& o) { return o.sin_port == from.sin_port; });
+        if (other == others.end() || !decoder.decode(datagram, packets)) continue;
+        const std::lock_guard lock(mutex);
+        for (const cigi::IgPacket& packet : packets) {
+          if (std::holds_alternative<cigi::StartOfFrame>(packet))
+            ++report.otherStartOfFrames[static_cast<std::size_t>(other - others.begin())];
+        }
+        continue;
+      }
       if (!decoder.decode(datagram, packets)) continue;
       const std::lock_guard lock(mutex);
       for (const cigi::IgPacket& packet : packets) {
@@ -268,6 +294,7 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     }
     const std::lock_guard lock(mutex);
     report = ScriptedHostReport{};  // the figures are of the flight
+    report.otherStartOfFrames.assign(others.size(), 0);
     sofIntervals.clear();
   }
   const Steady::time_point start = Steady::now();
@@ -419,6 +446,8 @@ std::string describe(const ScriptedHostReport& r) {
       << " disagreements), range error max " << r.losRangeErrorMaxM << " m, p95 " << r.losRangeErrorP95M << " m\n"
       << "LOS answer latency p50 " << r.losLatencyP50Ms << " ms, p99 " << r.losLatencyP99Ms << " ms\n";
   }
+  for (std::size_t i = 0; i < r.otherStartOfFrames.size(); ++i)
+    s << "start of frames from channel " << i + 2 << ": " << r.otherStartOfFrames[i] << "\n";
   s << "rejected datagrams " << r.rejectedDatagrams << "\n";
   return s.str();
 }

@@ -18,12 +18,17 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace fieldcast::tools {
 
 struct ScriptedHostOptions {
   std::string igAddress = "127.0.0.1";
   std::uint16_t igPort = 8004;
+  /// More channels of a rig at the same address: every datagram goes to each of them as well
+  /// (as multicast would on a LAN). Only the IG at igPort is measured (Start of Frame rate,
+  /// answers); the others' Start of Frames are counted per channel.
+  std::vector<std::uint16_t> otherIgPorts;
   std::uint16_t localPort = 0;  ///< where the IG's replies arrive (0: any free port)
   double rateHz = 60.0;
   double durationS = 20.0;
@@ -85,6 +90,8 @@ struct ScriptedHostReport {
   double losLatencyP50Ms = 0.0;  ///< LOS request sent → answer received
   double losLatencyP99Ms = 0.0;
   std::uint64_t rejectedDatagrams = 0;
+  /// Start of Frames from each of options.otherIgPorts, in that order.
+  std::vector<std::uint64_t> otherStartOfFrames;
   /// CLOCK_MONOTONIC instant of flight time 0 (steady_clock is CLOCK_MONOTONIC on Linux): the
   /// flight's pose at IG instant t is flight.poseAtSeconds((t - flightStartNs) / 1e9).
   std::int64_t flightStartNs = 0;

@@ -66,6 +66,9 @@ int main(int argc, char** argv) {
   app.add_option("--ig", ig, "the IG's IPv4 address");
   app.add_option("--ig-port", igPort, "the IG's port (default: host.port of the configuration)")
       ->check(tools::intRange(1, 65535, ""));
+  app.add_option("--also-ig-port", options.otherIgPorts,
+                 "another channel of a rig at the same address: it gets every datagram too (repeatable)")
+      ->check(tools::intRange(1, 65535, ""));
   app.add_option("--port", options.localPort, "this host's port for the IG's replies (0: any)")
       ->check(tools::intRange(0, 65535, ""));
   app.add_option("--rate", options.rateHz, "host frames per second")->check(tools::finiteRange(1, 1000, "Hz"));
@@ -153,6 +156,7 @@ int main(int argc, char** argv) {
       j["los_latency_p99_ms"] = report.losLatencyP99Ms;
       j["pcap_frames"] = capture ? capture->frames() : 0;
       j["rejected_datagrams"] = report.rejectedDatagrams;
+      j["other_channels_start_of_frames"] = report.otherStartOfFrames;
       j["flight_start_monotonic_ns"] = report.flightStartNs;
       std::ofstream out(summaryPath);
       out << j.dump(2) << "\n";

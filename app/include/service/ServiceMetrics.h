@@ -45,6 +45,9 @@ struct ServiceCounters {
   std::atomic<std::uint64_t> fieldsBlack{0};    ///< emitted before the first frame existed
   std::atomic<std::uint64_t> fieldsHeld{0};     ///< the previous picture again: the pose was beyond the frame's reach
   std::atomic<std::uint64_t> fieldsMissed{0};   ///< deadlines passed without a field
+  /// Handed to the sinks after their display time: an output clocked to the display times shows
+  /// them a field late (the work started in time, the warp or the machine took too long).
+  std::atomic<std::uint64_t> fieldsLate{0};
   std::atomic<std::uint64_t> marginViolations{0};  ///< output pixels sampled outside the frame
   std::atomic<std::uint64_t> warpFallbacks{0};     ///< fields warped by the rotation-only fallback
   /// warpFallbacks by reason: few points, all sky, degenerate, no range image (FallbackReason − 1).
@@ -71,6 +74,7 @@ struct ServiceFigures {
   std::uint64_t fieldsBlack = 0;
   std::uint64_t fieldsHeld = 0;
   std::uint64_t fieldsMissed = 0;
+  std::uint64_t fieldsLate = 0;
   std::uint64_t marginViolations = 0;
   std::uint64_t warpFallbacks = 0;
   std::uint64_t fallbacksFewPoints = 0, fallbacksAllSky = 0, fallbacksDegenerate = 0, fallbacksNoRange = 0;

@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# A three-channel rig on this machine: left, centre and right channels (60° each, edges
+# abutting: 180° together), each a fieldcast process frame-locked to the others ([lock] on
+# loopback), driven by one scripted CIGI host (fieldcast-host) flying the ridge run for 20 s.
+# Writes into out/rig/:
+#   out/rig/contact_sheet.png       the three channels' fields side by side, eight instants
+#   out/rig/report.json             the lock figures (fieldcast-rig): display and emission spread
+#   out/rig/<channel>/summary.json  each channel's run summary; fields.csv its per-field record
+#   out/rig/host.json               what the host measured (Start of Frames from every channel)
+# Installs what is missing and builds first; safe to run any number of times. Options (for the
+# test that runs it small): --duration S, --size WxH, --out DIR, --base-port N (host ports N to
+# N+2, lock ports N+10 to N+12), --build-dir DIR, --no-setup (no install, no build). It fails
+# when a channel missed a field, showed black or left the lock (fieldcast-rig --check).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+duration=20
+size=720x486
+out="$(pwd)/out/rig"
+base_port=8004
+build=build
+setup=1
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --duration) duration=$2; shift 2 ;;
+    --size) size=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --base-port) base_port=$2; shift 2 ;;
+    --build-dir) build=$2; shift 2 ;;
+    --no-setup) setup=0; shift ;;
+    *) echo "rig.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+if [[ $setup == 1 ]]; then
+  scripts/install-deps.sh
+  cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$build" -j "$(nproc)" --target fieldcast fieldcast-host fieldcast-rig
+fi
+
+rm -rf "$out"
+names=(left centre right)
+yaws=(-60 0 60)
+pids=()
+stop_channels() {
+  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
+  for pid in "${pids[@]}"; do wait "$pid" || true; done
+  pids=()
+}
+trap stop_channels EXIT
+
+for i in 0 1 2; do
+  name=${names[$i]}
+  mkdir -p "$out/$name/images"
+  peers=()
+  for j in 0 1 2; do [[ $j != "$i" ]] && peers+=("\"127.0.0.1:$((base_port + 10 + j))\""); done
+  # Each channel renders at most 15 frames a second: three renderers and three field threads
+  # share the machine's cores, and the field threads must never wait for a core.
+  "$build/app/fieldcast" --config config/fieldcast.toml \
+    --set 'motion.source="host"' --set "host.port=$((base_port + i))" \
+    --set "output.width=${size%x*}" --set "output.height=${size#*x}" \
+    --set "view.offset_deg=[${yaws[$i]}, 0, 0]" --set render.threads=1 --set render.max_rate_hz=15 \
+    --set "lock.listen=\"127.0.0.1:$((base_port + 10 + i))\"" --set "lock.peers=[${peers[0]}, ${peers[1]}]" \
+    --set sinks.y4m.enabled=false --set sinks.images.enabled=true \
+    --set "sinks.images.directory=\"$out/$name/images\"" --set sinks.images.every_nth=150 \
+    --field-log "$out/$name/fields.csv" --summary "$out/$name/summary.json" > "$out/$name/log.txt" 2>&1 &
+  pids+=($!)
+  sleep 1  # one after the other: each joins the lock the first began
+done
+
+"$build/tools/host/fieldcast-host" --config config/fieldcast.toml --flight config/flights/ridge_run.toml \
+  --duration "$duration" --ig-port $((base_port + 1)) --also-ig-port "$base_port" --also-ig-port $((base_port + 2)) \
+  --wait-for-ig 60 --summary "$out/host.json" | tee "$out/host.txt"
+stop_channels
+trap - EXIT
+
+"$build/tools/rig/fieldcast-rig" --channel "left=$out/left" --channel "centre=$out/centre" \
+  --channel "right=$out/right" --sheet "$out/contact_sheet.png" --report "$out/report.json" --check |
+  tee "$out/report.txt"
+
+echo
+echo "rig outputs:"
+echo "  contact sheet  $out/contact_sheet.png"
+echo "  lock figures   $out/report.json"
+echo "  per channel    $out/{left,centre,right}/summary.json"

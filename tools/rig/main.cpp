@@ -1,0 +1,64 @@
+// fieldcast-rig — the figures and the contact sheet of a rig's run (scripts/rig.sh): reads each
+// channel's folder (fields.csv, summary.json, images/), reports how well the channels were
+// locked and stitches their fields side by side.
+//   fieldcast-rig --channel left=out/rig/left --channel centre=out/rig/centre --channel right=out/rig/right
+//                 --sheet out/rig/contact_sheet.png --report out/rig/report.json
+#include "ChannelRun.h"
+#include "LockReport.h"
+#include "StitchedSheet.h"
+
+#include <tools/OptionChecks.h>
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+int main(int argc, char** argv) {
+  using namespace fieldcast;
+  CLI::App app{"fieldcast-rig: the lock figures and the stitched contact sheet of a rig's channels"};
+  std::vector<std::string> channelArgs;
+  std::string sheetPath, reportPath;
+  int rows = 8;
+  bool check = false;
+  app.add_option("--channel", channelArgs, "NAME=FOLDER of a channel, left to right (repeatable)")->required();
+  app.add_option("--sheet", sheetPath, "write the stitched contact sheet here (PNG)");
+  app.add_option("--report", reportPath, "write the lock figures here (JSON)");
+  app.add_option("--rows", rows, "instants on the sheet")->check(tools::intRange(1, 100, ""));
+  app.add_flag("--check", check,
+               "exit 1 unless the rig was locked: no field missed or black, one lock, field k's display time "
+               "the same everywhere, no blank field on the sheet");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    std::vector<tools::ChannelRun> channels;
+    for (const std::string& arg : channelArgs) {
+      const std::size_t equals = arg.find('=');
+      if (equals == std::string::npos || equals == 0)
+        throw std::runtime_error("--channel: expected NAME=FOLDER, got " + arg);
+      channels.push_back(tools::readChannelRun(arg.substr(0, equals), arg.substr(equals + 1)));
+    }
+    const tools::LockReport report = tools::lockReport(channels);
+    std::fputs(tools::describe(report).c_str(), stdout);
+    if (!reportPath.empty()) {
+      std::ofstream out(reportPath);
+      out << tools::toJson(report).dump(2) << "\n";
+      if (!out) throw std::runtime_error("--report: cannot write " + reportPath);
+    }
+    std::vector<std::string> failures = check ? tools::lockFailures(report) : std::vector<std::string>{};
+    if (!sheetPath.empty()) {
+      const tools::SheetWritten written = tools::writeStitchedSheet(channels, sheetPath, rows);
+      std::printf("wrote %s: %d instants of %zu channels, least contrast of a field %.1f grey levels\n",
+                  sheetPath.c_str(), written.rows, channels.size(), written.leastContrast);
+      if (check && written.leastContrast < 4.0)
+        failures.push_back("a field on the sheet is blank (black or one colour)");
+    }
+    for (const std::string& failure : failures)
+      std::fprintf(stderr, "fieldcast-rig: not locked: %s\n", failure.c_str());
+    if (!failures.empty()) return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fieldcast-rig: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
