@@ -8,26 +8,34 @@
 #   out/rig/<channel>/summary.json  each channel's run summary; fields.csv its per-field record
 #   out/rig/host.json               what the host measured (Start of Frames from every channel)
 # Installs what is missing and builds first; safe to run any number of times. Options (for the
-# test that runs it small): --duration S, --size WxH, --out DIR, --base-port N (host ports N to
-# N+2, lock ports N+10 to N+12), --build-dir DIR, --no-setup (no install, no build). It fails
-# when a channel missed a field, showed black or left the lock (fieldcast-rig --check).
+# test that runs it small): --config FILE (the channels' and the host's; the shipped one by
+# default), --flight FILE, --duration S, --size WxH, --out DIR, --base-port N (host ports N to
+# N+2, lock ports N+10 to N+12), --build-dir DIR, --no-setup (no install, no build),
+# --allow-missed N. It fails when a channel missed a field (more than N), showed black or left
+# the lock (fieldcast-rig --check).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+config=config/fieldcast.toml
+flight=config/flights/ridge_run.toml
 duration=20
 size=720x486
 out="$(pwd)/out/rig"
 base_port=8004
 build=build
 setup=1
+allow_missed=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
+    --config) config=$2; shift 2 ;;
+    --flight) flight=$2; shift 2 ;;
     --duration) duration=$2; shift 2 ;;
     --size) size=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --base-port) base_port=$2; shift 2 ;;
     --build-dir) build=$2; shift 2 ;;
     --no-setup) setup=0; shift ;;
+    --allow-missed) allow_missed=$2; shift 2 ;;
     *) echo "rig.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -55,7 +63,7 @@ for i in 0 1 2; do
   for j in 0 1 2; do [[ $j != "$i" ]] && peers+=("\"127.0.0.1:$((base_port + 10 + j))\""); done
   # Each channel renders at most 15 frames a second: three renderers and three field threads
   # share the machine's cores, and the field threads must never wait for a core.
-  "$build/app/fieldcast" --config config/fieldcast.toml \
+  "$build/app/fieldcast" --config "$config" \
     --set 'motion.source="host"' --set "host.port=$((base_port + i))" \
     --set "output.width=${size%x*}" --set "output.height=${size#*x}" \
     --set "view.offset_deg=[${yaws[$i]}, 0, 0]" --set render.threads=1 --set render.max_rate_hz=15 \
@@ -67,14 +75,15 @@ for i in 0 1 2; do
   sleep 1  # one after the other: each joins the lock the first began
 done
 
-"$build/tools/host/fieldcast-host" --config config/fieldcast.toml --flight config/flights/ridge_run.toml \
+"$build/tools/host/fieldcast-host" --config "$config" --flight "$flight" \
   --duration "$duration" --ig-port $((base_port + 1)) --also-ig-port "$base_port" --also-ig-port $((base_port + 2)) \
   --wait-for-ig 60 --summary "$out/host.json" | tee "$out/host.txt"
 stop_channels
 trap - EXIT
 
 "$build/tools/rig/fieldcast-rig" --channel "left=$out/left" --channel "centre=$out/centre" \
-  --channel "right=$out/right" --sheet "$out/contact_sheet.png" --report "$out/report.json" --check |
+  --channel "right=$out/right" --sheet "$out/contact_sheet.png" --report "$out/report.json" --check \
+  --allow-missed "$allow_missed" |
   tee "$out/report.txt"
 
 echo
