@@ -9,6 +9,7 @@
 //   --pcap FILE      both directions as a classic pcap capture (Wireshark: decode the IG's port as CIGI)
 //   --sent-log FILE  the ownship's Entity Control values of each host frame sent, tab-separated
 //   --time-of-day 2024-06-21T19:30   the date and time of day (Celestial Sphere Control), running
+//   --also-ig-port 8006   another channel of a rig at the same address: every datagram to it too
 #include "ScriptedHost.h"
 
 #include <service/ServiceConfig.h>
