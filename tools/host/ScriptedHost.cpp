@@ -197,6 +197,9 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
   std::map<std::uint16_t, PendingHeight> pending;
   std::map<std::uint16_t, PendingLos> pendingLos;
   std::vector<double> sofIntervals, latenciesMs, losLatenciesMs;
+  // Start of Frame arrivals by IG frame number: the measured IG's, and each other channel's
+  std::map<std::uint32_t, Steady::time_point> sofArrivals;
+  std::vector<std::map<std::uint32_t, Steady::time_point>> otherSofArrivals(others.size());
   std::vector<std::pair<glm::dvec3, double>> answers;  // where a valid answer was asked, and its height
   std::vector<LosAnswer> losAnswers;
   ScriptedHostReport report;
@@ -237,9 +240,12 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
                                         [&](const sockaddr_in& o) { return o.sin_port == from.sin_port; });
         if (other == others.end() || !decoder.decode(datagram, packets)) continue;
         const std::lock_guard lock(mutex);
+        const auto index = static_cast<std::size_t>(other - others.begin());
         for (const cigi::IgPacket& packet : packets) {
-          if (std::holds_alternative<cigi::StartOfFrame>(packet))
-            ++report.otherStartOfFrames[static_cast<std::size_t>(other - others.begin())];
+          if (const auto* sof = std::get_if<cigi::StartOfFrame>(&packet)) {
+            ++report.otherStartOfFrames[index];
+            otherSofArrivals[index][sof->igFrameNumber] = arrival;
+          }
         }
         continue;
       }
@@ -252,6 +258,7 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
           if (sof->igStatus != 0) ++report.ownshipHeldFrames;
           if (lastSof) sofIntervals.push_back(std::chrono::duration<double>(arrival - *lastSof).count());
           lastSof = arrival;
+          sofArrivals[sof->igFrameNumber] = arrival;
         } else if (const auto* answer = std::get_if<cigi::HatHotResponse>(&packet)) {
           ++report.heightAnswers;
           const auto it = pending.find(answer->hatHotId);
@@ -296,6 +303,8 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     report = ScriptedHostReport{};  // the figures are of the flight
     report.otherStartOfFrames.assign(others.size(), 0);
     sofIntervals.clear();
+    sofArrivals.clear();
+    for (auto& arrivals : otherSofArrivals) arrivals.clear();
   }
   const Steady::time_point start = Steady::now();
   report.flightStartNs = std::chrono::duration_cast<std::chrono::nanoseconds>(start.time_since_epoch()).count();
@@ -406,6 +415,17 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     heightErrors.push_back(std::abs(heightM - terrain.heightAtM(pointM.x, pointM.y, 0)));
   }
   if (!sofIntervals.empty()) report.startOfFrameRateHz = 1.0 / percentile(sofIntervals, 0.5);
+  std::vector<double> sharedSpreadsMs;
+  for (const auto& arrivals : otherSofArrivals) {
+    for (const auto& [frame, arrival] : arrivals) {
+      const auto measured = sofArrivals.find(frame);
+      if (measured == sofArrivals.end()) continue;
+      sharedSpreadsMs.push_back(
+          std::abs(std::chrono::duration<double, std::milli>(arrival - measured->second).count()));
+    }
+  }
+  report.sharedFrameNumbers = sharedSpreadsMs.size();
+  report.sharedFrameArrivalSpreadP99Ms = percentile(sharedSpreadsMs, 0.99);
   report.heightErrorMaxM = heightErrors.empty() ? 0.0 : *std::max_element(heightErrors.begin(), heightErrors.end());
   report.heightErrorP95M = percentile(heightErrors, 0.95);
   report.answerLatencyP50Ms = percentile(latenciesMs, 0.5);
@@ -448,6 +468,10 @@ std::string describe(const ScriptedHostReport& r) {
   }
   for (std::size_t i = 0; i < r.otherStartOfFrames.size(); ++i)
     s << "start of frames from channel " << i + 2 << ": " << r.otherStartOfFrames[i] << "\n";
+  if (!r.otherStartOfFrames.empty()) {
+    s << "frame numbers reported by the first channel and another: " << r.sharedFrameNumbers
+      << ", their Start of Frames " << r.sharedFrameArrivalSpreadP99Ms << " ms apart (p99)\n";
+  }
   s << "rejected datagrams " << r.rejectedDatagrams << "\n";
   return s.str();
 }

@@ -92,6 +92,11 @@ struct ScriptedHostReport {
   std::uint64_t rejectedDatagrams = 0;
   /// Start of Frames from each of options.otherIgPorts, in that order.
   std::vector<std::uint64_t> otherStartOfFrames;
+  /// A frame-locked rig's check from the host's side: of the IG frame numbers (field numbers) both
+  /// the measured IG and another channel reported, how many, and how far apart (p99, ms) their
+  /// Start of Frames arrived. Channels locked to one field epoch report field k together.
+  std::uint64_t sharedFrameNumbers = 0;
+  double sharedFrameArrivalSpreadP99Ms = 0.0;
   /// CLOCK_MONOTONIC instant of flight time 0 (steady_clock is CLOCK_MONOTONIC on Linux): the
   /// flight's pose at IG instant t is flight.poseAtSeconds((t - flightStartNs) / 1e9).
   std::int64_t flightStartNs = 0;

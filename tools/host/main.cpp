@@ -158,6 +158,8 @@ int main(int argc, char** argv) {
       j["pcap_frames"] = capture ? capture->frames() : 0;
       j["rejected_datagrams"] = report.rejectedDatagrams;
       j["other_channels_start_of_frames"] = report.otherStartOfFrames;
+      j["shared_frame_numbers"] = report.sharedFrameNumbers;
+      j["shared_frame_arrival_spread_p99_ms"] = report.sharedFrameArrivalSpreadP99Ms;
       j["flight_start_monotonic_ns"] = report.flightStartNs;
       std::ofstream out(summaryPath);
       out << j.dump(2) << "\n";
