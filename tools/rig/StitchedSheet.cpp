@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -26,11 +27,21 @@ cv::Mat frameShaped(const std::filesystem::path& path) {
 SheetWritten writeStitchedSheet(const std::vector<ChannelRun>& channels, const std::filesystem::path& path, int rows) {
   SheetWritten written;
   written.leastContrast = 255.0;
+  // Driven by a host, a channel shows its own start-up pose until the host's first sample: the
+  // sheet shows the flight, from the first field every channel made from the host's samples.
+  bool hostDriven = false;
+  for (const ChannelRun& c : channels) {
+    for (const auto& [k, field] : c.fields) hostDriven = hostDriven || field.hostFrame >= 0;
+  }
+  const auto flying = [&](const ChannelRun& c, std::uint64_t k) {
+    const auto field = c.fields.find(k);
+    return !hostDriven || (field != c.fields.end() && field->second.hostFrame >= 0);
+  };
   std::vector<std::uint64_t> instants;  // field numbers every channel has an image of
   if (!channels.empty()) {
     for (const auto& [k, file] : channels.front().images) {
       bool everywhere = true;
-      for (const ChannelRun& c : channels) everywhere = everywhere && c.images.count(k) != 0;
+      for (const ChannelRun& c : channels) everywhere = everywhere && c.images.count(k) != 0 && flying(c, k);
       if (everywhere) instants.push_back(k);
     }
   }
@@ -58,8 +69,11 @@ SheetWritten writeStitchedSheet(const std::vector<ChannelRun>& channels, const s
     cv::hconcat(row, line);
     char label[64];
     std::snprintf(label, sizeof label, "field %llu", static_cast<unsigned long long>(k));
-    cv::putText(line, label, {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {0, 0, 0}, 3, cv::LINE_AA);
-    cv::putText(line, label, {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {255, 255, 255}, 1, cv::LINE_AA);
+    const double scale = std::max(0.5, line.cols / 2400.0);  // readable on a sheet shown shrunk
+    const cv::Point at{10, static_cast<int>(30 * scale)};
+    cv::putText(line, label, at, cv::FONT_HERSHEY_SIMPLEX, scale, {0, 0, 0}, static_cast<int>(4 * scale), cv::LINE_AA);
+    cv::putText(line, label, at, cv::FONT_HERSHEY_SIMPLEX, scale, {255, 255, 255},
+                static_cast<int>(std::ceil(1.5 * scale)), cv::LINE_AA);
     if (!stacked.empty() && line.cols != stacked.front().cols) {
       cv::resize(line, line, cv::Size(stacked.front().cols, line.rows * stacked.front().cols / line.cols));
     }

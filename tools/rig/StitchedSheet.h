@@ -1,7 +1,8 @@
 #pragma once
 // The rig's contact sheet: rows of the channels' fields side by side, left to right in the order
-// given, one row per instant (a field number every channel wrote an image of), the rows spread
-// through the run. Interlaced fields are line-doubled to the frame's shape.
+// given, one row per instant (a field number every channel wrote an image of — with a host, made
+// from its samples in every channel), the rows spread through the run. Interlaced fields are
+// line-doubled to the frame's shape.
 
 #include "ChannelRun.h"
 
