@@ -223,7 +223,7 @@ struct Service::Parts {
   // flight with it, so every channel shows the flight's same instant in its field k.
   void followFrameLock(const warp::FieldTick& tick) noexcept {
     const std::optional<TimePoint> heard = lock->earliestEpochHeard();
-    if (heard && *heard < lockEpoch) {
+    if (heard && *heard < lockEpoch - io::kSameLockTolerance) {
       lockEpoch = *heard;
       channel->fieldClock()->lockTo(lockEpoch);
       if (flown) flown->setStart(lockEpoch);

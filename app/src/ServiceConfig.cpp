@@ -42,6 +42,8 @@ io::FieldLockConfig readLockConfig(ConfigReader& t) {
   io::FieldLockConfig l;
   l.listen = t.string("listen", "");
   if (std::optional<std::vector<std::string>> peers = t.strings("peers")) l.peers = *peers;
+  l.timeBase = t.choice("clock", io::LockTimeBase::Monotonic,
+                        {{"monotonic", io::LockTimeBase::Monotonic}, {"tai", io::LockTimeBase::Tai}});
   const auto check = [&t](const char* key, const std::string& address) {
     try {
       (void)io::parseUdpAddress(address, key);
@@ -188,7 +190,10 @@ std::string describe(const ServiceConfig& c) {
     }
   }
   s << "; terrain " << (c.terrain.database.empty() ? "builtin" : c.terrain.database.string());
-  if (!c.lock.listen.empty()) s << "; frame lock on " << c.lock.listen << " with " << c.lock.peers.size() << " peers";
+  if (!c.lock.listen.empty()) {
+    s << "; frame lock on " << c.lock.listen << " with " << c.lock.peers.size() << " peers"
+      << (c.lock.timeBase == io::LockTimeBase::Tai ? " on CLOCK_TAI" : "");
+  }
   return s.str();
 }
 

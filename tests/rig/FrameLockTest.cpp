@@ -132,7 +132,7 @@ position = [900.0, 800.0, 300.0]
 
   // Channel `i` of three (yawed −60°, 0°, +60°), locked to the other two; its field log and
   // summary are `name`.csv and `name`.json.
-  std::string channelArgs(int i, const std::string& name, double durationS) {
+  std::string channelArgs(int i, const std::string& name, double durationS, const std::string& lockExtra = "") {
     const fs::path config = mDir / (name + ".toml");
     std::ofstream out(config);
     out << "[terrain]\nsource = \"builtin\"\ncache_dir = \"" << (root() / "cache").string()
@@ -148,7 +148,8 @@ position = [900.0, 800.0, 300.0]
       out << separator << "\"127.0.0.1:" << mPorts[j] << "\"";
       separator = ", ";
     }
-    out << "]\n[metrics]\nsummary_json = \"" << name << ".json\"\nfield_log = \"" << name << ".csv\"\n"
+    out << "]\n"
+        << lockExtra << "[metrics]\nsummary_json = \"" << name << ".json\"\nfield_log = \"" << name << ".csv\"\n"
         << "[threads]\nrealtime_field_thread = false\nrealtime_host_thread = false\n";
     out.close();
     return "--config " + config.string() + " --duration " + std::to_string(durationS);
@@ -228,6 +229,35 @@ TEST_F(FrameLock, AChannelKilledAndRestartedRejoinsWithoutDisturbingTheOthers) {
   // The first run of the right channel numbered its fields alike too, until it was killed
   const auto firstRun = readFieldLog(mDir / "right_first.csv");
   EXPECT_GT(expectSameInstants(left_, firstRun, "left/killed right"), 60);
+}
+
+TEST_F(FrameLock, TwoChannelsLockOnTheTaiClock) {
+  // As channels on two machines disciplined by PTP would: the epoch crosses as an instant of
+  // CLOCK_TAI, each channel converting to and from its own CLOCK_MONOTONIC.
+  Channel left(channelArgs(0, "left", 7, "clock = \"tai\"\n"), mDir / "left.log");
+  std::this_thread::sleep_for(1s);
+  Channel centre(channelArgs(1, "centre", 4, "clock = \"tai\"\n"), mDir / "centre.log");
+  ASSERT_EQ(centre.wait(), 0) << std::ifstream(mDir / "centre.log").rdbuf();
+  ASSERT_EQ(left.wait(), 0) << std::ifstream(mDir / "left.log").rdbuf();
+  const nlohmann::json l = summary("left"), c = summary("centre");
+  EXPECT_EQ(l["lock"]["first_field"], 0);
+  EXPECT_GT(c["lock"]["first_field"].get<std::uint64_t>(), 30u);
+  EXPECT_EQ(l["lock"]["relocks"], 0);
+  EXPECT_EQ(c["lock"]["relocks"], 0);
+  const auto epochGap = l["lock"]["epoch_ns"].get<std::int64_t>() - c["lock"]["epoch_ns"].get<std::int64_t>();
+  EXPECT_LT(std::abs(epochGap), fieldcast::io::kSameLockTolerance.count());
+  // Field k at one instant, to the conversion's precision
+  const auto left_ = readFieldLog(mDir / "left.csv");
+  const auto centre_ = readFieldLog(mDir / "centre.csv");
+  int common = 0;
+  for (const auto& [k, field] : centre_) {
+    const auto other = left_.find(k);
+    if (other == left_.end()) continue;
+    ++common;
+    ASSERT_LT(std::abs(field.displayNs - other->second.displayNs), fieldcast::io::kSameLockTolerance.count())
+        << "field " << k;
+  }
+  EXPECT_GT(common, 3 * 59);
 }
 
 TEST_F(FrameLock, AChannelThatHearsAnEarlierLockWhileRunningMovesOntoIt) {

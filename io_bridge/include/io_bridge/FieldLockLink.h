@@ -5,14 +5,15 @@
 // earliest epoch wins: a channel that hears an earlier one than its own moves its field clock
 // onto it, so all channels number their fields alike and show field k at the same instant, and
 // a channel restarted late takes the lock the others hold. Nobody waits for anybody: a channel
-// that falls behind misses its own fields only. The epochs are instants of one clock, so the
-// lock holds for channels on one machine; across machines it needs clocks disciplined to one
-// time base (PTP), or the GPIO genlock input.
+// that falls behind misses its own fields only. The epochs are instants of one clock: the
+// machine's CLOCK_MONOTONIC holds the lock for channels on one machine; CLOCK_TAI holds it across
+// machines whose clocks are disciplined to one time base (PTP: ptp4l and phc2sys), the link
+// converting between it and the service's CLOCK_MONOTONIC at every announcement.
 //
 // The announcement, 40 bytes, big-endian:
-//   0 "FCLK"   4 version (u16) = 1   6 reserved (u16)   8 rate numerator (u32)
-//   12 rate denominator (u32)   16 epoch, ns (i64)   24 newest field made (u64)   32 sender pid
-//   (u32)   36 reserved (u32)
+//   0 "FCLK"   4 version (u16) = 1   6 time base (u16: 0 CLOCK_MONOTONIC, 1 CLOCK_TAI)
+//   8 rate numerator (u32)   12 rate denominator (u32)   16 epoch, ns of the time base (i64)
+//   24 newest field made (u64)   32 sender pid (u32)   36 reserved (u32)
 
 #include <fieldcast/SeqLock.h>
 #include <fieldcast/Time.h>
@@ -30,24 +31,36 @@
 
 namespace fieldcast::io {
 
+/// The clock a lock's epochs are instants of.
+enum class LockTimeBase : std::uint16_t {
+  Monotonic = 0,  ///< CLOCK_MONOTONIC: channels on one machine
+  Tai = 1,        ///< CLOCK_TAI: channels on machines whose clocks one PTP grandmaster disciplines
+};
+
+/// Epochs closer than this are one lock: what converting between two clocks costs in precision.
+inline constexpr Nanoseconds kSameLockTolerance{std::chrono::microseconds(100)};
+
 /// Where a channel listens for the others' announcements and where it sends its own.
 struct FieldLockConfig {
   std::string listen;              ///< "address:port" of this channel; empty: no software lock
   std::vector<std::string> peers;  ///< "address:port" of each other channel
+  LockTimeBase timeBase = LockTimeBase::Monotonic;
   Nanoseconds announceInterval{std::chrono::milliseconds(100)};
 };
 
 /// One channel's lock, as announced.
 struct LockAnnouncement {
   RationalRate rate;
-  TimePoint epoch{};              ///< display time of field 0, on the sender's CLOCK_MONOTONIC
+  LockTimeBase timeBase = LockTimeBase::Monotonic;
+  TimePoint epoch{};              ///< display time of field 0, an instant of `timeBase`
   std::uint64_t newestField = 0;  ///< the newest field the sender made (for a person reading a capture)
   std::uint32_t senderPid = 0;
 };
 
 inline constexpr std::size_t kLockAnnouncementBytes = 40;
 std::array<std::uint8_t, kLockAnnouncementBytes> encodeLockAnnouncement(const LockAnnouncement& a) noexcept;
-/// Empty when the datagram is not a version-1 announcement (size, magic, version, a zero rate).
+/// Empty when the datagram is not a version-1 announcement (size, magic, version, a zero rate,
+/// an unknown time base).
 std::optional<LockAnnouncement> decodeLockAnnouncement(std::span<const std::uint8_t> datagram) noexcept;
 
 /// Parses "a.b.c.d:port" (IPv4, port 0–65535). Throws std::invalid_argument naming `what`.
@@ -64,8 +77,9 @@ struct FieldLockCounters {
 
 class FieldLockLink {
  public:
-  /// Binds `config.listen` and resolves the peers. Throws std::runtime_error / invalid_argument
-  /// naming the address on failure.
+  /// Binds `config.listen` and resolves the peers. `clock` is the service's: CLOCK_MONOTONIC
+  /// (SystemClock) when the time base is TAI, which is read beside it. Throws std::runtime_error /
+  /// invalid_argument naming the address on failure.
   FieldLockLink(const FieldLockConfig& config, RationalRate rate, const Clock& clock);
   ~FieldLockLink();
   FieldLockLink(const FieldLockLink&) = delete;
@@ -81,10 +95,11 @@ class FieldLockLink {
   /// lock instead of beginning its own. Not RT-safe (before the fields start).
   void awaitPeers() const;
 
-  /// The earliest epoch a peer of this field rate has announced; empty when none was heard.
-  /// Wait-free, RT-safe.
+  /// The earliest epoch a peer of this field rate and time base has announced, on `clock`; empty
+  /// when none was heard. Wait-free, RT-safe.
   std::optional<TimePoint> earliestEpochHeard() const noexcept;
-  /// What this channel announces from now on. Wait-free, RT-safe (the field thread).
+  /// What this channel announces from now on (`epoch` on `clock`). Wait-free, RT-safe (the field
+  /// thread).
   void announce(TimePoint epoch, std::uint64_t newestField) noexcept;
 
   FieldLockCounters counters() const noexcept;
@@ -100,7 +115,11 @@ class FieldLockLink {
     bool valid = false;
   };
 
+  /// The time base's instant minus the service clock's, now (0 for CLOCK_MONOTONIC).
+  Nanoseconds timeBaseOffset() const noexcept;
+
   RationalRate mRate;
+  LockTimeBase mTimeBase;
   const Clock& mClock;
   Nanoseconds mInterval;
   std::vector<sockaddr_in> mPeers;

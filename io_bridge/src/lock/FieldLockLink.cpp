@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <ctime>
 #include <limits>
 #include <stdexcept>
 
@@ -46,6 +47,7 @@ std::array<std::uint8_t, kLockAnnouncementBytes> encodeLockAnnouncement(const Lo
   std::array<std::uint8_t, kLockAnnouncementBytes> out{};
   std::memcpy(out.data(), kMagic, 4);
   putBigEndian(out.data() + 4, kVersion, 2);
+  putBigEndian(out.data() + 6, static_cast<std::uint16_t>(a.timeBase), 2);
   putBigEndian(out.data() + 8, static_cast<std::uint64_t>(a.rate.numerator), 4);
   putBigEndian(out.data() + 12, static_cast<std::uint64_t>(a.rate.denominator), 4);
   putBigEndian(out.data() + 16, static_cast<std::uint64_t>(a.epoch.time_since_epoch().count()), 8);
@@ -58,6 +60,9 @@ std::optional<LockAnnouncement> decodeLockAnnouncement(std::span<const std::uint
   if (d.size() != kLockAnnouncementBytes || std::memcmp(d.data(), kMagic, 4) != 0) return std::nullopt;
   if (getBigEndian(d.data() + 4, 2) != kVersion) return std::nullopt;
   LockAnnouncement a;
+  const std::uint64_t timeBase = getBigEndian(d.data() + 6, 2);
+  if (timeBase > static_cast<std::uint16_t>(LockTimeBase::Tai)) return std::nullopt;
+  a.timeBase = static_cast<LockTimeBase>(timeBase);
   a.rate.numerator = static_cast<std::int64_t>(getBigEndian(d.data() + 8, 4));
   a.rate.denominator = static_cast<std::int64_t>(getBigEndian(d.data() + 12, 4));
   if (a.rate.numerator == 0 || a.rate.denominator == 0) return std::nullopt;
@@ -85,6 +90,7 @@ sockaddr_in parseUdpAddress(const std::string& text, const std::string& what) {
 
 FieldLockLink::FieldLockLink(const FieldLockConfig& config, RationalRate rate, const Clock& clock)
     : mRate(rate),
+      mTimeBase(config.timeBase),
       mClock(clock),
       mInterval(config.announceInterval),
       mPid(static_cast<std::uint32_t>(::getpid())),
@@ -135,6 +141,17 @@ void FieldLockLink::announce(TimePoint epoch, std::uint64_t newestField) noexcep
   mOwn.store(Own{epoch.time_since_epoch().count(), newestField, true});
 }
 
+Nanoseconds FieldLockLink::timeBaseOffset() const noexcept {
+  if (mTimeBase == LockTimeBase::Monotonic) return Nanoseconds{0};
+  // TAI read between two readings of the service's clock: the offset to well under a microsecond
+  const TimePoint before = mClock.now();
+  timespec tai{};
+  clock_gettime(CLOCK_TAI, &tai);
+  const TimePoint after = mClock.now();
+  const Nanoseconds taiNs{static_cast<std::int64_t>(tai.tv_sec) * 1'000'000'000 + tai.tv_nsec};
+  return taiNs - (before.time_since_epoch() + (after - before) / 2);
+}
+
 FieldLockCounters FieldLockLink::counters() const noexcept {
   FieldLockCounters c;
   c.sent = mSent.load(std::memory_order_relaxed);
@@ -172,20 +189,30 @@ void FieldLockLink::receiveAll() noexcept {
     if (bytes < 0) return;  // EAGAIN: all read
     const std::optional<LockAnnouncement> a =
         decodeLockAnnouncement(std::span(buffer.data(), static_cast<std::size_t>(bytes)));
-    if (!a || a->epoch > mClock.now() + kFutureEpochLimit) {
+    if (!a) {
       mMalformed.fetch_add(1, std::memory_order_relaxed);
       continue;
     }
-    if (a->rate.numerator != mRate.numerator || a->rate.denominator != mRate.denominator) {
+    if (a->rate.numerator != mRate.numerator || a->rate.denominator != mRate.denominator || a->timeBase != mTimeBase) {
       if (mOtherRate.fetch_add(1, std::memory_order_relaxed) == 0)
-        spdlog::warn("frame lock: a channel announces {:.3f} Hz fields, this one makes {:.3f} Hz: not locked to it",
-                     a->rate.hz(), mRate.hz());
+        spdlog::warn(
+            "frame lock: a channel announces {:.3f} Hz fields on {}, this one makes {:.3f} Hz on {}: not "
+            "locked to it",
+            a->rate.hz(), a->timeBase == LockTimeBase::Tai ? "CLOCK_TAI" : "CLOCK_MONOTONIC", mRate.hz(),
+            mTimeBase == LockTimeBase::Tai ? "CLOCK_TAI" : "CLOCK_MONOTONIC");
+      continue;
+    }
+    const TimePoint epoch = a->epoch - timeBaseOffset();  // on the service's clock
+    if (epoch > mClock.now() + kFutureEpochLimit) {
+      mMalformed.fetch_add(1, std::memory_order_relaxed);
       continue;
     }
     mReceived.fetch_add(1, std::memory_order_relaxed);
-    const std::int64_t epochNs = a->epoch.time_since_epoch().count();
+    // Earlier by more than the conversion's noise: another lock, the one that began first
+    const std::int64_t epochNs = epoch.time_since_epoch().count();
     std::int64_t earliest = mEarliestNs.load(std::memory_order_relaxed);
-    while (epochNs < earliest && !mEarliestNs.compare_exchange_weak(earliest, epochNs, std::memory_order_release)) {
+    while (epochNs < earliest - kSameLockTolerance.count() &&
+           !mEarliestNs.compare_exchange_weak(earliest, epochNs, std::memory_order_release)) {
     }
   }
 }
@@ -195,7 +222,8 @@ bool FieldLockLink::sendAnnouncement() noexcept {
   if (!own.valid) return false;
   LockAnnouncement a;
   a.rate = mRate;
-  a.epoch = TimePoint{Nanoseconds{own.epochNs}};
+  a.timeBase = mTimeBase;
+  a.epoch = TimePoint{Nanoseconds{own.epochNs}} + timeBaseOffset();
   a.newestField = own.newestField;
   a.senderPid = mPid;
   const auto bytes = encodeLockAnnouncement(a);

@@ -6,6 +6,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <ctime>
+
 #include <gtest/gtest.h>
 
 #include <thread>
@@ -58,7 +60,7 @@ TEST(FieldLockLink, AnAnnouncementIsFortyBigEndianBytesAndReadsBack) {
 TEST(FieldLockLink, EachChannelHearsTheOthersAndTheEarliestEpochIsKept) {
   SystemClock clock;
   const TimePoint now = clock.now();
-  FieldLockConfig ca{"127.0.0.1:0", {}, 20ms}, cb = ca, cc = ca;
+  FieldLockConfig ca{"127.0.0.1:0", {}, LockTimeBase::Monotonic, 20ms}, cb = ca, cc = ca;
   FieldLockLink a(ca, kNtsc, clock);
   // b and c know a's port; a learns theirs below (a link's peers are fixed: a new one for a)
   cb.peers = {loopback(a.port())};
@@ -74,7 +76,7 @@ TEST(FieldLockLink, EachChannelHearsTheOthersAndTheEarliestEpochIsKept) {
 
   EXPECT_FALSE(a2.earliestEpochHeard());  // nobody sends to a2
   ASSERT_TRUE(within3s([&] { return a.earliestEpochHeard() == now - 9s; }))
-      << "a heard neither b (2 s ago) then c (9 s ago, the earliest)";
+      << "a did not come to c's epoch (9 s ago, earlier than b's)";
   ASSERT_TRUE(within3s([&] { return b.earliestEpochHeard() == now - 5s; }));
   ASSERT_TRUE(within3s([&] { return c.earliestEpochHeard() == now - 5s; }));  // later than its own: kept anyway
   // An epoch announced later than the earliest does not displace it
@@ -88,7 +90,7 @@ TEST(FieldLockLink, EachChannelHearsTheOthersAndTheEarliestEpochIsKept) {
 
 TEST(FieldLockLink, AnotherRateAGarbageDatagramAndAnEpochNotOfThisClockAreNotHeard) {
   SystemClock clock;
-  FieldLockLink link({"127.0.0.1:0", {}, 20ms}, kNtsc, clock);
+  FieldLockLink link({"127.0.0.1:0", {}, LockTimeBase::Monotonic, 20ms}, kNtsc, clock);
   link.start();
   const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
   const sockaddr_in to = parseUdpAddress(loopback(link.port()), "test");
@@ -112,16 +114,74 @@ TEST(FieldLockLink, AnotherRateAGarbageDatagramAndAnEpochNotOfThisClockAreNotHea
   link.stop();
 }
 
+TEST(FieldLockLink, OnTheTaiClockAnEpochCrossesAsTheSameInstant) {
+  LockAnnouncement tai;
+  tai.rate = kNtsc;
+  tai.timeBase = LockTimeBase::Tai;
+  const auto bytes = encodeLockAnnouncement(tai);
+  EXPECT_EQ(bytes[7], 1);
+  EXPECT_EQ(decodeLockAnnouncement(bytes)->timeBase, LockTimeBase::Tai);
+  auto unknown = bytes;
+  unknown[7] = 2;
+  EXPECT_FALSE(decodeLockAnnouncement(unknown));
+
+  // Sent as an instant of CLOCK_TAI, heard as the same instant of CLOCK_MONOTONIC (one machine:
+  // the two conversions differ by their reading noise only). A channel on CLOCK_MONOTONIC does
+  // not follow it.
+  SystemClock clock;
+  FieldLockConfig onTai{"127.0.0.1:0", {}, LockTimeBase::Tai, 20ms};
+  FieldLockConfig onMonotonic{"127.0.0.1:0", {}, LockTimeBase::Monotonic, 20ms};
+  FieldLockLink hearsTai(onTai, kNtsc, clock), hearsMonotonic(onMonotonic, kNtsc, clock);
+  // and a plain socket, to read what goes on the wire
+  const int wire = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in wireAddress = parseUdpAddress("127.0.0.1:0", "test");
+  ASSERT_EQ(::bind(wire, reinterpret_cast<const sockaddr*>(&wireAddress), sizeof wireAddress), 0);
+  socklen_t length = sizeof wireAddress;
+  ::getsockname(wire, reinterpret_cast<sockaddr*>(&wireAddress), &length);
+  onTai.peers = {loopback(hearsTai.port()), loopback(hearsMonotonic.port()), loopback(ntohs(wireAddress.sin_port))};
+  FieldLockLink sender(onTai, kNtsc, clock);
+  const TimePoint epoch = clock.now() - 3s;
+  sender.announce(epoch, 180);
+  for (FieldLockLink* link : {&sender, &hearsTai, &hearsMonotonic}) link->start();
+  // On the wire the epoch is an instant of CLOCK_TAI
+  std::uint8_t datagram[64];
+  timeval timeout{3, 0};
+  ::setsockopt(wire, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  ASSERT_EQ(::recv(wire, datagram, sizeof datagram, 0), 40);
+  ::close(wire);
+  timespec taiNow{};
+  clock_gettime(CLOCK_TAI, &taiNow);
+  const Nanoseconds taiMinusMonotonic =
+      Nanoseconds{static_cast<std::int64_t>(taiNow.tv_sec) * 1'000'000'000 + taiNow.tv_nsec} -
+      clock.now().time_since_epoch();
+  const std::optional<LockAnnouncement> sent = decodeLockAnnouncement(std::span(datagram, 40));
+  ASSERT_TRUE(sent);
+  EXPECT_NEAR(static_cast<double>((sent->epoch - (epoch + taiMinusMonotonic)).count()), 0.0, 1e6)
+      << "the epoch is sent on CLOCK_TAI";
+  ASSERT_TRUE(within3s([&] { return hearsTai.earliestEpochHeard().has_value(); }));
+  EXPECT_NEAR(static_cast<double>((*hearsTai.earliestEpochHeard() - epoch).count()), 0.0,
+              static_cast<double>(kSameLockTolerance.count()) / 10);
+  ASSERT_TRUE(within3s([&] { return hearsMonotonic.counters().otherRate > 0; }));
+  EXPECT_FALSE(hearsMonotonic.earliestEpochHeard());
+  // The same lock announced again moves nothing, though each conversion reads the clocks anew
+  std::this_thread::sleep_for(200ms);
+  const TimePoint first = *hearsTai.earliestEpochHeard();
+  std::this_thread::sleep_for(200ms);
+  EXPECT_EQ(*hearsTai.earliestEpochHeard(), first);
+  EXPECT_GT(hearsTai.counters().received, 5u);
+  for (FieldLockLink* link : {&sender, &hearsTai, &hearsMonotonic}) link->stop();
+}
+
 TEST(FieldLockLink, BadAddressesFailNamingTheKey) {
   SystemClock clock;
   try {
-    FieldLockLink link({"localhost:7300", {}, 100ms}, kNtsc, clock);
+    FieldLockLink link({"localhost:7300", {}, LockTimeBase::Monotonic, 100ms}, kNtsc, clock);
     FAIL() << "a name is not an IPv4 address";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("lock.listen"), std::string::npos) << e.what();
   }
   try {
-    FieldLockLink link({"127.0.0.1:0", {"127.0.0.1:70000"}, 100ms}, kNtsc, clock);
+    FieldLockLink link({"127.0.0.1:0", {"127.0.0.1:70000"}, LockTimeBase::Monotonic, 100ms}, kNtsc, clock);
     FAIL() << "port 70000";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("lock.peers"), std::string::npos) << e.what();
