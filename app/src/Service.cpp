@@ -471,7 +471,7 @@ void Service::start() {
       if (p.gpio) p.applyExternalSync();
       if (p.lock) p.followFrameLock(tick);
       if (p.cockpit) p.actOnCockpit(tick, stick);
-      if (p.hostLink) p.hostLink->fieldStarted(tick.fieldNumber, tick.displayTime);  // its Start of Frame
+      if (p.hostLink) p.hostLink->fieldStarted(tick.fieldNumber, tick.displayTime, tick.renumbered);  // Start of Frame
       if (p.flightModel) p.stepFlight(tick, now, stick);
     };
   }

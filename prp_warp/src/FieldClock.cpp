@@ -129,6 +129,7 @@ void FieldClock::applyPendingLock() noexcept {
   std::uint64_t k = firstFieldAtOrAfter(mConfig.rate, epoch, due);
   if (mConfig.scan == ScanMode::Interlaced && (k & 1U) != (mNextField & 1U)) ++k;
   mNextField = k;
+  mRenumbered = true;
   mRelocks.fetch_add(1, std::memory_order_relaxed);
 }
 
@@ -159,6 +160,8 @@ FieldTick FieldClock::next() noexcept {
   tick.wakeTime = tick.displayTime - mConfig.lead;
   tick.parity = parity(k);
   tick.missedBefore = missed;
+  tick.renumbered = mRenumbered;
+  mRenumbered = false;
   mClock.sleepUntil(tick.wakeTime);
   mNextField = k + 1;
   return tick;

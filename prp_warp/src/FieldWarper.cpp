@@ -93,6 +93,7 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
   out.parity = spec.parity;
   out.rasterHeightPx = mConfig.rasterHeightPx;
   out.fieldNumber = spec.fieldNumber;
+  out.renumbered = spec.renumbered;
   out.displayTime = spec.displayTime;
   const std::uint64_t shownFrameNumber = out.sourceFrameNumber;  // what a held field shows again
   const TimePoint shownPoseTime = out.sourcePoseTime;

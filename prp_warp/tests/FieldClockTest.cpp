@@ -163,10 +163,13 @@ TEST(FieldClock, LockingToAnotherEpochTakesItsFieldNumbersAndKeepsTheFieldOrder)
   EXPECT_GE(tick.displayTime, due);
   EXPECT_EQ(tick.parity, fc.parity(5));
   EXPECT_EQ(tick.missedBefore, 0u);
+  EXPECT_TRUE(tick.renumbered);
   EXPECT_EQ(fc.relocks(), 1u);
   EXPECT_EQ(fc.missedFields(), 0u);
   // and the schedule goes on on theirs
-  EXPECT_EQ(fc.next().displayTime, epoch + cfg.rate.tickOffset(1008));
+  const FieldTick after = fc.next();
+  EXPECT_EQ(after.displayTime, epoch + cfg.rate.tickOffset(1008));
+  EXPECT_FALSE(after.renumbered);
 }
 
 TEST(FieldClock, RejectsBadConfiguration) {

@@ -91,8 +91,10 @@ class HostLink {
   void stop();
 
   /// The field thread's call, once per field: wakes the link to send that field's Start of
-  /// Frame. RT-safe (an atomic store and one non-blocking write to an eventfd).
-  void fieldStarted(std::uint64_t fieldNumber, TimePoint displayTime) noexcept;
+  /// Frame. `renumbered`: the field clock moved onto another frame lock just before this field
+  /// (its number does not follow the last one's; no field was lost). RT-safe (atomic stores and
+  /// one non-blocking write to an eventfd).
+  void fieldStarted(std::uint64_t fieldNumber, TimePoint displayTime, bool renumbered = false) noexcept;
 
   HostLinkCounters counters() const noexcept;
 
@@ -117,6 +119,7 @@ class HostLink {
 
   bool mAnnouncedAny = false;  // field thread only
   std::atomic<std::uint64_t> mFirstAnnounced{0};
+  std::atomic<std::uint64_t> mRenumberedAt{0};  // a renumbered field's number, until sendField sees it; 0: none
 
   // Link thread only.
   bool mServedAny = false;

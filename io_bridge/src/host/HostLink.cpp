@@ -9,6 +9,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -70,7 +71,8 @@ void HostLink::stop() {
   publishCounters();
 }
 
-void HostLink::fieldStarted(std::uint64_t fieldNumber, TimePoint displayTime) noexcept {
+void HostLink::fieldStarted(std::uint64_t fieldNumber, TimePoint displayTime, bool renumbered) noexcept {
+  if (renumbered) mRenumberedAt.store(fieldNumber, std::memory_order_relaxed);
   if (!mAnnouncedAny) {  // one announcing thread: a plain flag and a relaxed store suffice
     mAnnouncedAny = true;
     mFirstAnnounced.store(fieldNumber, std::memory_order_relaxed);
@@ -126,7 +128,10 @@ void HostLink::sendField() {
   // The flag may have been raised again between clearing it and the load, for the field this
   // load already read: served, not to be sent twice. Fields announced but never read (the link
   // was late) are counted here, the one place that sees which fields were served.
-  const std::uint64_t expected = mServedAny ? mLastServed + 1 : mFirstAnnounced.load(std::memory_order_relaxed);
+  std::uint64_t expected = mServedAny ? mLastServed + 1 : mFirstAnnounced.load(std::memory_order_relaxed);
+  // After a move onto another frame lock the numbers jump there: not fields the link lost
+  if (const std::uint64_t renumberedAt = mRenumberedAt.exchange(0, std::memory_order_relaxed); renumberedAt != 0)
+    expected = std::max(expected, renumberedAt);
   if (mServedAny && field.fieldNumber <= mLastServed) return;
   if (field.fieldNumber > expected) mCounting.fieldsCoalesced += field.fieldNumber - expected;
   mServedAny = true;

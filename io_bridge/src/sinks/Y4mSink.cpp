@@ -134,6 +134,12 @@ SinkStatus Y4mSink::consume(const Field& field) {
   const bool progressive = st.format.scan == ScanMode::Progressive;
   // Field k belongs to frame k / 2 (interlaced; the first field of each frame has the even number).
   const auto frame = static_cast<std::int64_t>(progressive ? field.fieldNumber : field.fieldNumber / 2);
+  if (field.renumbered) {
+    // The field clock moved onto another frame lock: the numbers jump, the pictures go on. A frame
+    // half made takes this field as its partner under the new number; nothing is repeated.
+    if (st.pendingFrame >= 0) st.pendingFrame = st.pendingFrameWritten = frame;
+    st.nextFrame = frame;
+  }
   if (st.pendingFrame >= 0 && frame != st.pendingFrame) {
     if (!st.writeFrame()) return SinkStatus::Ended;  // its partner field never came
     st.nextFrame = st.pendingFrameWritten + 1;

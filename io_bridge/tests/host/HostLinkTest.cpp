@@ -273,6 +273,27 @@ TEST(HostLink, AGarbageFloodIsCountedAndFieldsAreStillServed) {
 // Announcements faster than the link can serve them (no sleep between): every field is served
 // once or counted as coalesced, in order — never served twice (an announcement raised while the
 // link was reading the previous one), never lost uncounted. The first announced is not field 0.
+// A move onto another frame lock renumbers the fields: the jump is not fields the link lost.
+TEST(HostLink, ARenumberedFieldIsNotCountedAsCoalescedFields) {
+  SystemClock clock;
+  RecordingHandler handler;
+  HostLink link(anyPort(), clock, handler);
+  link.start();
+  const auto announceAndWait = [&](std::uint64_t n, bool renumbered) {
+    link.fieldStarted(n, clock.now(), renumbered);
+    for (int i = 0; i < 200 && (handler.fieldNumbers().empty() || handler.fieldNumbers().back() != n); ++i)
+      std::this_thread::sleep_for(5ms);
+  };
+  announceAndWait(10, false);
+  announceAndWait(11, false);
+  announceAndWait(5011, true);
+  announceAndWait(5012, false);
+  announceAndWait(5014, false);  // 5013 lost: counted
+  link.stop();
+  EXPECT_EQ(handler.fieldNumbers().size(), 5u);
+  EXPECT_EQ(link.counters().fieldsCoalesced, 1u);
+}
+
 TEST(HostLink, FieldsAnnouncedFasterThanServedAreServedOnceOrCountedCoalesced) {
   SystemClock clock;
   RecordingHandler handler;

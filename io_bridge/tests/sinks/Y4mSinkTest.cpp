@@ -144,6 +144,25 @@ TEST(Y4mSink, WholeMissedFramesAreRepeatedSoTheFileKeepsTime) {
   std::filesystem::remove(path);
 }
 
+TEST(Y4mSink, FieldsRenumberedByAMoveOntoAnotherLockFillNothing) {
+  // Fields 0–2, then the field clock moves onto another lock: the field after 2 is 1003 (odd,
+  // as 3 would have been), and it completes the frame field 2 began.
+  const StreamFormat f = testFormat(16, 6);
+  const auto path = tempPath("renumbered.y4m");
+  Y4mSink sink({path, Y4mChroma::C422});
+  sink.open(f);
+  for (std::uint64_t k : {0u, 1u, 2u}) sink.consume(makeField(f, k));
+  Field moved = makeField(f, 1003);
+  moved.renumbered = true;
+  sink.consume(moved);
+  for (std::uint64_t k : {1004u, 1005u}) sink.consume(makeField(f, k));
+  sink.close();
+  EXPECT_EQ(sink.framesWritten(), 3u);
+  EXPECT_EQ(sink.framesRepeated(), 0u);
+  EXPECT_EQ(sink.incompleteFrames(), 0u);
+  std::filesystem::remove(path);
+}
+
 TEST(Y4mSink, ProgressiveGapsAreFilledToo) {
   const StreamFormat f = testFormat(16, 6, ScanMode::Progressive);
   const auto path = tempPath("gap_p.y4m");

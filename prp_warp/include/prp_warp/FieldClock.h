@@ -36,6 +36,8 @@ struct FieldTick {
   TimePoint wakeTime{};           ///< t_k − lead: when the thread was due to start it
   FieldParity parity = FieldParity::Progressive;
   std::uint64_t missedBefore = 0;  ///< fields skipped just before this one
+  /// The first field after lockTo moved the schedule: its number does not follow the last one's.
+  bool renumbered = false;
 };
 
 /// The first field k of the schedule t_k = epoch + k·T (T of `rate`, exact) displayed at `t` or
@@ -121,6 +123,7 @@ class FieldClock {
   SeqLock<Edge> mPendingLock;
   std::uint64_t mLockSequence = 0;   // writer side
   std::uint64_t mLocksConsumed = 0;  // field-thread side
+  bool mRenumbered = false;          // the next tick is the first after a move
   std::atomic<std::uint64_t> mMissed{0};
   std::atomic<std::uint64_t> mSyncApplied{0};
   std::atomic<std::uint64_t> mSyncRejected{0};

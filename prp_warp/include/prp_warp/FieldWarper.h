@@ -36,8 +36,11 @@ struct FieldSpec {
   std::uint64_t fieldNumber = 0;
   TimePoint displayTime{};
   FieldParity parity = FieldParity::Progressive;
+  bool renumbered = false;  ///< see Field::renumbered
   /// The spec of a clock tick.
-  static FieldSpec of(const FieldTick& tick) noexcept { return {tick.fieldNumber, tick.displayTime, tick.parity}; }
+  static FieldSpec of(const FieldTick& tick) noexcept {
+    return {tick.fieldNumber, tick.displayTime, tick.parity, tick.renumbered};
+  }
 };
 
 /// How producing one field went. Every status still yields a complete field (black when there

@@ -66,6 +66,9 @@ struct Field {
   std::uint64_t sourceFrameNumber = 0;  ///< the frame it was warped from
   TimePoint sourcePoseTime{};           ///< that frame's pose time (frame age = displayTime − this)
   std::uint32_t marginViolations = 0;   ///< output pixels whose source fell outside the frame
+  /// The first field after the field clock moved onto another frame lock: its number does not
+  /// follow the previous field's, though no field was lost between them.
+  bool renumbered = false;
 };
 
 }  // namespace fieldcast
