@@ -146,7 +146,7 @@ void Channel::startFields(PlanFields plan, FieldLoop::BeforeField beforeField, P
                                                pendingInput);
       if (beforeField) mFieldLoop->setBeforeField(std::move(beforeField));
       mFieldClockReady.store(true, std::memory_order_release);
-      mFieldLoop->run(mStopFields, start.end);
+      mFieldLoop->run(mStopFields, start.end, start.fieldCount);
     } catch (const std::exception& e) {
       mOnFatal(std::string("fields: ") + e.what());
     }

@@ -45,6 +45,7 @@ struct FieldStart {
   TimePoint t0;                      ///< display time of field 0 (a frame lock's epoch)
   std::uint64_t firstField = 0;      ///< the first field made (a channel joining a lock late: where the others are)
   TimePoint end = TimePoint::max();  ///< no field displayed at or after this is made
+  std::uint64_t fieldCount = 0;      ///< at most this many fields of the schedule (emitted or missed); 0: no limit
 };
 
 /// What the field thread's warm-up did (DESIGN.md §4: the first field's deadline comes after it).

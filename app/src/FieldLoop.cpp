@@ -30,11 +30,13 @@ FieldLoop::FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::Fie
   mLastViolations = totals.marginViolations.load(std::memory_order_relaxed);
 }
 
-void FieldLoop::run(const std::atomic<bool>& stop, TimePoint end) noexcept {
+void FieldLoop::run(const std::atomic<bool>& stop, TimePoint end, std::uint64_t fieldCount) noexcept {
+  std::uint64_t scheduled = 0;  // fields of the schedule so far, this one included
   while (!stop.load(std::memory_order_acquire)) {
     const warp::FieldTick tick = mClock.next();
     if (stop.load(std::memory_order_acquire)) break;
-    if (tick.displayTime >= end) break;
+    scheduled += 1 + tick.missedBefore;
+    if (tick.displayTime >= end || (fieldCount != 0 && scheduled > fieldCount)) break;
     emit(tick);
   }
 }

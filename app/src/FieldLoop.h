@@ -35,9 +35,10 @@ class FieldLoop {
             const motion::MotionSource& motion, io::SinkHub& sinks, ServiceMetrics& metrics,
             PendingInput* pendingInput = nullptr);
 
-  /// Emits fields until `stop` is set or the next field's display time is `end` or later. Field
+  /// Emits fields until `stop` is set, the next field's display time is `end` or later, or
+  /// `fieldCount` fields of the schedule (emitted or missed; 0: no limit) have passed. Field
   /// thread body. RT-safe after the first field.
-  void run(const std::atomic<bool>& stop, TimePoint end = TimePoint::max()) noexcept;
+  void run(const std::atomic<bool>& stop, TimePoint end = TimePoint::max(), std::uint64_t fieldCount = 0) noexcept;
 
   /// Makes one field for `tick` and publishes it (the body of run(); exposed for virtual-time tests).
   void emit(const warp::FieldTick& tick) noexcept;

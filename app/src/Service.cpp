@@ -484,12 +484,13 @@ void Service::start() {
     TimePoint firstTime = start.t0;
     if (p.lock) p.joinFrameLock(start, firstTime);
     const auto fieldAt = [&](std::uint64_t k) { return start.t0 + rate.tickOffset(static_cast<std::int64_t>(k)); };
-    if (p.config.motion.durationS > 0) {
-      start.end =
-          fieldAt(start.firstField + static_cast<std::uint64_t>(std::llround(p.config.motion.durationS * rate.hz())));
-    }
+    // --duration: that many fields of the schedule, emitted or missed (a genlocked clock's period
+    // is not quite the nominal one, and a move onto another lock renumbers the fields)
+    if (p.config.motion.durationS > 0)
+      start.fieldCount = static_cast<std::uint64_t>(std::llround(p.config.motion.durationS * rate.hz()));
     // The flight starts at field 0: with a frame lock, every channel flies the same instant in
-    // its field k. (A channel that moves onto an earlier lock later keeps this end instant.)
+    // its field k. Its end is an instant: a channel that moves onto an earlier lock later (and
+    // its flight with it) still ends at this one, showing the flight's last pose until then.
     if (p.flown) p.flown->setStart(start.t0);
     if (p.flight && p.flight->end() == motion::FlightEnd::Stop) {
       // The fields displayed up to the flight's end, the last one included

@@ -160,13 +160,29 @@ TEST(FieldLoop, AFieldHandedOverAfterItsDisplayTimeIsCountedLate) {
   EXPECT_EQ(f.fieldsMissed, 0u);
 }
 
-TEST(FieldLoop, RunStopsAtTheLastFieldAsked) {
+TEST(FieldLoop, RunStopsAtTheEndInstantAsked) {
   Rig rig;
   FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
   std::atomic<bool> stop{false};
   loop.run(stop, rig.fieldClock->displayTime(30));
   rig.hub->stop();
   EXPECT_EQ(rig.seen->numbers.size(), 30u);
+}
+
+TEST(FieldLoop, RunStopsAfterTheFieldCountAskedMissedOnesIncluded) {
+  Rig rig;
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
+  // Field 3's work stalls two periods: field 4 can no longer be made, and counts
+  loop.setBeforeField([&rig](const warp::FieldTick& tick) {
+    if (tick.fieldNumber == 3) rig.clock.advance(2 * rig.clockConfig.rate.period());
+  });
+  std::atomic<bool> stop{false};
+  loop.run(stop, TimePoint::max(), 30);
+  rig.hub->stop();
+  ASSERT_FALSE(rig.seen->numbers.empty());
+  EXPECT_EQ(rig.seen->numbers.back(), 29u);
+  EXPECT_EQ(rig.metrics.figures(rig.clock.now()).fieldsMissed, 1u);
+  EXPECT_EQ(rig.seen->numbers.size(), 29u);
 }
 
 // With a host: each field's record names the newest host sample its pose was made from, and the
