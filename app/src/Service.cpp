@@ -43,6 +43,9 @@ constexpr auto kFirstFrameTimeout = 60s;  // the first frame also waits for the 
 // From the end of the field thread's warm-up to the first field's wake-up: the thread is already
 // running and warm, so this only has to cover the planning itself.
 constexpr Nanoseconds kFirstFieldMargin = 2ms;
+// A frame lock whose field 0 comes up to this many fields after this channel's own first field
+// would is joined at start rather than begun anew (two channels ready at nearly one instant).
+constexpr std::int64_t kJoinLaterLockFields = 6;
 
 // The summary is written at the end of the run: a path that cannot be written is found now, not
 // after the run. An existing file is opened for appending (left as it is); a new one is created
@@ -197,14 +200,16 @@ struct Service::Parts {
   }
 
   // At the start: join the lock the other channels hold (the earliest epoch heard) at its first
-  // field displayed after this channel is ready, a frame's first field (even); with none heard,
-  // this channel's field 0 is the lock's epoch.
+  // field displayed after this channel is ready (interlaced: a frame's first field, even); with
+  // none heard, this channel's field 0 is the lock's epoch. A lock that begins a few fields after
+  // this channel's own first field would is joined too: two channels ready at nearly one instant
+  // then share one lock from their first field instead of one moving onto the other's.
   void joinFrameLock(FieldStart& start, TimePoint& firstTime) {
     const std::optional<TimePoint> heard = lock->earliestEpochHeard();
-    if (heard && *heard < start.t0) {
-      const RationalRate rate = config.output.fieldRate;
+    const RationalRate rate = config.output.fieldRate;
+    if (heard && *heard < start.t0 + rate.tickOffset(kJoinLaterLockFields)) {
       std::uint64_t k = warp::firstFieldAtOrAfter(rate, *heard, start.t0);
-      k += k & 1U;
+      if (config.output.scan == ScanMode::Interlaced) k += k & 1U;
       start.t0 = *heard;
       start.firstField = k;
       firstTime = *heard + rate.tickOffset(static_cast<std::int64_t>(k));
@@ -443,7 +448,14 @@ void Service::start() {
   if (p.flown) p.flown->setStart(p.clock.now());  // until the first field's time is known
   if (p.stick) p.stick->start();
   if (p.gpio) p.gpio->start();
-  if (p.lock) p.lock->start();  // hears the other channels during the warm-up
+  if (p.lock) {
+    // Hear the other channels before the first frame: a channel joining a running lock renders
+    // its flight at the lock's time from the start
+    p.lock->start();
+    p.lock->awaitPeers();
+    if (const std::optional<TimePoint> heard = p.lock->earliestEpochHeard(); heard && p.flown)
+      p.flown->setStart(*heard);
+  }
   if (p.hostLink) p.hostLink->start();
 
   if (p.hostSession) {
@@ -575,7 +587,9 @@ ServiceFigures Service::stop() {
                          {"announcements_sent", c.sent},
                          {"announcements_heard", c.received},
                          {"other_rate", c.otherRate},
-                         {"malformed", c.malformed}};
+                         {"malformed", c.malformed},
+                         {"strangers", c.strangers},
+                         {"send_errors", c.sendErrors}};
     }
     if (p.hostLink)
       summary["host"] = hostSummary(p.hostLink->counters(), p.hostSession->figures(), p.hostMotion->counters());

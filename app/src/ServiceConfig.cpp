@@ -52,7 +52,12 @@ io::FieldLockConfig readLockConfig(ConfigReader& t) {
     }
   };
   if (!l.listen.empty()) check("listen", l.listen);
-  for (const std::string& peer : l.peers) check("peers", peer);
+  for (const std::string& peer : l.peers) {
+    check("peers", peer);
+    if (io::parseUdpAddress(peer, "peers").sin_port == 0)
+      t.fail("peers", "a peer's port cannot be 0: \"" + peer + "\"");
+    if (peer == l.listen) t.fail("peers", "this channel's own address (lock.listen) is not a peer: \"" + peer + "\"");
+  }
   if (l.listen.empty() && !l.peers.empty())
     t.fail("listen", "the lock needs this channel's own address to hear its peers");
   t.finish();

@@ -222,6 +222,10 @@ TEST(AppConfig, LockTakesThisChannelsAddressAndItsPeers) {
       {" --set 'lock.listen=\"localhost:7301\"'", "lock.listen: expected \"address:port\""},
       {" --set 'lock.listen=\"127.0.0.1:7301\"' --set 'lock.peers=[\"127.0.0.1\"]'", "lock.peers: expected"},
       {" --set 'lock.peers=[\"127.0.0.1:7302\"]'", "lock.listen: the lock needs this channel's own address"},
+      {" --set 'lock.listen=\"127.0.0.1:7301\"' --set 'lock.peers=[\"127.0.0.1:7301\"]'",
+       "lock.peers: this channel's own address"},
+      {" --set 'lock.listen=\"127.0.0.1:7301\"' --set 'lock.peers=[\"127.0.0.1:0\"]'",
+       "lock.peers: a peer's port cannot be 0"},
       {" --set 'lock.listen=\"127.0.0.1:7301\"' --set 'input.sync=\"gpiochip0:17\"'",
        "lock.listen: a channel locks to the GPIO sync input (input.sync) or to the other channels, not both"}};
   for (const auto& [set, message] : bad) {

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
@@ -74,6 +75,17 @@ class Channel {
   pid_t mPid = -1;
   bool mDone = false;
 };
+
+// Waits up to a minute for `text` to appear in the file at `path` (a channel's log).
+bool waitForLog(const fs::path& path, const std::string& text) {
+  for (int i = 0; i < 1200; ++i) {
+    std::ifstream in(path);
+    const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (content.find(text) != std::string::npos) return true;
+    std::this_thread::sleep_for(50ms);
+  }
+  return false;
+}
 
 // One line of a field log.
 struct LoggedField {
@@ -180,11 +192,14 @@ int expectSameInstants(const std::map<std::uint64_t, LoggedField>& a, const std:
 }
 
 TEST_F(FrameLock, AChannelKilledAndRestartedRejoinsWithoutDisturbingTheOthers) {
-  Channel left(channelArgs(0, "left", 14), mDir / "left.log");
-  std::this_thread::sleep_for(1s);
+  // Each channel starts once the one before has begun its fields (its log says how it locked)
+  Channel left(channelArgs(0, "left", 18), mDir / "left.log");
+  ASSERT_TRUE(waitForLog(mDir / "left.log", "frame lock: this channel's field 0"));
   Channel centre(channelArgs(1, "centre", 13), mDir / "centre.log");
+  ASSERT_TRUE(waitForLog(mDir / "centre.log", "frame lock: joined"));
   {
     Channel right(channelArgs(2, "right_first", 30), mDir / "right_first.log");
+    ASSERT_TRUE(waitForLog(mDir / "right_first.log", "frame lock: joined"));
     std::this_thread::sleep_for(5s);
     right.killNow();  // SIGKILL: no summary, no goodbye
   }
@@ -197,51 +212,57 @@ TEST_F(FrameLock, AChannelKilledAndRestartedRejoinsWithoutDisturbingTheOthers) {
   const nlohmann::json l = summary("left"), c = summary("centre"), r = summary("right");
   // One lock: the first channel's epoch; the others joined it at start, nobody moved later
   EXPECT_EQ(l["lock"]["first_field"], 0);
-  EXPECT_GT(c["lock"]["first_field"].get<std::uint64_t>(), 0u);
+  const std::uint64_t centreFirst = c["lock"]["first_field"].get<std::uint64_t>();
+  EXPECT_GT(centreFirst, 0u);
   EXPECT_EQ(c["lock"]["epoch_ns"], l["lock"]["epoch_ns"]);
   EXPECT_EQ(r["lock"]["epoch_ns"], l["lock"]["epoch_ns"]);
   for (const auto* s : {&l, &c, &r}) {
     EXPECT_EQ((*s)["lock"]["relocks"], 0);
     EXPECT_EQ((*s)["lock"]["malformed"], 0);
+    EXPECT_EQ((*s)["lock"]["strangers"], 0);
   }
-  // The restarted channel joined at the field the others were at, a frame's first field
+  // The restarted channel joined at the field the others were at (more than six seconds after
+  // the centre one began), a frame's first field
   const std::uint64_t rejoined = r["lock"]["first_field"].get<std::uint64_t>();
-  EXPECT_GT(rejoined, 6u * 60u) << "it was restarted more than six seconds into the lock";
+  EXPECT_GT(rejoined, centreFirst + 6 * 59);
   EXPECT_EQ(rejoined % 2, 0u);
   // The others were not disturbed: no field black, none missed beyond what a machine shared with
   // the other tests may cost (as ServiceRun allows), the schedule unbroken
   for (const auto* s : {&l, &c, &r}) {
-    EXPECT_LE((*s)["fields_missed"].get<double>(), 0.02 * 14 * 59.94 + 2) << s->dump();
+    EXPECT_LE((*s)["fields_missed"].get<double>(), 0.02 * 18 * 59.94 + 2) << s->dump();
     EXPECT_EQ((*s)["fields_black"], 0) << s->dump();
   }
 
   const auto left_ = readFieldLog(mDir / "left.csv");
   const auto centre_ = readFieldLog(mDir / "centre.csv");
   const auto right_ = readFieldLog(mDir / "right.csv");
+  const auto leftMissed = l["fields_missed"].get<std::size_t>();
   ASSERT_EQ(left_.size(), l["fields_emitted"].get<std::size_t>());
-  // The left channel's fields are consecutive but for its missed ones: no jump while the right
-  // one died and came back
-  EXPECT_EQ(left_.rbegin()->first - left_.begin()->first + 1, left_.size() + l["fields_missed"].get<std::size_t>());
-  EXPECT_EQ(right_.begin()->first, rejoined);
-  EXPECT_GT(expectSameInstants(left_, centre_, "left/centre"), 12 * 59);
-  EXPECT_EQ(expectSameInstants(left_, right_, "left/right"), static_cast<int>(right_.size()));
+  // The left channel's fields run from field 0 without a jump while the right one died and came
+  // back: every field of the schedule emitted or missed
+  EXPECT_EQ(left_.rbegin()->first + 1, left_.size() + leftMissed);
+  EXPECT_LE(right_.begin()->first - rejoined, r["fields_missed"].get<std::uint64_t>());
+  // Field k: one display time and one ownship position in every channel (the left one outlives
+  // the others)
+  EXPECT_GE(expectSameInstants(left_, centre_, "left/centre") + leftMissed, centre_.size());
+  EXPECT_GE(expectSameInstants(left_, right_, "left/right") + leftMissed, right_.size());
   EXPECT_GE(right_.size() + r["fields_missed"].get<std::size_t>(), 4u * 59u);
   // The first run of the right channel numbered its fields alike too, until it was killed
   const auto firstRun = readFieldLog(mDir / "right_first.csv");
-  EXPECT_GT(expectSameInstants(left_, firstRun, "left/killed right"), 60);
+  EXPECT_GT(expectSameInstants(left_, firstRun, "left/killed right"), 4 * 59);
 }
 
 TEST_F(FrameLock, TwoChannelsLockOnTheTaiClock) {
   // As channels on two machines disciplined by PTP would: the epoch crosses as an instant of
   // CLOCK_TAI, each channel converting to and from its own CLOCK_MONOTONIC.
   Channel left(channelArgs(0, "left", 7, "clock = \"tai\"\n"), mDir / "left.log");
-  std::this_thread::sleep_for(1s);
+  ASSERT_TRUE(waitForLog(mDir / "left.log", "frame lock: this channel's field 0"));
   Channel centre(channelArgs(1, "centre", 4, "clock = \"tai\"\n"), mDir / "centre.log");
   ASSERT_EQ(centre.wait(), 0) << std::ifstream(mDir / "centre.log").rdbuf();
   ASSERT_EQ(left.wait(), 0) << std::ifstream(mDir / "left.log").rdbuf();
   const nlohmann::json l = summary("left"), c = summary("centre");
   EXPECT_EQ(l["lock"]["first_field"], 0);
-  EXPECT_GT(c["lock"]["first_field"].get<std::uint64_t>(), 30u);
+  EXPECT_GT(c["lock"]["first_field"].get<std::uint64_t>(), 0u);
   EXPECT_EQ(l["lock"]["relocks"], 0);
   EXPECT_EQ(c["lock"]["relocks"], 0);
   const auto epochGap = l["lock"]["epoch_ns"].get<std::int64_t>() - c["lock"]["epoch_ns"].get<std::int64_t>();
@@ -257,7 +278,7 @@ TEST_F(FrameLock, TwoChannelsLockOnTheTaiClock) {
     ASSERT_LT(std::abs(field.displayNs - other->second.displayNs), fieldcast::io::kSameLockTolerance.count())
         << "field " << k;
   }
-  EXPECT_GT(common, 3 * 59);
+  EXPECT_GT(common + l["fields_missed"].get<int>(), 3 * 59);
 }
 
 TEST_F(FrameLock, AChannelThatHearsAnEarlierLockWhileRunningMovesOntoIt) {
@@ -316,8 +337,9 @@ TEST_F(FrameLock, AChannelThatHearsAnEarlierLockWhileRunningMovesOntoIt) {
         const std::int64_t onOurs = f.displayNs - earlier.epoch.time_since_epoch().count();
         EXPECT_EQ(onOurs, rate.tickOffset(static_cast<std::int64_t>(k)).count()) << "field " << k << " on our schedule";
       } else {
-        EXPECT_NEAR(static_cast<double>(step), static_cast<double>((k - previous) * rate.period().count()), 1.0)
-            << "field " << k;
+        const auto gap =
+            rate.tickOffset(static_cast<std::int64_t>(k)) - rate.tickOffset(static_cast<std::int64_t>(previous));
+        EXPECT_EQ(step, gap.count()) << "field " << k;
       }
     }
     previous = k;

@@ -35,7 +35,9 @@ LockReport lockReport(const std::vector<ChannelRun>& channels) {
     p.black = c.summary.value("fields_black", std::uint64_t{0});
     if (c.summary.contains("lock")) p.relocks = c.summary["lock"].value("relocks", std::uint64_t{0});
     if (!c.fields.empty()) {
-      p.firstField = c.fields.begin()->first;
+      // The first field planned (a missed first field is not in the log)
+      p.firstField = c.summary.contains("lock") ? c.summary["lock"].value("first_field", c.fields.begin()->first)
+                                                : c.fields.begin()->first;
       p.lastField = c.fields.rbegin()->first;
       p.latestEmissionMs = -1e9;
       for (const auto& [k, f] : c.fields) {

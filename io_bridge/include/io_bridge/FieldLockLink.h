@@ -72,6 +72,7 @@ struct FieldLockCounters {
   std::uint64_t received = 0;   ///< announcements accepted
   std::uint64_t otherRate = 0;  ///< announcements of another field rate: not this lock
   std::uint64_t malformed = 0;  ///< datagrams that are not announcements, or epochs not on this clock
+  std::uint64_t strangers = 0;  ///< datagrams from an address that is not one of the peers: ignored
   std::uint64_t sendErrors = 0;
 };
 
@@ -131,7 +132,7 @@ class FieldLockLink {
   TimePoint mStarted{};
   std::atomic<bool> mStop{false};
   std::thread mThread;
-  std::atomic<std::uint64_t> mSent{0}, mReceived{0}, mOtherRate{0}, mMalformed{0}, mSendErrors{0};
+  std::atomic<std::uint64_t> mSent{0}, mReceived{0}, mOtherRate{0}, mMalformed{0}, mStrangers{0}, mSendErrors{0};
 };
 
 }  // namespace fieldcast::io

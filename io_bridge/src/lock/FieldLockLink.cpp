@@ -24,6 +24,8 @@ constexpr std::int64_t kNoneHeard = std::numeric_limits<std::int64_t>::max();
 // An epoch further ahead than this is not an instant of this machine's clock (another machine's,
 // or garbage): a lock's epoch is its first field, a few hundred milliseconds after its start.
 constexpr Nanoseconds kFutureEpochLimit = std::chrono::seconds(10);
+// A lock older than this is not one (and field numbers counted from it stay far from overflow).
+constexpr Nanoseconds kPastEpochLimit = std::chrono::hours(24 * 365 * 10);
 
 void putBigEndian(std::uint8_t* out, std::uint64_t value, int bytes) noexcept {
   for (int i = bytes - 1; i >= 0; --i, value >>= 8) out[i] = static_cast<std::uint8_t>(value & 0xFFu);
@@ -158,6 +160,7 @@ FieldLockCounters FieldLockLink::counters() const noexcept {
   c.received = mReceived.load(std::memory_order_relaxed);
   c.otherRate = mOtherRate.load(std::memory_order_relaxed);
   c.malformed = mMalformed.load(std::memory_order_relaxed);
+  c.strangers = mStrangers.load(std::memory_order_relaxed);
   c.sendErrors = mSendErrors.load(std::memory_order_relaxed);
   return c;
 }
@@ -185,8 +188,19 @@ void FieldLockLink::run() noexcept {
 void FieldLockLink::receiveAll() noexcept {
   std::array<std::uint8_t, 512> buffer{};
   for (;;) {
-    const ssize_t bytes = ::recv(mSocket, buffer.data(), buffer.size(), 0);
+    sockaddr_in from{};
+    socklen_t fromLength = sizeof from;
+    const ssize_t bytes =
+        ::recvfrom(mSocket, buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &fromLength);
     if (bytes < 0) return;  // EAGAIN: all read
+    // Only the rig's channels: anyone else could otherwise re-time every channel for good
+    const bool peer = std::any_of(mPeers.begin(), mPeers.end(), [&](const sockaddr_in& p) {
+      return p.sin_addr.s_addr == from.sin_addr.s_addr && p.sin_port == from.sin_port;
+    });
+    if (!peer) {
+      mStrangers.fetch_add(1, std::memory_order_relaxed);
+      continue;
+    }
     const std::optional<LockAnnouncement> a =
         decodeLockAnnouncement(std::span(buffer.data(), static_cast<std::size_t>(bytes)));
     if (!a) {
@@ -203,7 +217,8 @@ void FieldLockLink::receiveAll() noexcept {
       continue;
     }
     const TimePoint epoch = a->epoch - timeBaseOffset();  // on the service's clock
-    if (epoch > mClock.now() + kFutureEpochLimit) {
+    const TimePoint now = mClock.now();
+    if (epoch > now + kFutureEpochLimit || epoch < now - kPastEpochLimit) {
       mMalformed.fetch_add(1, std::memory_order_relaxed);
       continue;
     }

@@ -8,6 +8,8 @@
 
 #include <ctime>
 
+#include "../../../tests/common/FreePort.h"
+
 #include <gtest/gtest.h>
 
 #include <thread>
@@ -16,6 +18,7 @@ namespace fieldcast::io {
 namespace {
 
 using namespace std::chrono_literals;
+using fieldcast::testing::freePort;
 
 const RationalRate kNtsc{60000, 1001};
 
@@ -60,39 +63,42 @@ TEST(FieldLockLink, AnAnnouncementIsFortyBigEndianBytesAndReadsBack) {
 TEST(FieldLockLink, EachChannelHearsTheOthersAndTheEarliestEpochIsKept) {
   SystemClock clock;
   const TimePoint now = clock.now();
-  FieldLockConfig ca{"127.0.0.1:0", {}, LockTimeBase::Monotonic, 20ms}, cb = ca, cc = ca;
-  FieldLockLink a(ca, kNtsc, clock);
-  // b and c know a's port; a learns theirs below (a link's peers are fixed: a new one for a)
-  cb.peers = {loopback(a.port())};
-  cc.peers = {loopback(a.port())};
-  FieldLockLink b(cb, kNtsc, clock), c(cc, kNtsc, clock);
-  ca.peers = {loopback(b.port()), loopback(c.port())};
-  ca.listen = "127.0.0.1:0";
-  FieldLockLink a2(ca, kNtsc, clock);  // a's sender, to b and c
-  a2.announce(now - 5s, 300);
+  const std::uint16_t pa = freePort(), pb = freePort(), pc = freePort(), ps = freePort();
+  // a hears b and c; b and c hear a
+  FieldLockLink a({loopback(pa), {loopback(pb), loopback(pc)}, LockTimeBase::Monotonic, 20ms}, kNtsc, clock);
+  FieldLockLink b({loopback(pb), {loopback(pa)}, LockTimeBase::Monotonic, 20ms}, kNtsc, clock);
+  FieldLockLink c({loopback(pc), {loopback(pa)}, LockTimeBase::Monotonic, 20ms}, kNtsc, clock);
+  a.announce(now - 5s, 300);
   b.announce(now - 2s, 120);
   c.announce(now - 9s, 540);
-  for (FieldLockLink* link : {&a, &a2, &b, &c}) link->start();
+  for (FieldLockLink* link : {&a, &b, &c}) link->start();
 
-  EXPECT_FALSE(a2.earliestEpochHeard());  // nobody sends to a2
   ASSERT_TRUE(within3s([&] { return a.earliestEpochHeard() == now - 9s; }))
       << "a did not come to c's epoch (9 s ago, earlier than b's)";
   ASSERT_TRUE(within3s([&] { return b.earliestEpochHeard() == now - 5s; }));
   ASSERT_TRUE(within3s([&] { return c.earliestEpochHeard() == now - 5s; }));  // later than its own: kept anyway
-  // An epoch announced later than the earliest does not displace it
-  std::this_thread::sleep_for(100ms);
+  // A stranger — not one of a's peers — announcing a still earlier lock is not heard
+  FieldLockLink stranger({loopback(ps), {loopback(pa)}, LockTimeBase::Monotonic, 20ms}, kNtsc, clock);
+  stranger.announce(now - 60s, 3600);
+  stranger.start();
+  ASSERT_TRUE(within3s([&] { return a.counters().strangers > 2; }));
+  // nor does a later epoch displace the earliest
   EXPECT_EQ(a.earliestEpochHeard(), now - 9s);
-  for (FieldLockLink* link : {&a, &a2, &b, &c}) link->stop();
-  EXPECT_GT(a2.counters().sent, 2u);
+  for (FieldLockLink* link : {&a, &b, &c, &stranger}) link->stop();
+  EXPECT_GT(b.counters().sent, 2u);
   EXPECT_GT(a.counters().received, 4u);
   EXPECT_EQ(a.counters().malformed, 0u);
 }
 
 TEST(FieldLockLink, AnotherRateAGarbageDatagramAndAnEpochNotOfThisClockAreNotHeard) {
   SystemClock clock;
-  FieldLockLink link({"127.0.0.1:0", {}, LockTimeBase::Monotonic, 20ms}, kNtsc, clock);
-  link.start();
   const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in from = parseUdpAddress("127.0.0.1:0", "test");
+  ASSERT_EQ(::bind(fd, reinterpret_cast<const sockaddr*>(&from), sizeof from), 0);
+  socklen_t length = sizeof from;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&from), &length);
+  FieldLockLink link({"127.0.0.1:0", {loopback(ntohs(from.sin_port))}, LockTimeBase::Monotonic, 20ms}, kNtsc, clock);
+  link.start();
   const sockaddr_in to = parseUdpAddress(loopback(link.port()), "test");
   const auto send = [&](std::span<const std::uint8_t> bytes) {
     ::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
@@ -107,7 +113,10 @@ TEST(FieldLockLink, AnotherRateAGarbageDatagramAndAnEpochNotOfThisClockAreNotHea
   future.rate = kNtsc;
   future.epoch = clock.now() + 3600s;  // another machine's clock, say
   send(encodeLockAnnouncement(future));
-  ASSERT_TRUE(within3s([&] { return link.counters().otherRate == 1 && link.counters().malformed == 2; }));
+  LockAnnouncement ancient = future;
+  ancient.epoch = clock.now() - std::chrono::hours(24 * 365 * 11);  // older than any lock
+  send(encodeLockAnnouncement(ancient));
+  ASSERT_TRUE(within3s([&] { return link.counters().otherRate == 1 && link.counters().malformed == 3; }));
   EXPECT_FALSE(link.earliestEpochHeard());
   EXPECT_EQ(link.counters().received, 0u);
   ::close(fd);
@@ -129,17 +138,21 @@ TEST(FieldLockLink, OnTheTaiClockAnEpochCrossesAsTheSameInstant) {
   // the two conversions differ by their reading noise only). A channel on CLOCK_MONOTONIC does
   // not follow it.
   SystemClock clock;
-  FieldLockConfig onTai{"127.0.0.1:0", {}, LockTimeBase::Tai, 20ms};
-  FieldLockConfig onMonotonic{"127.0.0.1:0", {}, LockTimeBase::Monotonic, 20ms};
-  FieldLockLink hearsTai(onTai, kNtsc, clock), hearsMonotonic(onMonotonic, kNtsc, clock);
+  const std::uint16_t senderPort = freePort();
+  FieldLockLink hearsTai({"127.0.0.1:0", {loopback(senderPort)}, LockTimeBase::Tai, 20ms}, kNtsc, clock);
+  FieldLockLink hearsMonotonic({"127.0.0.1:0", {loopback(senderPort)}, LockTimeBase::Monotonic, 20ms}, kNtsc, clock);
   // and a plain socket, to read what goes on the wire
   const int wire = ::socket(AF_INET, SOCK_DGRAM, 0);
   sockaddr_in wireAddress = parseUdpAddress("127.0.0.1:0", "test");
   ASSERT_EQ(::bind(wire, reinterpret_cast<const sockaddr*>(&wireAddress), sizeof wireAddress), 0);
   socklen_t length = sizeof wireAddress;
   ::getsockname(wire, reinterpret_cast<sockaddr*>(&wireAddress), &length);
-  onTai.peers = {loopback(hearsTai.port()), loopback(hearsMonotonic.port()), loopback(ntohs(wireAddress.sin_port))};
-  FieldLockLink sender(onTai, kNtsc, clock);
+  FieldLockLink sender(
+      {loopback(senderPort),
+       {loopback(hearsTai.port()), loopback(hearsMonotonic.port()), loopback(ntohs(wireAddress.sin_port))},
+       LockTimeBase::Tai,
+       20ms},
+      kNtsc, clock);
   const TimePoint epoch = clock.now() - 3s;
   sender.announce(epoch, 180);
   for (FieldLockLink* link : {&sender, &hearsTai, &hearsMonotonic}) link->start();

@@ -21,8 +21,10 @@ ChannelRun channel(const std::string& name, std::uint64_t first, std::uint64_t l
     f.hostFrame = static_cast<std::int64_t>(k / 2);
     c.fields[k] = f;
   }
-  c.summary = {
-      {"fields_emitted", last - first + 1}, {"fields_missed", 0}, {"fields_black", 0}, {"lock", {{"relocks", 0}}}};
+  c.summary = {{"fields_emitted", last - first + 1},
+               {"fields_missed", 0},
+               {"fields_black", 0},
+               {"lock", {{"relocks", 0}, {"first_field", first}}}};
   return c;
 }
 
@@ -70,6 +72,17 @@ TEST(LockReport, FailuresNameWhatBrokeTheLock) {
   const std::vector<std::string> allowed = lockFailures(lockReport({a, b}), 3);
   EXPECT_EQ(allowed.size(), failures.size() - 1);
   EXPECT_TRUE(lockFailures(lockReport({a, channel("c", 40, 50, 0)})).size() == 1);  // nothing in common
+}
+
+TEST(LockReport, AMissedFirstFieldIsStillInTheChannelsRun) {
+  // The channel planned field 10 but missed it: its log starts at 11, its summary says so
+  ChannelRun a = channel("a", 10, 29, 2 * kMs);
+  a.fields.erase(10);
+  a.summary["fields_emitted"] = 19;
+  a.summary["fields_missed"] = 1;
+  const LockReport r = lockReport({a});
+  EXPECT_EQ(r.channels[0].firstField, 10u);
+  EXPECT_TRUE(lockFailures(r, 1).empty());
 }
 
 }  // namespace
