@@ -425,6 +425,7 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     }
   }
   report.sharedFrameNumbers = sharedSpreadsMs.size();
+  report.otherSendErrors = otherSendErrors.load();
   report.sharedFrameArrivalSpreadP99Ms = percentile(sharedSpreadsMs, 0.99);
   report.heightErrorMaxM = heightErrors.empty() ? 0.0 : *std::max_element(heightErrors.begin(), heightErrors.end());
   report.heightErrorP95M = percentile(heightErrors, 0.95);
@@ -468,8 +469,9 @@ std::string describe(const ScriptedHostReport& r) {
   }
   for (std::size_t i = 0; i < r.otherStartOfFrames.size(); ++i)
     s << "start of frames from channel " << i + 2 << ": " << r.otherStartOfFrames[i] << "\n";
+  if (r.otherSendErrors > 0) s << "datagrams the other channels refused: " << r.otherSendErrors << "\n";
   if (!r.otherStartOfFrames.empty()) {
-    s << "frame numbers reported by the first channel and another: " << r.sharedFrameNumbers
+    s << "frame numbers reported by the measured channel and another: " << r.sharedFrameNumbers
       << ", their Start of Frames " << r.sharedFrameArrivalSpreadP99Ms << " ms apart (p99)\n";
   }
   s << "rejected datagrams " << r.rejectedDatagrams << "\n";

@@ -90,8 +90,10 @@ struct ScriptedHostReport {
   double losLatencyP50Ms = 0.0;  ///< LOS request sent → answer received
   double losLatencyP99Ms = 0.0;
   std::uint64_t rejectedDatagrams = 0;
-  /// Start of Frames from each of options.otherIgPorts, in that order.
+  /// Start of Frames from each of options.otherIgPorts, in that order (the measured IG at igPort
+  /// is channel 1 in the report, these channels 2, 3, ...).
   std::vector<std::uint64_t> otherStartOfFrames;
+  std::uint64_t otherSendErrors = 0;  ///< datagrams to the other channels the socket refused (one not running yet)
   /// A frame-locked rig's check from the host's side: of the IG frame numbers (field numbers) both
   /// the measured IG and another channel reported, how many, and how far apart (p99, ms) their
   /// Start of Frames arrived. Channels locked to one field epoch report field k together.

@@ -159,6 +159,7 @@ int main(int argc, char** argv) {
       j["rejected_datagrams"] = report.rejectedDatagrams;
       j["other_channels_start_of_frames"] = report.otherStartOfFrames;
       j["shared_frame_numbers"] = report.sharedFrameNumbers;
+      j["other_channels_send_errors"] = report.otherSendErrors;
       j["shared_frame_arrival_spread_p99_ms"] = report.sharedFrameArrivalSpreadP99Ms;
       j["flight_start_monotonic_ns"] = report.flightStartNs;
       std::ofstream out(summaryPath);

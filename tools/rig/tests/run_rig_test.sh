@@ -42,7 +42,7 @@ for channel in 2 3; do
   fi
 done
 # Channels locked to one epoch report the same frame numbers in their Start of Frames
-if ! grep -Eq "frame numbers reported by the first channel and another: [1-9][0-9]{2,}," "$work/out/host.txt"; then
+if ! grep -Eq "frame numbers reported by the measured channel and another: [1-9][0-9]{2,}," "$work/out/host.txt"; then
   echo "run_rig_test: the channels' Start of Frames do not share frame numbers" >&2
   cat "$work/out/host.txt" >&2
   exit 1
