@@ -6,6 +6,8 @@
 
 #include <io_bridge/FieldLockLink.h>
 
+#include "../../tools/rig/ChannelRun.h"
+
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
@@ -33,6 +35,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using fieldcast::testing::freePort;
+using fieldcast::tools::LoggedField;
+using fieldcast::tools::readFieldLog;
 
 // One fieldcast process, its output in `log`. Killed if it outlives the test's bound.
 class Channel {
@@ -85,36 +89,6 @@ bool waitForLog(const fs::path& path, const std::string& text) {
     std::this_thread::sleep_for(50ms);
   }
   return false;
-}
-
-// One line of a field log.
-struct LoggedField {
-  std::int64_t displayNs = 0;
-  std::int64_t emittedNs = 0;
-  double x = 0, y = 0, z = 0;
-  bool black = false;
-};
-
-std::map<std::uint64_t, LoggedField> readFieldLog(const fs::path& path) {
-  std::map<std::uint64_t, LoggedField> fields;
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    if (cells.size() < 12) continue;  // a line cut short by a kill
-    LoggedField f;
-    f.displayNs = std::stoll(cells[1]);
-    f.emittedNs = std::stoll(cells[2]);
-    f.x = std::stod(cells[3]);
-    f.y = std::stod(cells[4]);
-    f.z = std::stod(cells[5]);
-    f.black = cells[11] == "1";
-    fields[std::stoull(cells[0])] = f;
-  }
-  return fields;
 }
 
 class FrameLock : public ::testing::Test {
@@ -184,8 +158,8 @@ int expectSameInstants(const std::map<std::uint64_t, LoggedField>& a, const std:
     if (other == a.end()) continue;
     ++common;
     EXPECT_EQ(field.displayNs, other->second.displayNs) << what << ": field " << k;
-    EXPECT_NEAR(field.x, other->second.x, 1e-3) << what << ": field " << k;
-    EXPECT_NEAR(field.y, other->second.y, 1e-3) << what << ": field " << k;
+    EXPECT_NEAR(field.xM, other->second.xM, 1e-3) << what << ": field " << k;
+    EXPECT_NEAR(field.yM, other->second.yM, 1e-3) << what << ": field " << k;
     if (::testing::Test::HasFailure()) break;
   }
   return common;

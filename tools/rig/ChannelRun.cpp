@@ -8,7 +8,6 @@
 #include <vector>
 
 namespace fieldcast::tools {
-namespace {
 
 std::map<std::uint64_t, LoggedField> readFieldLog(const std::filesystem::path& path) {
   std::ifstream in(path);
@@ -23,7 +22,10 @@ std::map<std::uint64_t, LoggedField> readFieldLog(const std::filesystem::path& p
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    if (cells.size() < 13) throw std::runtime_error(path.string() + ":" + std::to_string(lineNumber) + ": short line");
+    if (cells.size() < 13) {
+      if (in.peek() == std::char_traits<char>::eof()) break;  // the last line, cut short by a kill
+      throw std::runtime_error(path.string() + ":" + std::to_string(lineNumber) + ": short line");
+    }
     LoggedField f;
     f.displayNs = std::stoll(cells[1]);
     f.emittedNs = std::stoll(cells[2]);
@@ -36,8 +38,6 @@ std::map<std::uint64_t, LoggedField> readFieldLog(const std::filesystem::path& p
   }
   return fields;
 }
-
-}  // namespace
 
 ChannelRun readChannelRun(const std::string& name, const std::filesystem::path& folder) {
   ChannelRun run;

@@ -21,6 +21,11 @@ struct LoggedField {
   std::int64_t hostFrame = -1;  ///< the host sample the pose was made from; −1: none
 };
 
+/// Reads a field log (the service's metrics.field_log CSV). Throws std::runtime_error naming the
+/// file and line when it cannot be read or a line is malformed; a last line cut short (a channel
+/// killed while writing) is skipped.
+std::map<std::uint64_t, LoggedField> readFieldLog(const std::filesystem::path& path);
+
 struct ChannelRun {
   std::string name;
   std::map<std::uint64_t, LoggedField> fields;  ///< by field number
