@@ -31,12 +31,11 @@ FieldLoop::FieldLoop(warp::FieldClock& clock, const Clock& timeSource, warp::Fie
 }
 
 void FieldLoop::run(const std::atomic<bool>& stop, TimePoint end, std::uint64_t fieldCount) noexcept {
-  std::uint64_t scheduled = 0;  // fields of the schedule so far, this one included
   while (!stop.load(std::memory_order_acquire)) {
     const warp::FieldTick tick = mClock.next();
     if (stop.load(std::memory_order_acquire)) break;
-    scheduled += 1 + tick.missedBefore;
-    if (tick.displayTime >= end || (fieldCount != 0 && scheduled > fieldCount)) break;
+    const bool counted = fieldCount != 0 && mScheduled + 1 + tick.missedBefore > fieldCount;
+    if (tick.displayTime >= end || counted) break;
     emit(tick);
   }
 }
@@ -44,15 +43,13 @@ void FieldLoop::run(const std::atomic<bool>& stop, TimePoint end, std::uint64_t 
 void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   const TimePoint start = mTime.now();
   ServiceCounters& counters = mMetrics.counters;
-  // The first field planned (a channel joining a frame lock starts at the others' number)
-  if (!mFirstFieldKnown) {
-    mFirstFieldKnown = true;
-    mFirstField = tick.fieldNumber - tick.missedBefore;
-  }
+  // Counted by the schedule, not by field numbers: a channel joining a frame lock starts at the
+  // others' number, and a move onto another lock renumbers the fields
+  mScheduled += 1 + tick.missedBefore;
   if (tick.missedBefore > 0) {
     counters.fieldsMissed.fetch_add(tick.missedBefore, std::memory_order_relaxed);
     // The fields missed just before this one, as far as they lie in the first second.
-    const std::uint64_t sinceFirst = tick.fieldNumber - mFirstField;
+    const std::uint64_t sinceFirst = mScheduled - 1;  // this field's place in the schedule
     if (sinceFirst - tick.missedBefore < mFirstSecondFields) {
       const std::uint64_t early = std::min(sinceFirst, mFirstSecondFields) - (sinceFirst - tick.missedBefore);
       counters.fieldsMissedFirstSecond.fetch_add(early, std::memory_order_relaxed);

@@ -65,8 +65,7 @@ class FieldLoop {
   Field mField;                          // reused for every field: allocated once at construction
   Frame mNoFrame;                        // the empty frame warped (to black) before the first frame arrives
   std::uint64_t mFirstSecondFields = 0;  // fields in the run's first second
-  bool mFirstFieldKnown = false;
-  std::uint64_t mFirstField = 0;  // the run's first field's number
+  std::uint64_t mScheduled = 0;          // fields of the schedule so far, emitted or missed
   // The warper's totals already reported (from construction: a warm-up before is not counted).
   std::uint64_t mLastFallbacks = 0;
   std::uint64_t mLastFallbacksByReason[4] = {};

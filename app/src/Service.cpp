@@ -491,7 +491,6 @@ void Service::start() {
   auto plan = [&p, begin, memory = memory.locked](const WarmUp& warm) {
     const RationalRate rate = p.config.output.fieldRate;
     FieldStart start;
-    if (p.lock) p.lock->awaitPeers();  // a lock the others hold is joined, not begun anew
     start.t0 = std::max(warm.done, p.clock.now()) + p.config.warp.lead + kFirstFieldMargin;
     TimePoint firstTime = start.t0;
     if (p.lock) p.joinFrameLock(start, firstTime);

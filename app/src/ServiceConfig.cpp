@@ -44,18 +44,16 @@ io::FieldLockConfig readLockConfig(ConfigReader& t) {
   if (std::optional<std::vector<std::string>> peers = t.strings("peers")) l.peers = *peers;
   l.timeBase = t.choice("clock", io::LockTimeBase::Monotonic,
                         {{"monotonic", io::LockTimeBase::Monotonic}, {"tai", io::LockTimeBase::Tai}});
-  const auto check = [&t](const char* key, const std::string& address) {
+  const auto parsed = [&t](const char* key, const std::string& address) {
     try {
-      (void)io::parseUdpAddress(address, key);
+      return io::parseUdpAddress(address, key);
     } catch (const std::invalid_argument&) {
       t.fail(key, "expected \"address:port\" (IPv4), got \"" + address + "\"");
     }
   };
-  if (!l.listen.empty()) check("listen", l.listen);
+  if (!l.listen.empty()) (void)parsed("listen", l.listen);
   for (const std::string& peer : l.peers) {
-    check("peers", peer);
-    if (io::parseUdpAddress(peer, "peers").sin_port == 0)
-      t.fail("peers", "a peer's port cannot be 0: \"" + peer + "\"");
+    if (parsed("peers", peer).sin_port == 0) t.fail("peers", "a peer's port cannot be 0: \"" + peer + "\"");
     if (peer == l.listen) t.fail("peers", "this channel's own address (lock.listen) is not a peer: \"" + peer + "\"");
   }
   if (l.listen.empty() && !l.peers.empty())

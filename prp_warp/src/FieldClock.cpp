@@ -64,11 +64,11 @@ TimePoint FieldClock::displayTime(std::uint64_t k) const noexcept {
 }
 
 void FieldClock::externalSync(TimePoint edgeTime) noexcept {
-  mPendingEdge.store(Edge{edgeTime.time_since_epoch().count(), ++mEdgeSequence});
+  mPendingEdge.store(PostedInstant{edgeTime.time_since_epoch().count(), ++mEdgeSequence});
 }
 
 void FieldClock::applyPendingSync() noexcept {
-  const Edge edge = mPendingEdge.load();
+  const PostedInstant edge = mPendingEdge.load();
   if (edge.sequence == mEdgesConsumed) return;
   mEdgesConsumed = edge.sequence;
   const TimePoint e{Nanoseconds{edge.timeNs}};
@@ -111,11 +111,11 @@ void FieldClock::applyPendingSync() noexcept {
 }
 
 void FieldClock::lockTo(TimePoint epoch) noexcept {
-  mPendingLock.store(Edge{epoch.time_since_epoch().count(), ++mLockSequence});
+  mPendingLock.store(PostedInstant{epoch.time_since_epoch().count(), ++mLockSequence});
 }
 
 void FieldClock::applyPendingLock() noexcept {
-  const Edge lock = mPendingLock.load();
+  const PostedInstant lock = mPendingLock.load();
   if (lock.sequence == mLocksConsumed) return;
   mLocksConsumed = lock.sequence;
   const TimePoint epoch{Nanoseconds{lock.timeNs}};

@@ -3,12 +3,12 @@
 // each field was warped to (the service's per-field record, metrics.field_log) must be the host's
 // flight at that field's display time: flight.poseAtSeconds((display − flight start) / 1 s), with
 // the flight start read from the host's --summary (a CLOCK_MONOTONIC instant, as the IG's are).
-#include "../../tools/latency/EmittedFields.h"
 #include "../common/FreePort.h"
 #include "../common/RunFieldcast.h"
 #include "HostServiceConfig.h"
 
 #include <motion/ScriptedTrajectory.h>
+#include <tools/FieldLogReader.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -35,6 +35,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using fieldcast::testing::freePort;
+using fieldcast::tools::byNumber;
 using fieldcast::tools::LoggedField;
 using fieldcast::tools::readFieldLog;
 
@@ -207,9 +208,9 @@ TEST_F(FrameLock, AChannelKilledAndRestartedRejoinsWithoutDisturbingTheOthers) {
     EXPECT_EQ((*s)["fields_black"], 0) << s->dump();
   }
 
-  const auto left_ = readFieldLog(mDir / "left.csv");
-  const auto centre_ = readFieldLog(mDir / "centre.csv");
-  const auto right_ = readFieldLog(mDir / "right.csv");
+  const auto left_ = byNumber(readFieldLog((mDir / "left.csv").string()));
+  const auto centre_ = byNumber(readFieldLog((mDir / "centre.csv").string()));
+  const auto right_ = byNumber(readFieldLog((mDir / "right.csv").string()));
   const auto leftMissed = l["fields_missed"].get<std::size_t>();
   ASSERT_EQ(left_.size(), l["fields_emitted"].get<std::size_t>());
   // The left channel's fields run from field 0 without a jump while the right one died and came
@@ -222,7 +223,7 @@ TEST_F(FrameLock, AChannelKilledAndRestartedRejoinsWithoutDisturbingTheOthers) {
   EXPECT_GE(expectSameInstants(left_, right_, "left/right") + leftMissed, right_.size());
   EXPECT_GE(right_.size() + r["fields_missed"].get<std::size_t>(), 4u * 59u);
   // The first run of the right channel numbered its fields alike too, until it was killed
-  const auto firstRun = readFieldLog(mDir / "right_first.csv");
+  const auto firstRun = byNumber(readFieldLog((mDir / "right_first.csv").string()));
   EXPECT_GT(expectSameInstants(left_, firstRun, "left/killed right"), 4 * 59);
 }
 
@@ -242,8 +243,8 @@ TEST_F(FrameLock, TwoChannelsLockOnTheTaiClock) {
   const auto epochGap = l["lock"]["epoch_ns"].get<std::int64_t>() - c["lock"]["epoch_ns"].get<std::int64_t>();
   EXPECT_LT(std::abs(epochGap), fieldcast::io::kSameLockTolerance.count());
   // Field k at one instant, to the conversion's precision
-  const auto left_ = readFieldLog(mDir / "left.csv");
-  const auto centre_ = readFieldLog(mDir / "centre.csv");
+  const auto left_ = byNumber(readFieldLog((mDir / "left.csv").string()));
+  const auto centre_ = byNumber(readFieldLog((mDir / "centre.csv").string()));
   int common = 0;
   for (const auto& [k, field] : centre_) {
     const auto other = left_.find(k);
@@ -296,7 +297,7 @@ TEST_F(FrameLock, AChannelThatHearsAnEarlierLockWhileRunningMovesOntoIt) {
   // Before: its own numbering; after: ours, 1000 and some fields on; the display times go on
   // rising by one field (once by up to two: the interlaced order is kept), never back. (A field
   // missed on this shared machine is a gap of its own periods.)
-  const auto fields = readFieldLog(mDir / "alone.csv");
+  const auto fields = byNumber(readFieldLog((mDir / "alone.csv").string()));
   std::uint64_t previous = 0;
   std::int64_t previousNs = 0;
   int jumps = 0;

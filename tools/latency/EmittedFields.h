@@ -1,8 +1,11 @@
 #pragma once
 // What the service emitted, read back the way an outside observer would: the per-field log
 // (metrics.field_log: each field's number, display and emission instants on CLOCK_MONOTONIC,
-// and its pose) and the fields' pixels from the Y4M file, and what the pixels say about roll.
+// and its pose; tools/FieldLogReader.h) and the fields' pixels from the Y4M file, and what the
+// pixels say about roll.
 // The end-to-end latency measurements find the first field that shows an input with these.
+
+#include <tools/FieldLogReader.h>
 
 #include <cmath>
 #include <cstdint>
@@ -15,53 +18,6 @@
 #include <vector>
 
 namespace fieldcast::tools {
-
-/// One line of the field log.
-struct LoggedField {
-  std::uint64_t number = 0;
-  std::int64_t displayNs = 0;
-  std::int64_t emittedNs = 0;
-  double xM = 0, yM = 0, zM = 0;
-  double headingDeg = 0, pitchDeg = 0, rollDeg = 0;
-  bool black = false;
-  bool hasHostSample = false;  ///< with a host: a sample had arrived (host_frame given)
-};
-
-/// Reads a field log (header line, then one field per line). Empty when the file is missing;
-/// a last line still being written (no newline yet) is left for the next read; throws
-/// std::runtime_error on a complete line without its 14 columns.
-inline std::vector<LoggedField> readFieldLog(const std::string& path) {
-  std::vector<LoggedField> fields;
-  std::ifstream file(path);
-  std::stringstream whole;
-  whole << file.rdbuf();
-  std::string text = whole.str();
-  text.resize(text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1);
-  std::istringstream in(text);
-  std::string line;
-  std::getline(in, line);  // the header
-  while (std::getline(in, line)) {
-    std::vector<std::string> c;
-    std::stringstream cells(line);
-    for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
-    if (!line.empty() && line.back() == ',') c.emplace_back();  // an empty last column
-    if (c.size() != 14) throw std::runtime_error("field log: 14 columns expected: " + line);
-    LoggedField f;
-    f.number = std::stoull(c[0]);
-    f.displayNs = std::stoll(c[1]);
-    f.emittedNs = std::stoll(c[2]);
-    f.xM = std::stod(c[3]);
-    f.yM = std::stod(c[4]);
-    f.zM = std::stod(c[5]);
-    f.headingDeg = std::stod(c[6]);
-    f.pitchDeg = std::stod(c[7]);
-    f.rollDeg = std::stod(c[8]);
-    f.black = c[11] == "1";
-    f.hasHostSample = !c[12].empty();
-    fields.push_back(f);
-  }
-  return fields;
-}
 
 /// The luma of every field of an interlaced 4:2:0 Y4M file of `width` × `height`, in field
 /// order (bottom field first, as the service writes NTSC: field 2n is frame n's odd rows, field

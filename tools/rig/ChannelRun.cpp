@@ -3,46 +3,24 @@
 
 #include <fstream>
 #include <regex>
-#include <sstream>
 #include <stdexcept>
 #include <vector>
 
 namespace fieldcast::tools {
 
-std::map<std::uint64_t, LoggedField> readFieldLog(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path.string() + ": cannot read (the channel's metrics.field_log)");
-  std::map<std::uint64_t, LoggedField> fields;
-  std::string line;
-  std::getline(in, line);
-  if (line.rfind("field,display_ns,emitted_ns,", 0) != 0) throw std::runtime_error(path.string() + ": not a field log");
-  int lineNumber = 1;
-  while (std::getline(in, line)) {
-    ++lineNumber;
-    std::vector<std::string> cells;
-    std::stringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    if (cells.size() < 13) {
-      if (in.peek() == std::char_traits<char>::eof()) break;  // the last line, cut short by a kill
-      throw std::runtime_error(path.string() + ":" + std::to_string(lineNumber) + ": short line");
-    }
-    LoggedField f;
-    f.displayNs = std::stoll(cells[1]);
-    f.emittedNs = std::stoll(cells[2]);
-    f.xM = std::stod(cells[3]);
-    f.yM = std::stod(cells[4]);
-    f.zM = std::stod(cells[5]);
-    f.black = cells[11] == "1";
-    if (!cells[12].empty()) f.hostFrame = std::stoll(cells[12]);
-    fields[std::stoull(cells[0])] = f;
-  }
-  return fields;
+std::map<std::uint64_t, LoggedField> byNumber(const std::vector<LoggedField>& fields) {
+  std::map<std::uint64_t, LoggedField> numbered;
+  for (const LoggedField& f : fields) numbered[f.number] = f;
+  return numbered;
 }
 
 ChannelRun readChannelRun(const std::string& name, const std::filesystem::path& folder) {
   ChannelRun run;
   run.name = name;
-  run.fields = readFieldLog(folder / "fields.csv");
+  const std::filesystem::path log = folder / "fields.csv";
+  if (!std::filesystem::is_regular_file(log))
+    throw std::runtime_error(log.string() + ": cannot read (the channel's metrics.field_log)");
+  run.fields = byNumber(readFieldLog(log.string()));
   std::ifstream summary(folder / "summary.json");
   if (!summary) throw std::runtime_error((folder / "summary.json").string() + ": cannot read");
   try {

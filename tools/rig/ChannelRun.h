@@ -7,24 +7,16 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
+
+#include <tools/FieldLogReader.h>
 
 #include <nlohmann/json.hpp>
 
 namespace fieldcast::tools {
 
-/// One line of a field log: what the rig report compares.
-struct LoggedField {
-  std::int64_t displayNs = 0;
-  std::int64_t emittedNs = 0;
-  double xM = 0, yM = 0, zM = 0;  ///< the eye's position (the channels of a rig share it)
-  bool black = false;
-  std::int64_t hostFrame = -1;  ///< the host sample the pose was made from; −1: none
-};
-
-/// Reads a field log (the service's metrics.field_log CSV). Throws std::runtime_error naming the
-/// file and line when it cannot be read or a line is malformed; a last line cut short (a channel
-/// killed while writing) is skipped.
-std::map<std::uint64_t, LoggedField> readFieldLog(const std::filesystem::path& path);
+/// A field log's fields by their number.
+std::map<std::uint64_t, LoggedField> byNumber(const std::vector<LoggedField>& fields);
 
 struct ChannelRun {
   std::string name;

@@ -99,7 +99,8 @@ class FieldClock {
   /// Offset of field anchor + n from the anchor, n ≥ 0.
   Nanoseconds offsetFromAnchor(std::uint64_t n) const noexcept;
 
-  struct Edge {
+  // An instant another thread posts for the field thread: a sync edge, or a frame lock's epoch.
+  struct PostedInstant {
     std::int64_t timeNs = 0;
     std::uint64_t sequence = 0;
   };
@@ -113,14 +114,14 @@ class FieldClock {
   std::int64_t mPeriodQ = 0;  // period in 1/1024 ns
   std::uint64_t mNextField = 0;
   // Sync edges: posted by another thread, consumed here.
-  SeqLock<Edge> mPendingEdge;
+  SeqLock<PostedInstant> mPendingEdge;
   std::uint64_t mEdgeSequence = 0;   // writer side
   std::uint64_t mEdgesConsumed = 0;  // field-thread side
   bool mHavePreviousEdge = false;
   TimePoint mPreviousEdge{};
   std::uint64_t mPreviousEdgeField = 0;
   // Frame lock: an epoch posted by lockTo, consumed here.
-  SeqLock<Edge> mPendingLock;
+  SeqLock<PostedInstant> mPendingLock;
   std::uint64_t mLockSequence = 0;   // writer side
   std::uint64_t mLocksConsumed = 0;  // field-thread side
   bool mRenumbered = false;          // the next tick is the first after a move
