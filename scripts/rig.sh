@@ -7,12 +7,14 @@
 #   out/rig/report.json             the lock figures (fieldcast-rig): display and emission spread
 #   out/rig/<channel>/summary.json  each channel's run summary; fields.csv its per-field record
 #   out/rig/host.json               what the host measured (Start of Frames from every channel)
+#   out/rig/stalls.csv              when the machine itself stalled (fieldcast-stall-probe)
 # Installs what is missing and builds first; safe to run any number of times. Options (for the
 # test that runs it small): --config FILE (the channels' and the host's; the shipped one by
 # default), --flight FILE, --duration S, --size WxH, --out DIR, --base-port N (host ports N to
 # N+2, lock ports N+10 to N+12), --build-dir DIR, --no-setup (no install, no build),
-# --allow-missed N. It fails when a channel missed a field (more than N), showed black or left
-# the lock (fieldcast-rig --check).
+# --allow-missed N. It fails when a channel missed a field while the host flew (more than N;
+# fields due while the machine itself stalled are reported apart),
+# showed black or left the lock (fieldcast-rig --check).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -42,10 +44,11 @@ done
 if [[ $setup == 1 ]]; then
   scripts/install-deps.sh
   cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$build" -j "$(nproc)" --target fieldcast fieldcast-host fieldcast-rig
+  cmake --build "$build" -j "$(nproc)" --target fieldcast fieldcast-host fieldcast-rig fieldcast-stall-probe
 fi
 
 rm -rf "$out"
+mkdir -p "$out"
 names=(left centre right)
 yaws=(-60 0 60)
 pids=()
@@ -55,6 +58,28 @@ stop_channels() {
   pids=()
 }
 trap stop_channels EXIT
+# The machine's own stalls over the run (a real-time thread per CPU that wakes every millisecond):
+# a field due while a CPU stalled is reported apart from one a channel missed by itself
+"$build/tools/rig/fieldcast-stall-probe" --out "$out/stalls.csv" > "$out/stall_probe.txt" &
+pids+=($!)
+# Waits until channel $1 (process $2) has emitted half a second of fields: it has its terrain,
+# has joined the lock and runs. The first run builds the built-in terrain, hence the long wait.
+wait_until_emitting() {
+  local name=$1 pid=$2 waited=0
+  while [[ $(wc -l < "$out/$name/fields.csv" 2>/dev/null || echo 0) -lt 31 ]]; do
+    if ! kill -0 "$pid" 2>/dev/null; then
+      echo "rig.sh: the $name channel stopped before emitting; its log:" >&2
+      tail -20 "$out/$name/log.txt" >&2
+      exit 1
+    fi
+    if (( waited >= 6000 )); then
+      echo "rig.sh: the $name channel emitted no field in 600 s" >&2
+      exit 1
+    fi
+    sleep 0.1
+    waited=$((waited + 1))
+  done
+}
 
 for i in 0 1 2; do
   name=${names[$i]}
@@ -72,18 +97,23 @@ for i in 0 1 2; do
     --set "sinks.images.directory=\"$out/$name/images\"" --set sinks.images.every_nth=150 \
     --field-log "$out/$name/fields.csv" --summary "$out/$name/summary.json" > "$out/$name/log.txt" 2>&1 &
   pids+=($!)
-  sleep 1  # one after the other: each joins the lock the first began
+  # One after the other, each running before the next starts: each joins the lock the first
+  # began, and the first builds the terrain cache the others then read.
+  wait_until_emitting "$name" "$!"
 done
+# The host flies once all three run: a channel loading its terrain can cost the running ones a
+# field (two cores for three channels); fieldcast-rig reports those apart from the flight's.
 
 "$build/tools/host/fieldcast-host" --config "$config" --flight "$flight" \
   --duration "$duration" --ig-port $((base_port + 1)) --also-ig-port "$base_port" --also-ig-port $((base_port + 2)) \
   --wait-for-ig 60 --summary "$out/host.json" | tee "$out/host.txt"
 stop_channels
 trap - EXIT
+cat "$out/stall_probe.txt"
 
 "$build/tools/rig/fieldcast-rig" --channel "left=$out/left" --channel "centre=$out/centre" \
   --channel "right=$out/right" --sheet "$out/contact_sheet.png" --report "$out/report.json" --check \
-  --allow-missed "$allow_missed" |
+  --allow-missed "$allow_missed" --stalls "$out/stalls.csv" |
   tee "$out/report.txt"
 
 echo

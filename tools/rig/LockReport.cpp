@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 namespace fieldcast::tools {
@@ -21,12 +22,32 @@ Spread spreadOf(std::vector<double> values) {
   return s;
 }
 
+// Of the field numbers missing between logged fields from `from` on, those due while the
+// machine stalled; a missing field's display time lies on the line between its neighbours'.
+std::uint64_t missedDuringStalls(std::map<std::uint64_t, LoggedField>::const_iterator from,
+                                 std::map<std::uint64_t, LoggedField>::const_iterator end,
+                                 const std::vector<MachineStall>& stalls) {
+  std::uint64_t during = 0;
+  for (auto before = from, after = std::next(from); before != end && after != end; before = after++) {
+    const std::uint64_t gap = after->first - before->first;
+    if (gap < 2) continue;
+    const std::int64_t periodNs = (after->second.displayNs - before->second.displayNs) / static_cast<std::int64_t>(gap);
+    for (std::uint64_t k = 1; k < gap; ++k) {
+      const std::int64_t displayNs = before->second.displayNs + static_cast<std::int64_t>(k) * periodNs;
+      if (stallAround(stalls, displayNs, periodNs) != nullptr) ++during;
+    }
+  }
+  return during;
+}
+
 nlohmann::json toJson(const Spread& s) { return {{"p50", s.p50}, {"p99", s.p99}, {"max", s.max}}; }
 
 }  // namespace
 
-LockReport lockReport(const std::vector<ChannelRun>& channels) {
+LockReport lockReport(const std::vector<ChannelRun>& channels, const std::vector<MachineStall>& stalls) {
   LockReport r;
+  r.machineStalls = stalls.size();
+  for (const MachineStall& s : stalls) r.longestStallMs = std::max(r.longestStallMs, s.lateMs());
   for (const ChannelRun& c : channels) {
     LockReport::PerChannel p;
     p.name = c.name;
@@ -39,6 +60,18 @@ LockReport lockReport(const std::vector<ChannelRun>& channels) {
       p.firstField = c.summary.contains("lock") ? c.summary["lock"].value("first_field", c.fields.begin()->first)
                                                 : c.fields.begin()->first;
       p.lastField = c.fields.rbegin()->first;
+      // The flight: from the first field made from a host sample; the whole run without a host
+      const auto flight =
+          std::find_if(c.fields.begin(), c.fields.end(), [](const auto& f) { return f.second.hasHostSample; });
+      p.flightFirstField = p.firstField;
+      p.missedInFlight = p.missed;
+      if (flight != c.fields.end()) {
+        // the flight's field numbers that are not in the log were missed
+        const auto logged = static_cast<std::uint64_t>(std::distance(flight, c.fields.end()));
+        p.flightFirstField = flight->first;
+        p.missedInFlight = std::min(p.missed, p.lastField - flight->first + 1 - logged);
+        p.missedInFlightDuringStalls = std::min(p.missedInFlight, missedDuringStalls(flight, c.fields.end(), stalls));
+      }
       p.latestEmissionMs = -1e9;
       for (const auto& [k, f] : c.fields) {
         p.latestEmissionMs = std::max(p.latestEmissionMs, static_cast<double>(f.emittedNs - f.displayNs) * 1e-6);
@@ -48,7 +81,12 @@ LockReport lockReport(const std::vector<ChannelRun>& channels) {
     r.channels.push_back(p);
   }
   if (channels.empty()) return r;
-  std::vector<double> display, emitted;
+  // With a host, eye positions are compared where every channel flew from a host sample: before
+  // its first datagram a channel holds its start pose
+  const bool hosted = std::any_of(channels.begin(), channels.end(), [](const ChannelRun& c) {
+    return std::any_of(c.fields.begin(), c.fields.end(), [](const auto& f) { return f.second.hasHostSample; });
+  });
+  std::vector<double> display, emitted, position;
   for (const auto& [k, first] : channels.front().fields) {
     std::vector<const LoggedField*> all;
     for (const ChannelRun& c : channels) {
@@ -65,22 +103,29 @@ LockReport lockReport(const std::vector<ChannelRun>& channels) {
     display.push_back(static_cast<double>((*dMax)->displayNs - (*dMin)->displayNs) * 1e-6);
     emitted.push_back(static_cast<double>((*eMax)->emittedNs - (*eMin)->emittedNs) * 1e-6);
     bool sameHost = first.hostFrame >= 0;
+    std::size_t withHostSample = 0;
+    double apart = 0;
     for (const LoggedField* f : all) {
-      r.positionSpreadMaxM =
-          std::max(r.positionSpreadMaxM, std::hypot(f->xM - first.xM, f->yM - first.yM, f->zM - first.zM));
+      for (const LoggedField* g : all) apart = std::max(apart, std::hypot(f->xM - g->xM, f->yM - g->yM, f->zM - g->zM));
       sameHost = sameHost && f->hostFrame == first.hostFrame;
+      withHostSample += f->hasHostSample ? 1 : 0;
     }
     if (sameHost) ++r.sameHostFrame;
+    if (withHostSample > 0 && withHostSample < all.size()) ++r.partlyHosted;
+    if (!hosted || withHostSample == all.size()) position.push_back(apart);
   }
   r.displayMs = spreadOf(std::move(display));
   r.emittedMs = spreadOf(std::move(emitted));
+  r.positionM = spreadOf(std::move(position));
   return r;
 }
 
 std::vector<std::string> lockFailures(const LockReport& r, std::uint64_t allowedMissed) {
   std::vector<std::string> failures;
   for (const auto& c : r.channels) {
-    if (c.missed > allowedMissed) failures.push_back(c.name + ": " + std::to_string(c.missed) + " fields missed");
+    if (c.missedInFlight - c.missedInFlightDuringStalls > allowedMissed)
+      failures.push_back(c.name + ": " + std::to_string(c.missedInFlight - c.missedInFlightDuringStalls) +
+                         " fields missed while the host flew and the machine ran");
     if (c.black > 0) failures.push_back(c.name + ": " + std::to_string(c.black) + " fields black");
     if (c.relocks > 0) failures.push_back(c.name + ": moved onto another lock " + std::to_string(c.relocks) + " times");
     if (c.fields + c.missed != c.lastField - c.firstField + 1)
@@ -99,12 +144,17 @@ nlohmann::json toJson(const LockReport& r) {
   j["common_fields"] = r.commonFields;
   j["display_spread_ms"] = toJson(r.displayMs);
   j["emission_spread_ms"] = toJson(r.emittedMs);
-  j["position_spread_max_m"] = r.positionSpreadMaxM;
+  j["position_spread_m"] = toJson(r.positionM);
+  j["fields_partly_hosted"] = r.partlyHosted;
   j["same_host_frame"] = r.sameHostFrame;
+  j["machine_stalls"] = {{"count", r.machineStalls}, {"longest_ms", r.longestStallMs}};
   for (const auto& c : r.channels) {
     j["channels"].push_back({{"name", c.name},
                              {"fields", c.fields},
                              {"missed", c.missed},
+                             {"flight_first_field", c.flightFirstField},
+                             {"missed_in_flight", c.missedInFlight},
+                             {"missed_in_flight_during_machine_stalls", c.missedInFlightDuringStalls},
                              {"black", c.black},
                              {"first_field", c.firstField},
                              {"last_field", c.lastField},
@@ -121,16 +171,21 @@ std::string describe(const LockReport& r) {
   s.precision(3);
   for (const auto& c : r.channels) {
     s << c.name << ": fields " << c.firstField << "–" << c.lastField << ", " << c.fields << " emitted, " << c.missed
-      << " missed, " << c.black << " black, " << c.relocks << " relocks; " << c.handedOverLate
-      << " handed over after their display time, the latest " << c.latestEmissionMs << " ms after\n";
+      << " missed (" << c.missedInFlight << " from field " << c.flightFirstField << ", when the host flew, "
+      << c.missedInFlightDuringStalls << " of them while the machine stalled), " << c.black << " black, " << c.relocks
+      << " relocks; " << c.handedOverLate << " handed over after their display time, the latest " << c.latestEmissionMs
+      << " ms after\n";
   }
   s << "fields every channel made: " << r.commonFields << "\n"
     << "display time of field k across channels: spread p50 " << r.displayMs.p50 << " ms, p99 " << r.displayMs.p99
     << " ms, max " << r.displayMs.max << " ms\n"
     << "emission of field k across channels: spread p50 " << r.emittedMs.p50 << " ms, p99 " << r.emittedMs.p99
     << " ms, max " << r.emittedMs.max << " ms\n"
-    << "eye positions at one field: at most " << r.positionSpreadMaxM << " m apart; " << r.sameHostFrame
-    << " fields made from the same host sample in every channel\n";
+    << "eye positions at one field (every channel flying from a host sample): apart p50 " << r.positionM.p50
+    << " m, p99 " << r.positionM.p99 << " m, max " << r.positionM.max << " m; " << r.sameHostFrame
+    << " fields made from the same host sample in every channel, " << r.partlyHosted
+    << " where some channels had the host's first sample and others not yet\n"
+    << "machine stalls (fieldcast-stall-probe): " << r.machineStalls << ", the longest " << r.longestStallMs << " ms\n";
   return s.str();
 }
 

@@ -4,6 +4,7 @@
 // whether they showed the same instant of the ownship's motion.
 
 #include "ChannelRun.h"
+#include "MachineStalls.h"
 
 #include <cstdint>
 #include <string>
@@ -18,26 +19,39 @@ struct Spread {
 };
 
 struct LockReport {
-  std::uint64_t commonFields = 0;   ///< field numbers every channel made
-  Spread displayMs;                 ///< max − min of the channels' display times of field k
-  Spread emittedMs;                 ///< max − min of when they handed field k to their outputs
-  double positionSpreadMaxM = 0;    ///< largest distance between the channels' eye positions at one field
+  std::uint64_t commonFields = 0;  ///< field numbers every channel made
+  Spread displayMs;                ///< max − min of the channels' display times of field k
+  Spread emittedMs;                ///< max − min of when they handed field k to their outputs
+  /// How far apart the channels' eye positions were at one field: over the fields every channel
+  /// made from a host sample (all fields when there was no host)
+  Spread positionM;
   std::uint64_t sameHostFrame = 0;  ///< common fields whose pose every channel made from the same host sample
+  std::uint64_t partlyHosted = 0;   ///< common fields some channels made from a host sample, others not yet
   struct PerChannel {
     std::string name;
     std::uint64_t fields = 0, missed = 0, black = 0, firstField = 0, lastField = 0, relocks = 0;
+    /// The first field made from a host sample (the host flew from then on); firstField when the
+    /// channel never heard a host.
+    std::uint64_t flightFirstField = 0;
+    std::uint64_t missedInFlight = 0;              ///< missed from flightFirstField on (the rest: before the host flew)
+    std::uint64_t missedInFlightDuringStalls = 0;  ///< ... of them, due while the machine itself stalled
     double latestEmissionMs = 0;       ///< the latest any field was handed over, from its display time (< 0: before it)
     std::uint64_t handedOverLate = 0;  ///< fields handed to the outputs after their display time
   };
   std::vector<PerChannel> channels;
+  std::uint64_t machineStalls = 0;  ///< the stall probe's records (0 without one)
+  double longestStallMs = 0;
 };
 
-LockReport lockReport(const std::vector<ChannelRun>& channels);
+/// `stalls`: what fieldcast-stall-probe recorded over the run, if it ran.
+LockReport lockReport(const std::vector<ChannelRun>& channels, const std::vector<MachineStall>& stalls = {});
 
-/// What a locked rig must show (README "Channels"): every channel made every field of its run
-/// (`allowedMissed` excepted, for a machine shared with other work) and none black, none moved
-/// onto another lock, field k's display time the same in every channel (spread p99 at most
-/// 0.5 ms), and fields in common. One line per failure; empty: locked.
+/// What a locked rig must show (README "Channels"): every channel made every field while the
+/// host flew (`allowedMissed` excepted, for a machine shared with other work; fields missed
+/// before, while channels were still starting, and fields due while the machine itself stalled
+/// are reported, not failed), none black, none moved onto another lock, field k's display time
+/// the same in every channel (spread p99 at most 0.5 ms), and fields in common. One line per
+/// failure; empty: locked.
 std::vector<std::string> lockFailures(const LockReport& report, std::uint64_t allowedMissed = 0);
 
 nlohmann::json toJson(const LockReport& report);

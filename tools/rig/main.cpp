@@ -2,7 +2,7 @@
 // channel's folder (fields.csv, summary.json, images/), reports how well the channels were
 // locked and stitches their fields side by side.
 //   fieldcast-rig --channel left=out/rig/left --channel centre=out/rig/centre --channel right=out/rig/right
-//                 --sheet out/rig/contact_sheet.png --report out/rig/report.json
+//                 --sheet out/rig/contact_sheet.png --report out/rig/report.json [--stalls out/rig/stalls.csv]
 #include "ChannelRun.h"
 #include "LockReport.h"
 #include "StitchedSheet.h"
@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
   using namespace fieldcast;
   CLI::App app{"fieldcast-rig: the lock figures and the stitched contact sheet of a rig's channels"};
   std::vector<std::string> channelArgs;
-  std::string sheetPath, reportPath;
+  std::string sheetPath, reportPath, stallsPath;
   int rows = 8;
   bool check = false;
   std::uint64_t allowedMissed = 0;
@@ -28,9 +28,12 @@ int main(int argc, char** argv) {
   app.add_option("--report", reportPath, "write the lock figures here (JSON)");
   app.add_option("--rows", rows, "instants on the sheet")->check(tools::intRange(1, 100, ""));
   app.add_flag("--check", check,
-               "exit 1 unless the rig was locked: no field missed or black, one lock, field k's display time "
-               "the same everywhere, no blank field on the sheet");
+               "exit 1 unless the rig was locked: no field missed while the host flew (the machine's own stalls "
+               "apart) or black, one lock, field k's display time the same everywhere, no blank field on the sheet");
   app.add_option("--allow-missed", allowedMissed, "with --check: missed fields a channel may have (a shared machine)");
+  app.add_option("--stalls", stallsPath,
+                 "the machine's stalls over the run (fieldcast-stall-probe --out): fields due during one are "
+                 "reported apart, not failed");
   CLI11_PARSE(app, argc, argv);
   try {
     std::vector<tools::ChannelRun> channels;
@@ -40,7 +43,9 @@ int main(int argc, char** argv) {
         throw std::runtime_error("--channel: expected NAME=FOLDER, got " + arg);
       channels.push_back(tools::readChannelRun(arg.substr(0, equals), arg.substr(equals + 1)));
     }
-    const tools::LockReport report = tools::lockReport(channels);
+    const std::vector<tools::MachineStall> stalls =
+        stallsPath.empty() ? std::vector<tools::MachineStall>{} : tools::readMachineStalls(stallsPath);
+    const tools::LockReport report = tools::lockReport(channels, stalls);
     std::fputs(tools::describe(report).c_str(), stdout);
     if (!reportPath.empty()) {
       std::ofstream out(reportPath);

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 namespace fieldcast::tools {
 namespace {
 
@@ -18,6 +21,7 @@ ChannelRun channel(const std::string& name, std::uint64_t first, std::uint64_t l
     f.displayNs = 1'000'000'000 + static_cast<std::int64_t>(k) * kPeriodNs;
     f.emittedNs = f.displayNs - earlyNs;
     f.xM = static_cast<double>(k);
+    f.hasHostSample = true;
     f.hostFrame = static_cast<std::int64_t>(k / 2);
     c.fields[k] = f;
   }
@@ -39,7 +43,7 @@ TEST(LockReport, SpreadsAreAcrossTheFieldsEveryChannelMade) {
   EXPECT_EQ(r.displayMs.max, 0.0);
   EXPECT_DOUBLE_EQ(r.emittedMs.p50, 1.0);
   EXPECT_DOUBLE_EQ(r.emittedMs.max, 7.0);
-  EXPECT_DOUBLE_EQ(r.positionSpreadMaxM, 0.5);
+  EXPECT_DOUBLE_EQ(r.positionM.max, 0.5);
   EXPECT_EQ(r.sameHostFrame, 17u);
   ASSERT_EQ(r.channels.size(), 2u);
   EXPECT_EQ(r.channels[0].firstField, 10u);
@@ -50,10 +54,27 @@ TEST(LockReport, SpreadsAreAcrossTheFieldsEveryChannelMade) {
   EXPECT_TRUE(lockFailures(r).empty());
 }
 
+TEST(LockReport, PositionsAreComparedWhereEveryChannelFlewFromTheHost) {
+  ChannelRun a = channel("a", 10, 29, 2 * kMs);
+  ChannelRun b = channel("b", 10, 29, 2 * kMs);
+  // Field 10: the host's first datagram reached a in time, b not yet (b holds its start pose)
+  b.fields[10].hasHostSample = false;
+  b.fields[10].xM = 5000;
+  b.fields[20].yM += 0.25;
+  const LockReport r = lockReport({a, b});
+  EXPECT_EQ(r.partlyHosted, 1u);
+  EXPECT_DOUBLE_EQ(r.positionM.max, 0.25);
+  // Without a host every field counts
+  for (ChannelRun* c : {&a, &b})
+    for (auto& [k, f] : c->fields) f.hasHostSample = false;
+  EXPECT_DOUBLE_EQ(lockReport({a, b}).positionM.max, 4990.0);
+}
+
 TEST(LockReport, FailuresNameWhatBrokeTheLock) {
   ChannelRun a = channel("a", 10, 29, 2 * kMs);
   ChannelRun b = channel("b", 10, 29, 2 * kMs);
   for (auto& [k, f] : b.fields) f.displayNs += 6 * kMs / 10;  // b shows every field 0.6 ms later
+  for (std::uint64_t k : {15, 16, 17}) b.fields.erase(k);
   b.summary["fields_missed"] = 3;
   b.summary["fields_emitted"] = 16;  // and one field unaccounted for
   b.summary["lock"]["relocks"] = 1;
@@ -63,7 +84,7 @@ TEST(LockReport, FailuresNameWhatBrokeTheLock) {
       if (f.find(text) != std::string::npos) return true;
     return false;
   };
-  EXPECT_TRUE(mentions("b: 3 fields missed"));
+  EXPECT_TRUE(mentions("b: 3 fields missed while the host flew"));
   EXPECT_TRUE(mentions("b: moved onto another lock 1 times"));
   EXPECT_TRUE(mentions("display times of field k spread 0.6"));
   EXPECT_TRUE(mentions("b: 16 fields emitted between field 10 and 29"));  // 16 + 3 missed ≠ 20
@@ -83,6 +104,79 @@ TEST(LockReport, AMissedFirstFieldIsStillInTheChannelsRun) {
   const LockReport r = lockReport({a});
   EXPECT_EQ(r.channels[0].firstField, 10u);
   EXPECT_TRUE(lockFailures(r, 1).empty());
+}
+
+TEST(LockReport, OnlyFieldsMissedWhileTheHostFlewFailTheCheck) {
+  // Fields 10..39; the host's first sample reached the channel for field 20. It missed 12 and
+  // 13 while the channels were still starting, then 30 and 31 in flight.
+  ChannelRun a = channel("a", 10, 39, 2 * kMs);
+  for (std::uint64_t k = 10; k < 20; ++k) {
+    a.fields[k].hasHostSample = false;
+    a.fields[k].hostFrame = -1;
+  }
+  for (std::uint64_t k : {12, 13, 30, 31}) a.fields.erase(k);
+  a.summary["fields_emitted"] = 26;
+  a.summary["fields_missed"] = 4;
+  const LockReport r = lockReport({a});
+  EXPECT_EQ(r.channels[0].flightFirstField, 20u);
+  EXPECT_EQ(r.channels[0].missed, 4u);
+  EXPECT_EQ(r.channels[0].missedInFlight, 2u);
+  EXPECT_EQ(lockFailures(r, 1).size(), 1u);
+  EXPECT_TRUE(lockFailures(r, 2).empty());
+  // Without a host the whole run is the flight
+  for (auto& [k, f] : a.fields) f.hasHostSample = false;
+  EXPECT_EQ(lockReport({a}).channels[0].missedInFlight, 4u);
+  EXPECT_EQ(lockReport({a}).channels[0].flightFirstField, 10u);
+}
+
+TEST(LockReport, FieldsDueWhileTheMachineStalledAreReportedApart) {
+  // Missed in flight: 30 and 31 (the probe saw a CPU stall 40 ms from just before field 30's
+  // period), and 36 (no stall then)
+  ChannelRun a = channel("a", 10, 39, 2 * kMs);
+  for (std::uint64_t k : {30, 31, 36}) a.fields.erase(k);
+  a.summary["fields_emitted"] = 27;
+  a.summary["fields_missed"] = 3;
+  const std::int64_t field30 = 1'000'000'000 + 30 * kPeriodNs;
+  const std::vector<MachineStall> stalls = {{1, field30 - kPeriodNs - kMs, field30 - kPeriodNs + 39 * kMs}};
+  const LockReport r = lockReport({a}, stalls);
+  EXPECT_EQ(r.channels[0].missedInFlight, 3u);
+  EXPECT_EQ(r.channels[0].missedInFlightDuringStalls, 2u);
+  EXPECT_EQ(r.machineStalls, 1u);
+  EXPECT_DOUBLE_EQ(r.longestStallMs, 40.0);
+  EXPECT_EQ(lockFailures(r).size(), 1u);  // field 36
+  EXPECT_TRUE(lockFailures(r, 1).empty());
+  EXPECT_EQ(lockFailures(lockReport({a})).size(), 1u);
+  EXPECT_FALSE(lockFailures(lockReport({a}), 2).empty());  // without the probe all three count
+}
+
+TEST(MachineStalls, AFieldIsDelayedByAStallOverItsPeriodOrJustBefore) {
+  const std::int64_t period = 16 * kMs;
+  const std::vector<MachineStall> stalls = {{0, 100 * kMs, 150 * kMs}};
+  EXPECT_EQ(stallAround(stalls, 100 * kMs, period), &stalls[0]);  // due as it began
+  EXPECT_EQ(stallAround(stalls, 182 * kMs, period), &stalls[0]);  // its thread restarted late
+  EXPECT_EQ(stallAround(stalls, 183 * kMs, period), nullptr);     // two periods after its end
+  EXPECT_EQ(stallAround(stalls, 99 * kMs, period), nullptr);      // displayed before it
+}
+
+TEST(MachineStalls, AMalformedLineIsNamed) {
+  const auto path = std::filesystem::temp_directory_path() / "fieldcast_machine_stalls_test.csv";
+  writeMachineStalls(path, {{0, 5, 9}, {1, 7, 70}});
+  const std::vector<MachineStall> read = readMachineStalls(path);
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[1].cpu, 1);
+  EXPECT_EQ(read[1].wokeNs, 70);
+  {
+    std::ofstream out(path, std::ios::app);
+    out << "2,90,80\n";  // woke before it was due
+  }
+  try {
+    (void)readMachineStalls(path);
+    ADD_FAILURE() << "a stall that ends before it begins was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(":4: expected cpu,due_ns,woke_ns, got 2,90,80"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(path);
 }
 
 }  // namespace

@@ -1,0 +1,52 @@
+// The stall probe's file, and which field a stall explains.
+#include "MachineStalls.h"
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace fieldcast::tools {
+namespace {
+constexpr const char* kHeader = "cpu,due_ns,woke_ns";
+}
+
+std::vector<MachineStall> readMachineStalls(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot read (fieldcast-stall-probe's --out)");
+  std::string line;
+  if (!std::getline(in, line) || line != kHeader)
+    throw std::runtime_error(path.string() + ": expected the header line \"" + kHeader + "\"");
+  std::vector<MachineStall> stalls;
+  for (int number = 2; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    std::istringstream cells(line);
+    MachineStall s;
+    char comma1 = 0, comma2 = 0;
+    cells >> s.cpu >> comma1 >> s.dueNs >> comma2 >> s.wokeNs;
+    if (!cells || comma1 != ',' || comma2 != ',' || !(cells >> std::ws).eof() || s.cpu < 0 || s.wokeNs < s.dueNs)
+      throw std::runtime_error(path.string() + ":" + std::to_string(number) + ": expected cpu,due_ns,woke_ns, got " +
+                               line);
+    stalls.push_back(s);
+  }
+  return stalls;
+}
+
+void writeMachineStalls(const std::filesystem::path& path, const std::vector<MachineStall>& stalls) {
+  std::ofstream out(path);
+  out << kHeader << "\n";
+  for (const MachineStall& s : stalls) out << s.cpu << ',' << s.dueNs << ',' << s.wokeNs << "\n";
+  if (!out.flush()) throw std::runtime_error(path.string() + ": cannot write");
+}
+
+const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs,
+                                std::int64_t periodNs) {
+  // The field's work: [display − period, display]. A stall over it, or ending less than a period
+  // before it starts, delays it.
+  for (const MachineStall& s : stalls) {
+    if (s.dueNs <= displayNs && s.wokeNs + periodNs >= displayNs - periodNs) return &s;
+  }
+  return nullptr;
+}
+
+}  // namespace fieldcast::tools

@@ -1,0 +1,31 @@
+#pragma once
+// Stalls of the machine itself, as fieldcast-stall-probe records them: a SCHED_FIFO thread on
+// each CPU that should wake every millisecond and woke late. A virtual machine's CPU that the
+// hypervisor takes away for 100 ms stops every timer on it, the field threads' too; the rig's
+// report tells a field missed then from one the IG missed by itself.
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace fieldcast::tools {
+
+struct MachineStall {
+  int cpu = 0;
+  std::int64_t dueNs = 0;   ///< when the probe should have woken (CLOCK_MONOTONIC)
+  std::int64_t wokeNs = 0;  ///< when it did
+  double lateMs() const { return static_cast<double>(wokeNs - dueNs) * 1e-6; }
+};
+
+/// The probe's file: a header line "cpu,due_ns,woke_ns", then one stall per line. Throws
+/// std::runtime_error naming the file and line when it cannot be read or a line is malformed.
+std::vector<MachineStall> readMachineStalls(const std::filesystem::path& path);
+/// Writes `stalls` in that form; throws std::runtime_error when the file cannot be written.
+void writeMachineStalls(const std::filesystem::path& path, const std::vector<MachineStall>& stalls);
+
+/// The stall during which a field shown at `displayNs` was due: its field thread had the field
+/// period before the display time to wake and warp, and wakes late when its CPU stalls over
+/// that time (or up to a period before: it restarts late). nullptr when none was.
+const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs, std::int64_t periodNs);
+
+}  // namespace fieldcast::tools
