@@ -87,11 +87,13 @@ for i in 0 1 2; do
   peers=()
   for j in 0 1 2; do [[ $j != "$i" ]] && peers+=("\"127.0.0.1:$((base_port + 10 + j))\""); done
   # Each channel renders at most 15 frames a second: three renderers and three field threads
-  # share the machine's cores, and the field threads must never wait for a core.
+  # share the machine's cores, and the field threads must never wait for a core. Three field
+  # threads wake at one instant on two cores: the third starts when one of the others is done,
+  # so each wakes 8 ms before its field's display time (4 ms alone on a machine).
   "$build/app/fieldcast" --config "$config" \
     --set 'motion.source="host"' --set "host.port=$((base_port + i))" \
     --set "output.width=${size%x*}" --set "output.height=${size#*x}" \
-    --set "view.offset_deg=[${yaws[$i]}, 0, 0]" --set render.threads=1 --set render.max_rate_hz=15 \
+    --set "view.offset_deg=[${yaws[$i]}, 0, 0]" --set render.threads=1 --set render.max_rate_hz=15 --set warp.lead_ms=8 \
     --set "lock.listen=\"127.0.0.1:$((base_port + 10 + i))\"" --set "lock.peers=[${peers[0]}, ${peers[1]}]" \
     --set sinks.y4m.enabled=false --set sinks.images.enabled=true \
     --set "sinks.images.directory=\"$out/$name/images\"" --set sinks.images.every_nth=150 \
