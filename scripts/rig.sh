@@ -51,33 +51,40 @@ rm -rf "$out"
 mkdir -p "$out"
 names=(left centre right)
 yaws=(-60 0 60)
+cpus=$(nproc)
 pids=()
+probe=""
 stop_channels() {
   for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
   for pid in "${pids[@]}"; do wait "$pid" || true; done
   pids=()
 }
-trap stop_channels EXIT
-# The machine's own stalls over the run (a real-time thread per CPU that wakes every millisecond):
-# a field due while a CPU stalled is reported apart from one a channel missed by itself
-"$build/tools/rig/fieldcast-stall-probe" --out "$out/stalls.csv" > "$out/stall_probe.txt" &
-pids+=($!)
+stop_all() {
+  stop_channels
+  if [[ -n $probe ]]; then kill -TERM "$probe" 2>/dev/null || true; fi
+}
+trap stop_all EXIT
+# The machine's own stalls over the run (a real-time thread pinned to each CPU, waking every
+# millisecond): a field a stall of its field thread's CPU explains is reported apart
+"$build/tools/rig/fieldcast-stall-probe" --out "$out/stalls.csv" > "$out/stall_probe.txt" 2>&1 &
+probe=$!
 # Waits until channel $1 (process $2) has emitted half a second of fields: it has its terrain,
 # has joined the lock and runs. The first run builds the built-in terrain, hence the long wait.
 wait_until_emitting() {
-  local name=$1 pid=$2 waited=0
-  while [[ $(wc -l < "$out/$name/fields.csv" 2>/dev/null || echo 0) -lt 31 ]]; do
+  local name=$1 pid=$2 deadline=$((SECONDS + 600)) lines
+  while true; do
+    lines=$({ wc -l < "$out/$name/fields.csv"; } 2>/dev/null || echo 0)
+    [[ $lines -ge 31 ]] && return 0
     if ! kill -0 "$pid" 2>/dev/null; then
-      echo "rig.sh: the $name channel stopped before emitting; its log:" >&2
+      echo "rig.sh: the $name channel stopped before it had emitted 30 fields; its log:" >&2
       tail -20 "$out/$name/log.txt" >&2
       exit 1
     fi
-    if (( waited >= 6000 )); then
-      echo "rig.sh: the $name channel emitted no field in 600 s" >&2
+    if (( SECONDS >= deadline )); then
+      echo "rig.sh: the $name channel had not emitted 30 fields after 600 s" >&2
       exit 1
     fi
     sleep 0.1
-    waited=$((waited + 1))
   done
 }
 
@@ -87,18 +94,20 @@ for i in 0 1 2; do
   peers=()
   for j in 0 1 2; do [[ $j != "$i" ]] && peers+=("\"127.0.0.1:$((base_port + 10 + j))\""); done
   # Each channel renders at most 15 frames a second: three renderers and three field threads
-  # share the machine's cores, and the field threads must never wait for a core. Three field
-  # threads wake at one instant on two cores: the third starts when one of the others is done,
-  # so each wakes 8 ms before its field's display time (4 ms alone on a machine).
+  # share the machine's cores, and the field threads must never wait for a core. Each field
+  # thread is pinned to a CPU in turn (so a stall of that CPU is what explains its misses) and
+  # wakes 8 ms before its field's display time (4 ms alone on a machine): two field threads
+  # share a CPU here and wake at one instant, the second starts when the first is done.
   "$build/app/fieldcast" --config "$config" \
     --set 'motion.source="host"' --set "host.port=$((base_port + i))" \
     --set "output.width=${size%x*}" --set "output.height=${size#*x}" \
-    --set "view.offset_deg=[${yaws[$i]}, 0, 0]" --set render.threads=1 --set render.max_rate_hz=15 --set warp.lead_ms=8 \
+    --set "view.offset_deg=[${yaws[$i]}, 0, 0]" --set render.threads=1 --set render.max_rate_hz=15 \
+    --set warp.lead_ms=8 --set "threads.field_thread_cpu=$((i % cpus))" \
     --set "lock.listen=\"127.0.0.1:$((base_port + 10 + i))\"" --set "lock.peers=[${peers[0]}, ${peers[1]}]" \
     --set sinks.y4m.enabled=false --set sinks.images.enabled=true \
     --set "sinks.images.directory=\"$out/$name/images\"" --set sinks.images.every_nth=150 \
     --field-log "$out/$name/fields.csv" --summary "$out/$name/summary.json" > "$out/$name/log.txt" 2>&1 &
-  pids+=($!)
+  pids+=("$!")
   # One after the other, each running before the next starts: each joins the lock the first
   # began, and the first builds the terrain cache the others then read.
   wait_until_emitting "$name" "$!"
@@ -110,12 +119,19 @@ done
   --duration "$duration" --ig-port $((base_port + 1)) --also-ig-port "$base_port" --also-ig-port $((base_port + 2)) \
   --wait-for-ig 60 --summary "$out/host.json" | tee "$out/host.txt"
 stop_channels
+kill -TERM "$probe"
+stalls=(--stalls "$out/stalls.csv")
+if ! wait "$probe"; then
+  stalls=()  # not measured: no field is excused
+fi
+probe=""
 trap - EXIT
 cat "$out/stall_probe.txt"
 
 "$build/tools/rig/fieldcast-rig" --channel "left=$out/left" --channel "centre=$out/centre" \
-  --channel "right=$out/right" --sheet "$out/contact_sheet.png" --report "$out/report.json" --check \
-  --allow-missed "$allow_missed" --stalls "$out/stalls.csv" |
+  --channel "right=$out/right" --field-cpu "left=0" --field-cpu "centre=$((1 % cpus))" \
+  --field-cpu "right=$((2 % cpus))" --host "$out/host.json" "${stalls[@]}" \
+  --sheet "$out/contact_sheet.png" --report "$out/report.json" --check --allow-missed "$allow_missed" |
   tee "$out/report.txt"
 
 echo

@@ -400,6 +400,7 @@ ScriptedHostReport runScriptedHost(const ScriptedHostOptions& options, const mot
     recording.sentOwnship(control.hostFrameNumber, ownship);
     ++report.framesSent;
   }
+  report.flightEndNs = std::chrono::duration_cast<std::chrono::nanoseconds>(Steady::now().time_since_epoch()).count();
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the last answers
   stop = true;
   reader.join();

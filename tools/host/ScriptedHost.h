@@ -102,6 +102,8 @@ struct ScriptedHostReport {
   /// CLOCK_MONOTONIC instant of flight time 0 (steady_clock is CLOCK_MONOTONIC on Linux): the
   /// flight's pose at IG instant t is flight.poseAtSeconds((t - flightStartNs) / 1e9).
   std::int64_t flightStartNs = 0;
+  /// When the flight's last frame had been sent (same clock): the flight's end as the IGs saw it
+  std::int64_t flightEndNs = 0;
 };
 
 /// Plays `flight` as the host of the IG at options.igAddress:igPort. `terrain` is the database the

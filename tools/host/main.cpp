@@ -162,6 +162,7 @@ int main(int argc, char** argv) {
       j["other_channels_send_errors"] = report.otherSendErrors;
       j["shared_frame_arrival_spread_p99_ms"] = report.sharedFrameArrivalSpreadP99Ms;
       j["flight_start_monotonic_ns"] = report.flightStartNs;
+      j["flight_end_monotonic_ns"] = report.flightEndNs;
       std::ofstream out(summaryPath);
       out << j.dump(2) << "\n";
       if (!out) throw std::runtime_error("--summary: cannot write " + summaryPath);

@@ -23,6 +23,7 @@ struct ChannelRun {
   std::map<std::uint64_t, LoggedField> fields;  ///< by field number
   nlohmann::json summary;
   std::map<std::uint64_t, std::filesystem::path> images;  ///< by field number
+  int fieldCpu = -1;  ///< the CPU its field thread was pinned to (threads.field_thread_cpu); −1: not pinned
 };
 
 /// Reads `folder`/fields.csv, summary.json and images/. Throws std::runtime_error naming the file

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <sstream>
 
 namespace fieldcast::tools {
@@ -22,56 +23,77 @@ Spread spreadOf(std::vector<double> values) {
   return s;
 }
 
-// Of the field numbers missing between logged fields from `from` on, those due while the
-// machine stalled; a missing field's display time lies on the line between its neighbours'.
-std::uint64_t missedDuringStalls(std::map<std::uint64_t, LoggedField>::const_iterator from,
-                                 std::map<std::uint64_t, LoggedField>::const_iterator end,
-                                 const std::vector<MachineStall>& stalls) {
-  std::uint64_t during = 0;
-  for (auto before = from, after = std::next(from); before != end && after != end; before = after++) {
+struct MissedFields {
+  std::uint64_t inFlight = 0, duringStalls = 0;
+};
+
+// The field numbers missing from a log between logged fields, those displayed in [begin, end],
+// and of those the ones a machine stall explains; a missing field's display time lies on the
+// line between its neighbours'. A gap wider than the channel's missed fields (a jump onto
+// another lock) or without time between its ends is not a run of misses.
+MissedFields missedFields(const std::map<std::uint64_t, LoggedField>& fields, std::int64_t begin, std::int64_t end,
+                          const std::vector<MachineStall>& stalls, int cpu, std::uint64_t missed) {
+  MissedFields m;
+  if (fields.empty()) return m;
+  for (auto before = fields.begin(), after = std::next(before); after != fields.end(); before = after++) {
     const std::uint64_t gap = after->first - before->first;
-    if (gap < 2) continue;
-    const std::int64_t periodNs = (after->second.displayNs - before->second.displayNs) / static_cast<std::int64_t>(gap);
+    const std::int64_t spanNs = after->second.displayNs - before->second.displayNs;
+    if (gap < 2 || gap - 1 > missed || spanNs <= 0) continue;
     for (std::uint64_t k = 1; k < gap; ++k) {
-      const std::int64_t displayNs = before->second.displayNs + static_cast<std::int64_t>(k) * periodNs;
-      if (stallAround(stalls, displayNs, periodNs) != nullptr) ++during;
+      const std::int64_t displayNs =
+          before->second.displayNs + spanNs / static_cast<std::int64_t>(gap) * static_cast<std::int64_t>(k);
+      if (displayNs < begin || displayNs > end) continue;
+      ++m.inFlight;
+      if (stallAround(stalls, displayNs, cpu) != nullptr) ++m.duringStalls;
     }
   }
-  return during;
+  return m;
 }
 
 nlohmann::json toJson(const Spread& s) { return {{"p50", s.p50}, {"p99", s.p99}, {"max", s.max}}; }
 
 }  // namespace
 
-LockReport lockReport(const std::vector<ChannelRun>& channels, const std::vector<MachineStall>& stalls) {
+LockReport lockReport(const std::vector<ChannelRun>& channels, const std::vector<MachineStall>& stalls,
+                      std::optional<FlightWindow> flight) {
   LockReport r;
   r.machineStalls = stalls.size();
   for (const MachineStall& s : stalls) r.longestStallMs = std::max(r.longestStallMs, s.lateMs());
+  r.flight = flight;
   for (const ChannelRun& c : channels) {
     LockReport::PerChannel p;
     p.name = c.name;
+    p.fieldCpu = c.fieldCpu;
     p.fields = c.summary.value("fields_emitted", std::uint64_t{0});
     p.missed = c.summary.value("fields_missed", std::uint64_t{0});
     p.black = c.summary.value("fields_black", std::uint64_t{0});
     if (c.summary.contains("lock")) p.relocks = c.summary["lock"].value("relocks", std::uint64_t{0});
+    p.missedInFlight = p.missed;  // without a log, every miss counts
     if (!c.fields.empty()) {
       // The first field planned (a missed first field is not in the log)
       p.firstField = c.summary.contains("lock") ? c.summary["lock"].value("first_field", c.fields.begin()->first)
                                                 : c.fields.begin()->first;
       p.lastField = c.fields.rbegin()->first;
-      // The flight: from the first field made from a host sample; the whole run without a host
-      const auto flight =
+      p.lastDisplayNs = c.fields.rbegin()->second.displayNs;
+      // The flight: the host's own instants; without them, from the first field made from a
+      // host sample; without a host, the whole run
+      std::int64_t begin = std::numeric_limits<std::int64_t>::min();
+      std::int64_t end = std::numeric_limits<std::int64_t>::max();
+      const auto hosted =
           std::find_if(c.fields.begin(), c.fields.end(), [](const auto& f) { return f.second.hasHostSample; });
-      p.flightFirstField = p.firstField;
-      p.missedInFlight = p.missed;
-      if (flight != c.fields.end()) {
-        // the flight's field numbers that are not in the log were missed
-        const auto logged = static_cast<std::uint64_t>(std::distance(flight, c.fields.end()));
-        p.flightFirstField = flight->first;
-        p.missedInFlight = std::min(p.missed, p.lastField - flight->first + 1 - logged);
-        p.missedInFlightDuringStalls = std::min(p.missedInFlight, missedDuringStalls(flight, c.fields.end(), stalls));
+      if (flight) {
+        begin = flight->beginNs;
+        end = flight->endNs;
+      } else if (hosted != c.fields.end()) {
+        begin = hosted->second.displayNs;
       }
+      const auto first =
+          std::find_if(c.fields.begin(), c.fields.end(), [&](const auto& f) { return f.second.displayNs >= begin; });
+      p.flightFirstField = first != c.fields.end() ? first->first : p.lastField + 1;
+      if (begin == std::numeric_limits<std::int64_t>::min()) p.flightFirstField = p.firstField;
+      const MissedFields m = missedFields(c.fields, begin, end, stalls, c.fieldCpu, p.missed);
+      if (begin != std::numeric_limits<std::int64_t>::min()) p.missedInFlight = std::min(p.missed, m.inFlight);
+      p.missedInFlightDuringStalls = std::min(p.missedInFlight, m.duringStalls);
       p.latestEmissionMs = -1e9;
       for (const auto& [k, f] : c.fields) {
         p.latestEmissionMs = std::max(p.latestEmissionMs, static_cast<double>(f.emittedNs - f.displayNs) * 1e-6);
@@ -126,6 +148,9 @@ std::vector<std::string> lockFailures(const LockReport& r, std::uint64_t allowed
     if (c.missedInFlight - c.missedInFlightDuringStalls > allowedMissed)
       failures.push_back(c.name + ": " + std::to_string(c.missedInFlight - c.missedInFlightDuringStalls) +
                          " fields missed while the host flew and the machine ran");
+    if (r.flight && (c.fields == 0 || c.lastDisplayNs < r.flight->endNs))
+      failures.push_back(c.name + ": its field log ends at field " + std::to_string(c.lastField) +
+                         ", before the host's flight ended");
     if (c.black > 0) failures.push_back(c.name + ": " + std::to_string(c.black) + " fields black");
     if (c.relocks > 0) failures.push_back(c.name + ": moved onto another lock " + std::to_string(c.relocks) + " times");
     if (c.fields + c.missed != c.lastField - c.firstField + 1)
@@ -148,10 +173,12 @@ nlohmann::json toJson(const LockReport& r) {
   j["fields_partly_hosted"] = r.partlyHosted;
   j["same_host_frame"] = r.sameHostFrame;
   j["machine_stalls"] = {{"count", r.machineStalls}, {"longest_ms", r.longestStallMs}};
+  if (r.flight) j["flight_monotonic_ns"] = {r.flight->beginNs, r.flight->endNs};
   for (const auto& c : r.channels) {
     j["channels"].push_back({{"name", c.name},
                              {"fields", c.fields},
                              {"missed", c.missed},
+                             {"field_thread_cpu", c.fieldCpu},
                              {"flight_first_field", c.flightFirstField},
                              {"missed_in_flight", c.missedInFlight},
                              {"missed_in_flight_during_machine_stalls", c.missedInFlightDuringStalls},

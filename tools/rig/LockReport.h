@@ -7,6 +7,7 @@
 #include "MachineStalls.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,12 @@ namespace fieldcast::tools {
 
 struct Spread {
   double p50 = 0, p99 = 0, max = 0;
+};
+
+/// The host's flight as it reported it (fieldcast-host --summary): the instants it sent its first
+/// frame and had sent its last, on the channels' clock.
+struct FlightWindow {
+  std::int64_t beginNs = 0, endNs = 0;
 };
 
 struct LockReport {
@@ -30,8 +37,10 @@ struct LockReport {
   struct PerChannel {
     std::string name;
     std::uint64_t fields = 0, missed = 0, black = 0, firstField = 0, lastField = 0, relocks = 0;
-    /// The first field made from a host sample (the host flew from then on); firstField when the
-    /// channel never heard a host.
+    int fieldCpu = -1;  ///< the CPU its field thread was pinned to; −1: not pinned
+    std::int64_t lastDisplayNs = 0;
+    /// The first field of the flight: displayed from the host's first frame on (without the
+    /// host's instants, the first field made from a host sample); firstField without a host.
     std::uint64_t flightFirstField = 0;
     std::uint64_t missedInFlight = 0;              ///< missed from flightFirstField on (the rest: before the host flew)
     std::uint64_t missedInFlightDuringStalls = 0;  ///< ... of them, due while the machine itself stalled
@@ -40,18 +49,20 @@ struct LockReport {
   };
   std::vector<PerChannel> channels;
   std::uint64_t machineStalls = 0;  ///< the stall probe's records (0 without one)
-  double longestStallMs = 0;
+  double longestStallMs = 0;        ///< the longest of them
+  std::optional<FlightWindow> flight;
 };
 
-/// `stalls`: what fieldcast-stall-probe recorded over the run, if it ran.
-LockReport lockReport(const std::vector<ChannelRun>& channels, const std::vector<MachineStall>& stalls = {});
+/// `stalls`: what fieldcast-stall-probe recorded over the run, if it ran; `flight`: the host's.
+LockReport lockReport(const std::vector<ChannelRun>& channels, const std::vector<MachineStall>& stalls = {},
+                      std::optional<FlightWindow> flight = std::nullopt);
 
 /// What a locked rig must show (README "Channels"): every channel made every field while the
 /// host flew (`allowedMissed` excepted, for a machine shared with other work; fields missed
-/// before, while channels were still starting, and fields due while the machine itself stalled
-/// are reported, not failed), none black, none moved onto another lock, field k's display time
-/// the same in every channel (spread p99 at most 0.5 ms), and fields in common. One line per
-/// failure; empty: locked.
+/// before, while channels were still starting, and fields a stall of the machine itself
+/// explains are reported, not failed) and ran to the flight's end, none black, none moved onto
+/// another lock, field k's display time the same in every channel (spread p99 at most 0.5 ms),
+/// and fields in common. One line per failure; empty: locked.
 std::vector<std::string> lockFailures(const LockReport& report, std::uint64_t allowedMissed = 0);
 
 nlohmann::json toJson(const LockReport& report);

@@ -39,12 +39,14 @@ void writeMachineStalls(const std::filesystem::path& path, const std::vector<Mac
   if (!out.flush()) throw std::runtime_error(path.string() + ": cannot write");
 }
 
-const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs,
-                                std::int64_t periodNs) {
-  // The field's work: [display − period, display]. A stall over it, or ending less than a period
-  // before it starts, delays it.
+const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs, int cpu) {
+  constexpr std::int64_t kLeastWorkNs = 1'000'000;    // warp::FieldClock's minimum work before a field
+  constexpr std::int64_t kProbePeriodNs = 1'000'000;  // fieldcast-stall-probe's period (rig.sh's)
+  constexpr std::int64_t kAfterStallNs = 5'000'000;   // a warp on this machine, at most (summaries' warp_time)
+  const std::int64_t deadline = displayNs - kLeastWorkNs;
   for (const MachineStall& s : stalls) {
-    if (s.dueNs <= displayNs && s.wokeNs + periodNs >= displayNs - periodNs) return &s;
+    if ((cpu < 0 || s.cpu == cpu) && deadline >= s.dueNs - kProbePeriodNs && deadline <= s.wokeNs + kAfterStallNs)
+      return &s;
   }
   return nullptr;
 }

@@ -23,9 +23,12 @@ std::vector<MachineStall> readMachineStalls(const std::filesystem::path& path);
 /// Writes `stalls` in that form; throws std::runtime_error when the file cannot be written.
 void writeMachineStalls(const std::filesystem::path& path, const std::vector<MachineStall>& stalls);
 
-/// The stall during which a field shown at `displayNs` was due: its field thread had the field
-/// period before the display time to wake and warp, and wakes late when its CPU stalls over
-/// that time (or up to a period before: it restarts late). nullptr when none was.
-const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs, std::int64_t periodNs);
+/// The stall that cost the field shown at `displayNs`, if one did; nullptr otherwise. A field is
+/// missed when its field thread has not started it by its display time less the field clock's
+/// least work (1 ms): a stall explains it when that deadline falls in the stall, from a probe
+/// period before the probe's missed wake-up to a warp's time (5 ms) after it woke — the thread
+/// first finishes the field it was on. `cpu`: the CPU the channel's field thread is pinned to;
+/// −1 (not pinned): a stall on any CPU.
+const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs, int cpu = -1);
 
 }  // namespace fieldcast::tools

@@ -31,14 +31,14 @@ void probeOneCpu(int cpu, const StallProbeOptions& options, const std::atomic<bo
   cpu_set_t set;
   CPU_ZERO(&set);
   CPU_SET(cpu, &set);
-  if (const int error = pthread_setaffinity_np(pthread_self(), sizeof set, &set); error != 0)
-    result.problem = std::string("not pinned: ") + std::strerror(error);
+  const int pinError = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+  if (pinError != 0) result.problem = std::string("not pinned: ") + std::strerror(pinError);
   sched_param param{};
   param.sched_priority = options.fifoPriority;
   if (const int error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param); error != 0) {
     result.problem += (result.problem.empty() ? "" : "; ") + std::string("SCHED_FIFO refused: ") + std::strerror(error);
   } else {
-    result.realtime = true;
+    result.realtime = pinError == 0;
   }
   const std::int64_t periodNs = std::chrono::nanoseconds(options.period).count();
   const std::int64_t thresholdNs = std::chrono::nanoseconds(options.threshold).count();
@@ -73,8 +73,16 @@ StallProbeRun runStallProbe(const StallProbeOptions& options, const std::atomic<
   std::vector<std::vector<MachineStall>> stallsByCpu(cpus.size());
   for (auto& s : stallsByCpu) s.reserve(4096);  // a real-time thread should not allocate (unless there are more)
   std::vector<std::thread> threads;
-  for (std::size_t i = 0; i < cpus.size(); ++i)
-    threads.emplace_back([&, i] { probeOneCpu(cpus[i], options, stop, run.cpus[i], stallsByCpu[i]); });
+  for (std::size_t i = 0; i < cpus.size(); ++i) {
+    threads.emplace_back([&, i]() noexcept {
+      try {
+        probeOneCpu(cpus[i], options, stop, run.cpus[i], stallsByCpu[i]);
+      } catch (const std::exception& e) {  // a stall record it could not store
+        run.cpus[i].problem += std::string(run.cpus[i].problem.empty() ? "" : "; ") + e.what();
+        run.cpus[i].realtime = false;
+      }
+    });
+  }
   for (std::thread& t : threads) t.join();
   for (const auto& s : stallsByCpu) run.stalls.insert(run.stalls.end(), s.begin(), s.end());
   std::sort(run.stalls.begin(), run.stalls.end(),

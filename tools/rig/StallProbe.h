@@ -26,14 +26,16 @@ struct StallProbeRun {
   struct PerCpu {
     int cpu = 0;
     std::uint64_t wakeUps = 0;
-    double latestMs = 0;    ///< the latest wake-up, recorded or not
-    bool realtime = false;  ///< SCHED_FIFO granted; without it the probe measures the scheduler, not the machine
-    std::string problem;    ///< why it is not pinned or not real-time, empty when it is both
+    double latestMs = 0;  ///< the latest wake-up, recorded or not
+    /// Pinned and SCHED_FIFO: without both, a late wake-up may be the scheduler's choice (another
+    /// thread had the CPU), not a stall of the machine
+    bool realtime = false;
+    std::string problem;  ///< why it is not pinned or not real-time, empty when it is both
   };
   std::vector<PerCpu> cpus;
 };
 
-/// Runs the probe on every online CPU until `stop` is set.
+/// Runs the probe on every CPU this process may run on until `stop` is set.
 StallProbeRun runStallProbe(const StallProbeOptions& options, const std::atomic<bool>& stop);
 
 }  // namespace fieldcast::tools

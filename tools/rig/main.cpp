@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -19,7 +20,8 @@ int main(int argc, char** argv) {
   using namespace fieldcast;
   CLI::App app{"fieldcast-rig: the lock figures and the stitched contact sheet of a rig's channels"};
   std::vector<std::string> channelArgs;
-  std::string sheetPath, reportPath, stallsPath;
+  std::string sheetPath, reportPath, stallsPath, hostPath;
+  std::vector<std::string> fieldCpuArgs;
   int rows = 8;
   bool check = false;
   std::uint64_t allowedMissed = 0;
@@ -31,6 +33,11 @@ int main(int argc, char** argv) {
                "exit 1 unless the rig was locked: no field missed while the host flew (the machine's own stalls "
                "apart) or black, one lock, field k's display time the same everywhere, no blank field on the sheet");
   app.add_option("--allow-missed", allowedMissed, "with --check: missed fields a channel may have (a shared machine)");
+  app.add_option("--host", hostPath,
+                 "the host's summary (fieldcast-host --summary): the flight is from its first frame to its last");
+  app.add_option("--field-cpu", fieldCpuArgs,
+                 "NAME=CPU: the CPU that channel's field thread was pinned to (threads.field_thread_cpu); only a stall "
+                 "of that CPU explains its missed fields (repeatable; without: a stall of any CPU)");
   app.add_option("--stalls", stallsPath,
                  "the machine's stalls over the run (fieldcast-stall-probe --out): fields due during one are "
                  "reported apart, not failed");
@@ -43,9 +50,31 @@ int main(int argc, char** argv) {
         throw std::runtime_error("--channel: expected NAME=FOLDER, got " + arg);
       channels.push_back(tools::readChannelRun(arg.substr(0, equals), arg.substr(equals + 1)));
     }
+    for (const std::string& arg : fieldCpuArgs) {
+      const std::size_t equals = arg.find('=');
+      const auto channel = std::find_if(channels.begin(), channels.end(),
+                                        [&](const tools::ChannelRun& c) { return c.name == arg.substr(0, equals); });
+      int cpu = -1;
+      if (equals == std::string::npos || channel == channels.end() ||
+          !CLI::detail::lexical_cast(arg.substr(equals + 1), cpu) || cpu < 0)
+        throw std::runtime_error("--field-cpu: expected NAME=CPU of a --channel, got " + arg);
+      channel->fieldCpu = cpu;
+    }
+    std::optional<tools::FlightWindow> flight;
+    if (!hostPath.empty()) {
+      std::ifstream in(hostPath);
+      nlohmann::json host;
+      try {
+        host = nlohmann::json::parse(in);
+        flight = tools::FlightWindow{host.at("flight_start_monotonic_ns").get<std::int64_t>(),
+                                     host.at("flight_end_monotonic_ns").get<std::int64_t>()};
+      } catch (const std::exception& e) {
+        throw std::runtime_error("--host " + hostPath + ": " + e.what());
+      }
+    }
     const std::vector<tools::MachineStall> stalls =
         stallsPath.empty() ? std::vector<tools::MachineStall>{} : tools::readMachineStalls(stallsPath);
-    const tools::LockReport report = tools::lockReport(channels, stalls);
+    const tools::LockReport report = tools::lockReport(channels, stalls, flight);
     std::fputs(tools::describe(report).c_str(), stdout);
     if (!reportPath.empty()) {
       std::ofstream out(reportPath);

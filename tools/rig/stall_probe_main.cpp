@@ -2,6 +2,7 @@
 // one SCHED_FIFO thread per CPU wakes every millisecond; each wake-up late by the threshold or
 // more is written to --out as cpu,due_ns,woke_ns (CLOCK_MONOTONIC, the clock of the channels'
 // field logs), for fieldcast-rig --stalls. Runs until SIGTERM or SIGINT, or for --duration.
+// Exits 1 without writing the file when a CPU's thread was not both pinned and SCHED_FIFO.
 //   fieldcast-stall-probe --out out/rig/stalls.csv
 #include "StallProbe.h"
 
@@ -11,7 +12,9 @@
 
 #include <signal.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <thread>
@@ -38,8 +41,14 @@ int main(int argc, char** argv) {
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
-  // A page fault of the probe's own must not look like a stall
-  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) std::perror("fieldcast-stall-probe: mlockall (going on unlocked)");
+  // A page fault of the probe's own must not look like a stall. Locking future mappings too is
+  // safe only without a limit (a thread's stack past the limit would fail to map).
+  rlimit limit{};
+  if (getrlimit(RLIMIT_MEMLOCK, &limit) == 0 && limit.rlim_cur == RLIM_INFINITY) {
+    if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) std::perror("fieldcast-stall-probe: mlockall (going on unlocked)");
+  } else if (mlockall(MCL_CURRENT) != 0) {
+    std::perror("fieldcast-stall-probe: mlockall (going on unlocked)");
+  }
 
   tools::StallProbeOptions options;
   options.period = std::chrono::microseconds(static_cast<std::int64_t>(periodMs * 1000));
@@ -71,6 +80,15 @@ int main(int argc, char** argv) {
     std::printf("cpu %d: %llu wake-ups, %zu at least %.1f ms late, the latest %.3f ms late%s%s\n", cpu.cpu,
                 static_cast<unsigned long long>(cpu.wakeUps), stalls, thresholdMs, cpu.latestMs,
                 cpu.problem.empty() ? "" : "; ", cpu.problem.c_str());
+  }
+  // Without a real-time thread pinned to every CPU a late wake-up proves nothing of the machine:
+  // no file, so that nothing is excused by it
+  const bool measured = std::all_of(run.cpus.begin(), run.cpus.end(), [](const auto& c) { return c.realtime; });
+  if (!measured) {
+    std::fprintf(stderr,
+                 "fieldcast-stall-probe: not a real-time thread pinned to every CPU (run as root, or grant "
+                 "CAP_SYS_NICE): the machine's stalls were not measured\n");
+    return 1;
   }
   try {
     tools::writeMachineStalls(outPath, run.stalls);

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -103,7 +105,9 @@ TEST(LockReport, AMissedFirstFieldIsStillInTheChannelsRun) {
   a.summary["fields_missed"] = 1;
   const LockReport r = lockReport({a});
   EXPECT_EQ(r.channels[0].firstField, 10u);
-  EXPECT_TRUE(lockFailures(r, 1).empty());
+  EXPECT_EQ(r.channels[0].missed, 1u);
+  EXPECT_EQ(r.channels[0].missedInFlight, 0u);  // before field 11, the first made from a host sample
+  EXPECT_TRUE(lockFailures(r).empty());         // and the run's count adds up
 }
 
 TEST(LockReport, OnlyFieldsMissedWhileTheHostFlewFailTheCheck) {
@@ -130,36 +134,61 @@ TEST(LockReport, OnlyFieldsMissedWhileTheHostFlewFailTheCheck) {
 }
 
 TEST(LockReport, FieldsDueWhileTheMachineStalledAreReportedApart) {
-  // Missed in flight: 30 and 31 (the probe saw a CPU stall 40 ms from just before field 30's
-  // period), and 36 (no stall then)
+  // Missed in flight: 30 and 31 (the probe on CPU 1 stalled from 2 ms before field 30's display
+  // time to 20 ms after it), and 36 (no stall then)
   ChannelRun a = channel("a", 10, 39, 2 * kMs);
   for (std::uint64_t k : {30, 31, 36}) a.fields.erase(k);
   a.summary["fields_emitted"] = 27;
   a.summary["fields_missed"] = 3;
   const std::int64_t field30 = 1'000'000'000 + 30 * kPeriodNs;
-  const std::vector<MachineStall> stalls = {{1, field30 - kPeriodNs - kMs, field30 - kPeriodNs + 39 * kMs}};
+  const std::vector<MachineStall> stalls = {{1, field30 - 2 * kMs, field30 + 20 * kMs}};
   const LockReport r = lockReport({a}, stalls);
   EXPECT_EQ(r.channels[0].missedInFlight, 3u);
   EXPECT_EQ(r.channels[0].missedInFlightDuringStalls, 2u);
   EXPECT_EQ(r.machineStalls, 1u);
-  EXPECT_DOUBLE_EQ(r.longestStallMs, 40.0);
+  EXPECT_DOUBLE_EQ(r.longestStallMs, 22.0);
   EXPECT_EQ(lockFailures(r).size(), 1u);  // field 36
   EXPECT_TRUE(lockFailures(r, 1).empty());
-  EXPECT_EQ(lockFailures(lockReport({a})).size(), 1u);
   EXPECT_FALSE(lockFailures(lockReport({a}), 2).empty());  // without the probe all three count
+  // A channel whose field thread is pinned to CPU 0 is not excused by CPU 1's stall
+  a.fieldCpu = 0;
+  EXPECT_EQ(lockReport({a}, stalls).channels[0].missedInFlightDuringStalls, 0u);
+  a.fieldCpu = 1;
+  EXPECT_EQ(lockReport({a}, stalls).channels[0].missedInFlightDuringStalls, 2u);
 }
 
-TEST(MachineStalls, AFieldIsDelayedByAStallOverItsPeriodOrJustBefore) {
-  const std::int64_t period = 16 * kMs;
+TEST(LockReport, TheHostsFlightIsTheWindowAndEveryLogMustReachItsEnd) {
+  // Missed 12 and 13 before the host's first frame (field 20's display time), 30 and 31 after
+  ChannelRun a = channel("a", 10, 39, 2 * kMs);
+  for (std::uint64_t k : {12, 13, 30, 31}) a.fields.erase(k);
+  a.summary["fields_emitted"] = 26;
+  a.summary["fields_missed"] = 4;
+  const auto display = [](std::int64_t k) { return 1'000'000'000 + k * kPeriodNs; };
+  const LockReport r = lockReport({a}, {}, FlightWindow{display(20), display(38)});
+  EXPECT_EQ(r.channels[0].flightFirstField, 20u);
+  EXPECT_EQ(r.channels[0].missedInFlight, 2u);
+  EXPECT_TRUE(lockFailures(r, 2).empty());
+  // The host flew on after the channel's last field: it did not make the whole flight
+  const std::vector<std::string> cut = lockFailures(lockReport({a}, {}, FlightWindow{display(20), display(45)}), 2);
+  ASSERT_EQ(cut.size(), 1u);
+  EXPECT_NE(cut[0].find("a: its field log ends at field 39, before the host's flight ended"), std::string::npos)
+      << cut[0];
+}
+
+TEST(MachineStalls, AStallExplainsAFieldWhoseLatestStartFallsInItOrAWarpAfter) {
+  // A field is missed when its thread has not started it 1 ms before its display time
   const std::vector<MachineStall> stalls = {{0, 100 * kMs, 150 * kMs}};
-  EXPECT_EQ(stallAround(stalls, 100 * kMs, period), &stalls[0]);  // due as it began
-  EXPECT_EQ(stallAround(stalls, 182 * kMs, period), &stalls[0]);  // its thread restarted late
-  EXPECT_EQ(stallAround(stalls, 183 * kMs, period), nullptr);     // two periods after its end
-  EXPECT_EQ(stallAround(stalls, 99 * kMs, period), nullptr);      // displayed before it
+  EXPECT_EQ(stallAround(stalls, 100 * kMs), &stalls[0]);  // latest start a period before the missed wake-up
+  EXPECT_EQ(stallAround(stalls, 156 * kMs), &stalls[0]);  // latest start a warp's time after it woke
+  EXPECT_EQ(stallAround(stalls, 157 * kMs), nullptr);
+  EXPECT_EQ(stallAround(stalls, 99 * kMs), nullptr);
+  EXPECT_EQ(stallAround(stalls, 120 * kMs, 0), &stalls[0]);
+  EXPECT_EQ(stallAround(stalls, 120 * kMs, 1), nullptr);  // another CPU's field thread ran on
 }
 
 TEST(MachineStalls, AMalformedLineIsNamed) {
-  const auto path = std::filesystem::temp_directory_path() / "fieldcast_machine_stalls_test.csv";
+  const auto path =
+      std::filesystem::temp_directory_path() / ("fieldcast_machine_stalls_test_" + std::to_string(::getpid()) + ".csv");
   writeMachineStalls(path, {{0, 5, 9}, {1, 7, 70}});
   const std::vector<MachineStall> read = readMachineStalls(path);
   ASSERT_EQ(read.size(), 2u);
