@@ -138,6 +138,7 @@ LockReport lockReport(const std::vector<ChannelRun>& channels, const std::vector
   }
   r.displayMs = spreadOf(std::move(display));
   r.emittedMs = spreadOf(std::move(emitted));
+  r.positionFields = position.size();
   r.positionM = spreadOf(std::move(position));
   return r;
 }
@@ -170,6 +171,7 @@ nlohmann::json toJson(const LockReport& r) {
   j["display_spread_ms"] = toJson(r.displayMs);
   j["emission_spread_ms"] = toJson(r.emittedMs);
   j["position_spread_m"] = toJson(r.positionM);
+  j["position_fields"] = r.positionFields;
   j["fields_partly_hosted"] = r.partlyHosted;
   j["same_host_frame"] = r.sameHostFrame;
   j["machine_stalls"] = {{"count", r.machineStalls}, {"longest_ms", r.longestStallMs}};
@@ -208,8 +210,9 @@ std::string describe(const LockReport& r) {
     << " ms, max " << r.displayMs.max << " ms\n"
     << "emission of field k across channels: spread p50 " << r.emittedMs.p50 << " ms, p99 " << r.emittedMs.p99
     << " ms, max " << r.emittedMs.max << " ms\n"
-    << "eye positions at one field (every channel flying from a host sample): apart p50 " << r.positionM.p50
-    << " m, p99 " << r.positionM.p99 << " m, max " << r.positionM.max << " m; " << r.sameHostFrame
+    << "eye positions at one field (" << r.positionFields
+    << " fields, every channel flying from a host sample): apart p50 " << r.positionM.p50 << " m, p99 "
+    << r.positionM.p99 << " m, max " << r.positionM.max << " m; " << r.sameHostFrame
     << " fields made from the same host sample in every channel, " << r.partlyHosted
     << " where some channels had the host's first sample and others not yet\n"
     << "machine stalls (fieldcast-stall-probe): " << r.machineStalls << ", the longest " << r.longestStallMs << " ms\n";

@@ -32,8 +32,9 @@ struct LockReport {
   /// How far apart the channels' eye positions were at one field: over the fields every channel
   /// made from a host sample (all fields when there was no host)
   Spread positionM;
-  std::uint64_t sameHostFrame = 0;  ///< common fields whose pose every channel made from the same host sample
-  std::uint64_t partlyHosted = 0;   ///< common fields some channels made from a host sample, others not yet
+  std::uint64_t positionFields = 0;  ///< the fields compared for positionM
+  std::uint64_t sameHostFrame = 0;   ///< common fields whose pose every channel made from the same host sample
+  std::uint64_t partlyHosted = 0;    ///< common fields some channels made from a host sample, others not yet
   struct PerChannel {
     std::string name;
     std::uint64_t fields = 0, missed = 0, black = 0, firstField = 0, lastField = 0, relocks = 0;

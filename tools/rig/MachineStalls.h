@@ -11,7 +11,7 @@
 namespace fieldcast::tools {
 
 struct MachineStall {
-  int cpu = 0;
+  int cpu = 0;              ///< the CPU whose probe woke late
   std::int64_t dueNs = 0;   ///< when the probe should have woken (CLOCK_MONOTONIC)
   std::int64_t wokeNs = 0;  ///< when it did
   double lateMs() const { return static_cast<double>(wokeNs - dueNs) * 1e-6; }

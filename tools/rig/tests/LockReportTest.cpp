@@ -65,6 +65,7 @@ TEST(LockReport, PositionsAreComparedWhereEveryChannelFlewFromTheHost) {
   b.fields[20].yM += 0.25;
   const LockReport r = lockReport({a, b});
   EXPECT_EQ(r.partlyHosted, 1u);
+  EXPECT_EQ(r.positionFields, 19u);
   EXPECT_DOUBLE_EQ(r.positionM.max, 0.25);
   // Without a host every field counts
   for (ChannelRun* c : {&a, &b})
