@@ -51,7 +51,12 @@ rm -rf "$out"
 mkdir -p "$out"
 names=(left centre right)
 yaws=(-60 0 60)
-cpus=$(nproc)
+# The CPUs this script may use (a cpuset or taskset need not start at CPU 0)
+cpus=()
+IFS=, read -ra ranges <<< "$(awk '/^Cpus_allowed_list:/ { print $2 }' /proc/self/status)"
+for range in "${ranges[@]}"; do
+  for ((cpu = ${range%-*}; cpu <= ${range#*-}; cpu++)); do cpus+=("$cpu"); done
+done
 pids=()
 probe=""
 stop_channels() {
@@ -61,12 +66,16 @@ stop_channels() {
 }
 stop_all() {
   stop_channels
-  if [[ -n $probe ]]; then kill -TERM "$probe" 2>/dev/null || true; fi
+  if [[ -n $probe ]]; then
+    kill -TERM "$probe" 2>/dev/null || true
+    wait "$probe" || true
+  fi
 }
 trap stop_all EXIT
 # The machine's own stalls over the run (a real-time thread pinned to each CPU, waking every
 # millisecond): a field a stall of its field thread's CPU explains is reported apart
-"$build/tools/rig/fieldcast-stall-probe" --out "$out/stalls.csv" > "$out/stall_probe.txt" 2>&1 &
+# (for an hour at most, should this script be killed before it can stop it)
+"$build/tools/rig/fieldcast-stall-probe" --out "$out/stalls.csv" --duration 3600 > "$out/stall_probe.txt" 2>&1 &
 probe=$!
 # Waits until channel $1 (process $2) has emitted half a second of fields: it has its terrain,
 # has joined the lock and runs. The first run builds the built-in terrain, hence the long wait.
@@ -102,7 +111,7 @@ for i in 0 1 2; do
     --set 'motion.source="host"' --set "host.port=$((base_port + i))" \
     --set "output.width=${size%x*}" --set "output.height=${size#*x}" \
     --set "view.offset_deg=[${yaws[$i]}, 0, 0]" --set render.threads=1 --set render.max_rate_hz=15 \
-    --set warp.lead_ms=8 --set "threads.field_thread_cpu=$((i % cpus))" \
+    --set warp.lead_ms=8 --set "threads.field_thread_cpu=${cpus[i % ${#cpus[@]}]}" \
     --set "lock.listen=\"127.0.0.1:$((base_port + 10 + i))\"" --set "lock.peers=[${peers[0]}, ${peers[1]}]" \
     --set sinks.y4m.enabled=false --set sinks.images.enabled=true \
     --set "sinks.images.directory=\"$out/$name/images\"" --set sinks.images.every_nth=150 \
@@ -119,7 +128,7 @@ done
   --duration "$duration" --ig-port $((base_port + 1)) --also-ig-port "$base_port" --also-ig-port $((base_port + 2)) \
   --wait-for-ig 60 --summary "$out/host.json" | tee "$out/host.txt"
 stop_channels
-kill -TERM "$probe"
+kill -TERM "$probe" 2>/dev/null || true  # it may have ended already: then it measured nothing
 stalls=(--stalls "$out/stalls.csv")
 if ! wait "$probe"; then
   stalls=()  # not measured: no field is excused
@@ -129,8 +138,8 @@ trap - EXIT
 cat "$out/stall_probe.txt"
 
 "$build/tools/rig/fieldcast-rig" --channel "left=$out/left" --channel "centre=$out/centre" \
-  --channel "right=$out/right" --field-cpu "left=0" --field-cpu "centre=$((1 % cpus))" \
-  --field-cpu "right=$((2 % cpus))" --host "$out/host.json" "${stalls[@]}" \
+  --channel "right=$out/right" --field-cpu "left=${cpus[0]}" --field-cpu "centre=${cpus[1 % ${#cpus[@]}]}" \
+  --field-cpu "right=${cpus[2 % ${#cpus[@]}]}" --host "$out/host.json" "${stalls[@]}" \
   --sheet "$out/contact_sheet.png" --report "$out/report.json" --check --allow-missed "$allow_missed" |
   tee "$out/report.txt"
 

@@ -24,7 +24,8 @@ Spread spreadOf(std::vector<double> values) {
 }
 
 struct MissedFields {
-  std::uint64_t inFlight = 0, duringStalls = 0;
+  std::uint64_t inFlight = 0;
+  std::vector<std::uint64_t> duringStalls;  ///< their numbers
 };
 
 // The field numbers missing from a log between logged fields, those displayed in [begin, end],
@@ -44,7 +45,7 @@ MissedFields missedFields(const std::map<std::uint64_t, LoggedField>& fields, st
           before->second.displayNs + spanNs / static_cast<std::int64_t>(gap) * static_cast<std::int64_t>(k);
       if (displayNs < begin || displayNs > end) continue;
       ++m.inFlight;
-      if (stallAround(stalls, displayNs, cpu) != nullptr) ++m.duringStalls;
+      if (stallAround(stalls, displayNs, cpu) != nullptr) m.duringStalls.push_back(before->first + k);
     }
   }
   return m;
@@ -74,6 +75,7 @@ LockReport lockReport(const std::vector<ChannelRun>& channels, const std::vector
       p.firstField = c.summary.contains("lock") ? c.summary["lock"].value("first_field", c.fields.begin()->first)
                                                 : c.fields.begin()->first;
       p.lastField = c.fields.rbegin()->first;
+      p.firstDisplayNs = c.fields.begin()->second.displayNs;
       p.lastDisplayNs = c.fields.rbegin()->second.displayNs;
       // The flight: the host's own instants; without them, from the first field made from a
       // host sample; without a host, the whole run
@@ -93,7 +95,9 @@ LockReport lockReport(const std::vector<ChannelRun>& channels, const std::vector
       if (begin == std::numeric_limits<std::int64_t>::min()) p.flightFirstField = p.firstField;
       const MissedFields m = missedFields(c.fields, begin, end, stalls, c.fieldCpu, p.missed);
       if (begin != std::numeric_limits<std::int64_t>::min()) p.missedInFlight = std::min(p.missed, m.inFlight);
-      p.missedInFlightDuringStalls = std::min(p.missedInFlight, m.duringStalls);
+      p.excusedFields = m.duringStalls;
+      if (p.excusedFields.size() > p.missedInFlight) p.excusedFields.resize(p.missedInFlight);
+      p.missedInFlightDuringStalls = p.excusedFields.size();
       p.latestEmissionMs = -1e9;
       for (const auto& [k, f] : c.fields) {
         p.latestEmissionMs = std::max(p.latestEmissionMs, static_cast<double>(f.emittedNs - f.displayNs) * 1e-6);
@@ -152,6 +156,8 @@ std::vector<std::string> lockFailures(const LockReport& r, std::uint64_t allowed
     if (r.flight && (c.fields == 0 || c.lastDisplayNs < r.flight->endNs))
       failures.push_back(c.name + ": its field log ends at field " + std::to_string(c.lastField) +
                          ", before the host's flight ended");
+    if (r.flight && c.fields > 0 && c.firstDisplayNs > r.flight->beginNs)
+      failures.push_back(c.name + ": its field log begins after the host's flight began");
     if (c.black > 0) failures.push_back(c.name + ": " + std::to_string(c.black) + " fields black");
     if (c.relocks > 0) failures.push_back(c.name + ": moved onto another lock " + std::to_string(c.relocks) + " times");
     if (c.fields + c.missed != c.lastField - c.firstField + 1)
@@ -184,6 +190,7 @@ nlohmann::json toJson(const LockReport& r) {
                              {"flight_first_field", c.flightFirstField},
                              {"missed_in_flight", c.missedInFlight},
                              {"missed_in_flight_during_machine_stalls", c.missedInFlightDuringStalls},
+                             {"fields_missed_during_machine_stalls", c.excusedFields},
                              {"black", c.black},
                              {"first_field", c.firstField},
                              {"last_field", c.lastField},
@@ -204,6 +211,11 @@ std::string describe(const LockReport& r) {
       << c.missedInFlightDuringStalls << " of them while the machine stalled), " << c.black << " black, " << c.relocks
       << " relocks; " << c.handedOverLate << " handed over after their display time, the latest " << c.latestEmissionMs
       << " ms after\n";
+    if (!c.excusedFields.empty()) {
+      s << "  " << c.name << ": fields missed while its field thread's CPU stalled:";
+      for (const std::uint64_t k : c.excusedFields) s << ' ' << k;
+      s << '\n';
+    }
   }
   s << "fields every channel made: " << r.commonFields << "\n"
     << "display time of field k across channels: spread p50 " << r.displayMs.p50 << " ms, p99 " << r.displayMs.p99

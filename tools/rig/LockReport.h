@@ -38,13 +38,14 @@ struct LockReport {
   struct PerChannel {
     std::string name;
     std::uint64_t fields = 0, missed = 0, black = 0, firstField = 0, lastField = 0, relocks = 0;
-    int fieldCpu = -1;  ///< the CPU its field thread was pinned to; −1: not pinned
-    std::int64_t lastDisplayNs = 0;
+    int fieldCpu = -1;                                   ///< the CPU its field thread was pinned to; −1: not pinned
+    std::int64_t firstDisplayNs = 0, lastDisplayNs = 0;  ///< of the first and last logged fields
     /// The first field of the flight: displayed from the host's first frame on (without the
     /// host's instants, the first field made from a host sample); firstField without a host.
     std::uint64_t flightFirstField = 0;
-    std::uint64_t missedInFlight = 0;              ///< missed from flightFirstField on (the rest: before the host flew)
-    std::uint64_t missedInFlightDuringStalls = 0;  ///< ... of them, due while the machine itself stalled
+    std::uint64_t missedInFlight = 0;              ///< missed during the flight (the rest: before or after it)
+    std::uint64_t missedInFlightDuringStalls = 0;  ///< ... of them, explained by a stall of the machine itself
+    std::vector<std::uint64_t> excusedFields;      ///< ... their numbers
     double latestEmissionMs = 0;       ///< the latest any field was handed over, from its display time (< 0: before it)
     std::uint64_t handedOverLate = 0;  ///< fields handed to the outputs after their display time
   };

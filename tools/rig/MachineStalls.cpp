@@ -42,7 +42,9 @@ void writeMachineStalls(const std::filesystem::path& path, const std::vector<Mac
 const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs, int cpu) {
   constexpr std::int64_t kLeastWorkNs = 1'000'000;    // warp::FieldClock's minimum work before a field
   constexpr std::int64_t kProbePeriodNs = 1'000'000;  // fieldcast-stall-probe's period (rig.sh's)
-  constexpr std::int64_t kAfterStallNs = 5'000'000;   // a warp on this machine, at most (summaries' warp_time)
+  // Two warps: two field threads share a CPU in the rig and both run when it comes back (a warp
+  // here takes up to 5 ms, the summaries' warp_time)
+  constexpr std::int64_t kAfterStallNs = 10'000'000;
   const std::int64_t deadline = displayNs - kLeastWorkNs;
   for (const MachineStall& s : stalls) {
     if ((cpu < 0 || s.cpu == cpu) && deadline >= s.dueNs - kProbePeriodNs && deadline <= s.wokeNs + kAfterStallNs)

@@ -26,9 +26,9 @@ void writeMachineStalls(const std::filesystem::path& path, const std::vector<Mac
 /// The stall that cost the field shown at `displayNs`, if one did; nullptr otherwise. A field is
 /// missed when its field thread has not started it by its display time less the field clock's
 /// least work (1 ms): a stall explains it when that deadline falls in the stall, from a probe
-/// period before the probe's missed wake-up to a warp's time (5 ms) after it woke — the thread
-/// first finishes the field it was on. `cpu`: the CPU the channel's field thread is pinned to;
-/// −1 (not pinned): a stall on any CPU.
+/// period before the probe's missed wake-up to two warps' time (10 ms) after it woke — the
+/// threads on that CPU first finish the fields they were on. `cpu`: the CPU the channel's field
+/// thread is pinned to; −1 (not pinned): a stall on any CPU. Assumes the probe's period of 1 ms.
 const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs, int cpu = -1);
 
 }  // namespace fieldcast::tools

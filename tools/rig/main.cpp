@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
   app.add_option("--rows", rows, "instants on the sheet")->check(tools::intRange(1, 100, ""));
   app.add_flag("--check", check,
                "exit 1 unless the rig was locked: no field missed while the host flew (the machine's own stalls "
-               "apart) or black, one lock, field k's display time the same everywhere, no blank field on the sheet");
+               "apart) or black, every log over the whole flight (with --host), one lock, field k's display time "
+               "the same everywhere, no blank field on the sheet");
   app.add_option("--allow-missed", allowedMissed, "with --check: missed fields a channel may have (a shared machine)");
   app.add_option("--host", hostPath,
                  "the host's summary (fieldcast-host --summary): the flight is from its first frame to its last");

@@ -56,7 +56,14 @@ int main(int argc, char** argv) {
   options.fifoPriority = priority;
   std::atomic<bool> stop{false};
   tools::StallProbeRun run;
-  std::thread probe([&] { run = tools::runStallProbe(options, stop); });
+  std::string failure;
+  std::thread probe([&]() noexcept {
+    try {
+      run = tools::runStallProbe(options, stop);
+    } catch (const std::exception& e) {  // a thread it could not start
+      failure = e.what();
+    }
+  });
   if (durationS > 0) {
     // Until the duration is over or a signal comes (a SIGSTOP/SIGCONT pair interrupts the wait)
     const auto end =
@@ -80,6 +87,10 @@ int main(int argc, char** argv) {
     std::printf("cpu %d: %llu wake-ups, %zu at least %.1f ms late, the latest %.3f ms late%s%s\n", cpu.cpu,
                 static_cast<unsigned long long>(cpu.wakeUps), stalls, thresholdMs, cpu.latestMs,
                 cpu.problem.empty() ? "" : "; ", cpu.problem.c_str());
+  }
+  if (!failure.empty()) {
+    std::fprintf(stderr, "fieldcast-stall-probe: %s: the machine's stalls were not measured\n", failure.c_str());
+    return 1;
   }
   // Without a real-time thread pinned to every CPU a late wake-up proves nothing of the machine:
   // no file, so that nothing is excused by it

@@ -146,6 +146,7 @@ TEST(LockReport, FieldsDueWhileTheMachineStalledAreReportedApart) {
   const LockReport r = lockReport({a}, stalls);
   EXPECT_EQ(r.channels[0].missedInFlight, 3u);
   EXPECT_EQ(r.channels[0].missedInFlightDuringStalls, 2u);
+  EXPECT_EQ(r.channels[0].excusedFields, (std::vector<std::uint64_t>{30, 31}));
   EXPECT_EQ(r.machineStalls, 1u);
   EXPECT_DOUBLE_EQ(r.longestStallMs, 22.0);
   EXPECT_EQ(lockFailures(r).size(), 1u);  // field 36
@@ -169,19 +170,25 @@ TEST(LockReport, TheHostsFlightIsTheWindowAndEveryLogMustReachItsEnd) {
   EXPECT_EQ(r.channels[0].flightFirstField, 20u);
   EXPECT_EQ(r.channels[0].missedInFlight, 2u);
   EXPECT_TRUE(lockFailures(r, 2).empty());
+  // Misses straddling the window's ends count only inside it: 13 and 30, not 12 and 31
+  EXPECT_EQ(lockReport({a}, {}, FlightWindow{display(13), display(30)}).channels[0].missedInFlight, 2u);
   // The host flew on after the channel's last field: it did not make the whole flight
   const std::vector<std::string> cut = lockFailures(lockReport({a}, {}, FlightWindow{display(20), display(45)}), 2);
   ASSERT_EQ(cut.size(), 1u);
   EXPECT_NE(cut[0].find("a: its field log ends at field 39, before the host's flight ended"), std::string::npos)
       << cut[0];
+  // ... or it began before the channel's first field
+  const std::vector<std::string> late = lockFailures(lockReport({a}, {}, FlightWindow{display(5), display(38)}), 4);
+  ASSERT_EQ(late.size(), 1u);
+  EXPECT_NE(late[0].find("a: its field log begins after the host's flight began"), std::string::npos) << late[0];
 }
 
 TEST(MachineStalls, AStallExplainsAFieldWhoseLatestStartFallsInItOrAWarpAfter) {
   // A field is missed when its thread has not started it 1 ms before its display time
   const std::vector<MachineStall> stalls = {{0, 100 * kMs, 150 * kMs}};
   EXPECT_EQ(stallAround(stalls, 100 * kMs), &stalls[0]);  // latest start a period before the missed wake-up
-  EXPECT_EQ(stallAround(stalls, 156 * kMs), &stalls[0]);  // latest start a warp's time after it woke
-  EXPECT_EQ(stallAround(stalls, 157 * kMs), nullptr);
+  EXPECT_EQ(stallAround(stalls, 161 * kMs), &stalls[0]);  // latest start two warps' time after it woke
+  EXPECT_EQ(stallAround(stalls, 162 * kMs), nullptr);
   EXPECT_EQ(stallAround(stalls, 99 * kMs), nullptr);
   EXPECT_EQ(stallAround(stalls, 120 * kMs, 0), &stalls[0]);
   EXPECT_EQ(stallAround(stalls, 120 * kMs, 1), nullptr);  // another CPU's field thread ran on
