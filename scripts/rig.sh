@@ -13,8 +13,8 @@
 # default), --flight FILE, --duration S, --size WxH, --out DIR, --base-port N (host ports N to
 # N+2, lock ports N+10 to N+12), --build-dir DIR, --no-setup (no install, no build),
 # --allow-missed N. It fails when a channel missed a field while the host flew (more than N;
-# fields due while the machine itself stalled are reported apart),
-# showed black or left the lock (fieldcast-rig --check).
+# fields a stall of the machine itself explains are reported apart), showed black or left the
+# lock (fieldcast-rig --check).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
