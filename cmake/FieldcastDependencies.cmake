@@ -12,6 +12,8 @@ find_package(zstd CONFIG REQUIRED)
 # libtiff (libtiff-dev): GeoTIFF georeferencing tags, which OpenImageIO 2.4 does not expose (ig_core terrain import).
 find_package(TIFF REQUIRED)
 find_package(nlohmann_json 3 CONFIG REQUIRED)
+# Google Highway: the vector kernels, compiled per instruction-set level and dispatched at run time.
+find_package(hwy CONFIG REQUIRED)
 
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(libgpiod REQUIRED IMPORTED_TARGET libgpiod)

@@ -14,6 +14,7 @@ build_packages=(
   libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libzstd-dev libxxhash-dev
+  libhwy-dev  # Google Highway: SIMD kernels dispatched at run time (prp_warp)
   libtiff-dev  # GeoTIFF tags for terrain import (ig_core)
   libproj-dev  # PROJ: geographic DEMs reprojected at import, the database georeference (ig_core)
   libnova-dev  # the sun's position for a CIGI host's date and time of day (app)

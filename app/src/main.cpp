@@ -2,6 +2,7 @@
 #include <service/Service.h>
 #include <service/ServiceConfig.h>
 
+#include <fieldcast/SimdLevel.h>
 #include <fieldcast/ToolMain.h>
 
 #include <spdlog/spdlog.h>
@@ -10,6 +11,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -35,7 +37,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> overrides;
   bool checkOnly = false;
   double durationS = 0.0;
-  std::string flight, y4m, contactSheet, summary, fieldLog, rtp;
+  std::string flight, y4m, contactSheet, summary, fieldLog, rtp, simd;
   cli.add_option("-c,--config", configPath, "Configuration file (TOML)")->capture_default_str();
   cli.add_option("--set", overrides, "Override a key: --set output.rate=50 (repeatable)");
   // Whether --duration was given is its count, not a magic value: -1 and NaN used to pass as "not
@@ -57,9 +59,19 @@ int run(int argc, char** argv) {
   cli.add_option("--summary", summary, "Write the run's figures as JSON here at exit (metrics.summary_json)");
   cli.add_option("--field-log", fieldLog, "Write one CSV line per emitted field here (metrics.field_log)");
   cli.add_option("--rtp", rtp, "Send RFC 4175 RTP video to host:port (sinks.rtp)");
+  cli.add_option("--simd", simd,
+                 "SIMD level of the vector kernels: avx512, avx2, sse4, ssse3, scalar or auto (the best the "
+                 "CPU has; also FIELDCAST_SIMD)");
   cli.add_flag("--check-config", checkOnly, "Validate the configuration, print a summary and exit");
   cli.set_version_flag("--version", std::string("fieldcast ") + FIELDCAST_VERSION);
   CLI11_PARSE(cli, argc, argv);
+  try {
+    fieldcast::applySimdLevelFromEnvironment();
+    if (!simd.empty()) fieldcast::forceSimdLevel(simd);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "fieldcast: --simd: %s\n", e.what());
+    return 1;
+  }
 
   if (durationOpt->count() > 0) {
     char seconds[32];  // every digit: std::to_string would turn 1e-7 into 0, "until killed"
@@ -108,6 +120,9 @@ int run(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   spdlog::info("{}", fieldcast::app::describe(config));
+  std::string levels;
+  for (const std::string& level : fieldcast::simdLevels()) levels += (levels.empty() ? "" : ", ") + level;
+  spdlog::info("SIMD level {} (this CPU runs {})", fieldcast::simdLevel(), levels);
   fieldcast::app::Service service(config);
   service.start();
   const auto interval = fieldcast::fromSeconds(config.metrics.logIntervalS);

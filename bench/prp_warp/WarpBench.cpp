@@ -1,5 +1,7 @@
 // Field warp timings (one core). Run:
 //   fieldcast_bench_warp --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+// The kernels and the service's field step run at every SIMD level the machine has
+// (".../level:avx2"); the others at the best one (or FIELDCAST_SIMD's).
 // Sizes: an NTSC field (720 × 243 of a 720 × 486 raster) and a 1080i field (1920 × 540).
 // The frame is the analytic ground-plane scene (10 % margins, RGB8) rendered once; the field pose
 // is 80 ms later with 3° of roll, the kind of map the PRP fits every field.
@@ -11,11 +13,14 @@
 #include <prp_warp/WarpFit.h>
 #include <prp_warp/Warps.h>
 
+#include <fieldcast/SimdLevel.h>
+
 #include <benchmark/benchmark.h>
 #include <opencv2/imgproc.hpp>
 
 #include <map>
 #include <memory>
+#include <string>
 
 namespace fieldcast::warp {
 namespace {
@@ -57,7 +62,16 @@ void label(benchmark::State& state, const Setup& s) {
                          benchmark::Counter::kIsRate);
 }
 
-void BM_FastKernel(benchmark::State& state) {
+/// Runs a benchmark body at one SIMD level, then puts the best level back.
+struct AtLevel {
+  explicit AtLevel(const std::string& level) { forceSimdLevel(level); }
+  ~AtLevel() { forceSimdLevel("auto"); }
+  AtLevel(const AtLevel&) = delete;
+  AtLevel& operator=(const AtLevel&) = delete;
+};
+
+void BM_FastKernel(benchmark::State& state, const std::string& level) {
+  const AtLevel at(level);
   const Setup& s = setup(static_cast<int>(state.range(0)));
   Image out(s.rasterW, fieldRowCount(FieldParity::Bottom, s.rasterH), PixelFormat::Rgb8);
   RowScratch scratch(s.rasterW);
@@ -67,7 +81,6 @@ void BM_FastKernel(benchmark::State& state) {
   }
   label(state, s);
 }
-BENCHMARK(BM_FastKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 /// The depth-mesh resampling alone, through the map the mesh warp solved for the field.
 void BM_MeshKernel(benchmark::State& state) {
@@ -179,13 +192,21 @@ BENCHMARK(BM_Warp)
                    {0, 1}})
     ->Unit(benchmark::kMicrosecond);
 
-/// The whole per-field step of the service: pose, fit, warp, AGC, flicker filter (cached per
-/// frame), conversion to UYVY.
-void BM_FieldWarperNtscUyvy(benchmark::State& state) {
-  const Setup& s = setup(0);
+/// The whole per-field step of the service: pose, fit, warp, AGC, flicker filter (once per
+/// frame), conversion to UYVY. Arguments: 0 = NTSC, 1 = 1080i; then 0 = every field from the same
+/// frame (the filter's cost left out), 1 = a new frame every field (a render rate at the field
+/// rate: the filter's cost in every field).
+void BM_FieldWarperUyvy(benchmark::State& state, const std::string& level) {
+  const AtLevel at(level);
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  const bool newFrames = state.range(1) != 0;
+  Frame frames[2] = {s.frame, s.frame};
+  frames[1].frameNumber = s.frame.frameNumber + 1;
   FieldWarperConfig cfg;
   cfg.rasterWidthPx = s.rasterW;
   cfg.rasterHeightPx = s.rasterH;
+  cfg.maxFrameWidthPx = s.frame.image.widthPx();
+  cfg.maxFrameHeightPx = s.frame.image.heightPx();
   cfg.autoGain.enabled = true;
   cfg.flickerFilter = true;
   FieldWarper warper(cfg);
@@ -196,14 +217,35 @@ void BM_FieldWarperNtscUyvy(benchmark::State& state) {
   std::uint64_t k = 0;
   for (auto _ : state) {
     const FieldSpec spec{k, TimePoint{Nanoseconds{80'000'000}}, k % 2 ? FieldParity::Top : FieldParity::Bottom};
-    benchmark::DoNotOptimize(warper.produce(s.frame, poses.poseAt(spec.displayTime), spec, field));
+    const Frame& frame = frames[newFrames ? k % 2 : 0];
+    benchmark::DoNotOptimize(warper.produce(frame, poses.poseAt(spec.displayTime), spec, field));
     ++k;
   }
   label(state, s);
 }
-BENCHMARK(BM_FieldWarperNtscUyvy)->Unit(benchmark::kMicrosecond);
+
+/// The per-level benchmarks, one per level this machine runs.
+void registerAtEveryLevel() {
+  for (const std::string& level : simdLevels()) {
+    benchmark::RegisterBenchmark(("BM_FastKernel/level:" + level).c_str(), BM_FastKernel, level)
+        ->Arg(0)
+        ->Arg(1)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_FieldWarperUyvy/level:" + level).c_str(), BM_FieldWarperUyvy, level)
+        ->ArgsProduct({{0, 1}, {0, 1}})
+        ->Unit(benchmark::kMicrosecond);
+  }
+}
 
 }  // namespace
 }  // namespace fieldcast::warp
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  fieldcast::applySimdLevelFromEnvironment();
+  fieldcast::warp::registerAtEveryLevel();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -147,8 +147,8 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
                 : Nanoseconds{0};
   mLastDisplayTime = spec.displayTime;
   mHaveLast = true;
-  mAutoGain.process(mWork, elapsed);
-  if (!convertPixels(mWork, out.image)) return black(FieldStatus::BadOutput);
+  mAutoGain.update(mWork, elapsed);
+  if (!convertPixels(mWork, out.image, mAutoGain.gainQ16())) return black(FieldStatus::BadOutput);
   return FieldStatus::Ok;
 }
 

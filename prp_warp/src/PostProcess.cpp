@@ -1,6 +1,8 @@
 // Field post-processing: AGC, flicker filter, pixel format conversion (ITU-R BT.601 coefficients).
 #include <prp_warp/PostProcess.h>
 
+#include "PixelConversion.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -11,19 +13,7 @@ namespace {
 // BT.601 luma weights in 1/256 (0.299, 0.587, 0.114) sum to exactly 256.
 constexpr int kWr = 77, kWg = 150, kWb = 29;
 
-std::uint8_t clampByte(int v) noexcept { return static_cast<std::uint8_t>(std::clamp(v, 0, 255)); }
-
-/// BT.601 video-range Y'CbCr of an R'G'B' triple, in 1/2^16 fixed point.
-struct YCbCr {
-  int y, cb, cr;
-};
-inline YCbCr toVideoRange(int r, int g, int b) noexcept {
-  // Coefficients: 219/255 · (0.299, 0.587, 0.114) and 224/255 · (Cb, Cr rows of BT.601), × 65536.
-  const int y = 16 * 65536 + 16829 * r + 33039 * g + 6416 * b;
-  const int cb = 128 * 65536 - 9714 * r - 19070 * g + 28784 * b;
-  const int cr = 128 * 65536 + 28784 * r - 24103 * g - 4681 * b;
-  return {y, cb, cr};
-}
+using conversion::applyGain;
 
 }  // namespace
 
@@ -35,8 +25,8 @@ void AutoGain::reset() noexcept {
 }
 
 void AutoGain::rebuildTable() noexcept {
-  for (int i = 0; i < 256; ++i)
-    mTable[static_cast<std::size_t>(i)] = clampByte(static_cast<int>(std::lround(i * mGain)));
+  mGainQ16 = static_cast<std::int32_t>(std::lround(mGain * conversion::kUnityGain));
+  for (int i = 0; i < 256; ++i) mTable[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(applyGain(i, mGainQ16));
   mTableGain = mGain;
 }
 
@@ -57,7 +47,14 @@ double meanLuma(const Image& image, int step) noexcept {
 }
 
 void AutoGain::process(Image& field, Nanoseconds elapsed) noexcept {
-  if (!mConfig.enabled || field.empty() || field.format() == PixelFormat::Uyvy422) return;
+  if (!update(field, elapsed)) return;
+  for (std::uint8_t& b : field.bytes()) b = mTable[b];
+}
+
+std::int32_t AutoGain::gainQ16() const noexcept { return mConfig.enabled ? mGainQ16 : conversion::kUnityGain; }
+
+bool AutoGain::update(const Image& field, Nanoseconds elapsed) noexcept {
+  if (!mConfig.enabled || field.empty() || field.format() == PixelFormat::Uyvy422) return false;
   // A sparse sample of the field is plenty for a mean: every 2nd pixel of every 2nd row
   const double mean = meanLuma(field, 2);
   const double wanted = std::clamp(mConfig.targetMeanLevel / std::max(mean, 1.0), mConfig.minGain, mConfig.maxGain);
@@ -65,7 +62,7 @@ void AutoGain::process(Image& field, Nanoseconds elapsed) noexcept {
   const double alpha = mConfig.timeConstantS > 0.0 ? 1.0 - std::exp(-dt / mConfig.timeConstantS) : 1.0;
   mGain += alpha * (wanted - mGain);
   if (std::abs(mGain - mTableGain) > 1e-4) rebuildTable();
-  for (std::uint8_t& b : field.bytes()) b = mTable[b];
+  return true;
 }
 
 bool flickerFilter(const Image& src, Image& dst) noexcept {
@@ -85,54 +82,57 @@ bool flickerFilter(const Image& src, Image& dst) noexcept {
   return true;
 }
 
-bool convertPixels(const Image& src, Image& dst) noexcept {
+namespace {
+
+/// convertPixels' rows; `lanes` picks the vector kernel where there is one.
+bool convertRows(const Image& src, Image& dst, std::int32_t gainQ16, bool lanes) noexcept {
   if (src.widthPx() != dst.widthPx() || src.heightPx() != dst.heightPx()) return false;
   if (src.format() == PixelFormat::Uyvy422) return false;
   const bool rgb = src.format() == PixelFormat::Rgb8;
+  const int channels = rgb ? 3 : 1;
   const int w = src.widthPx();
+  const bool unity = gainQ16 == conversion::kUnityGain;
   for (int y = 0; y < src.heightPx(); ++y) {
     const std::uint8_t* in = src.row(y);
     std::uint8_t* out = dst.row(y);
     switch (dst.format()) {
       case PixelFormat::Rgb8:
-        if (rgb) {
+        if (unity && rgb) {
           std::memcpy(out, in, src.strideBytes());
-        } else {
-          for (int x = 0; x < w; ++x) out[3 * x] = out[3 * x + 1] = out[3 * x + 2] = in[x];
+          break;
         }
+        for (int x = 0; x < 3 * w; ++x) out[x] = static_cast<std::uint8_t>(applyGain(in[rgb ? x : x / 3], gainQ16));
         break;
       case PixelFormat::Grey8:
-        if (rgb) {
-          for (int x = 0; x < w; ++x)
-            out[x] =
-                static_cast<std::uint8_t>((kWr * in[3 * x] + kWg * in[3 * x + 1] + kWb * in[3 * x + 2] + 128) >> 8);
-        } else {
-          std::memcpy(out, in, src.strideBytes());
+        for (int x = 0; x < w; ++x) {
+          const std::uint8_t* p = in + channels * x;
+          const int luma = rgb ? (kWr * applyGain(p[0], gainQ16) + kWg * applyGain(p[1], gainQ16) +
+                                  kWb * applyGain(p[2], gainQ16) + 128) >>
+                                     8
+                               : applyGain(p[0], gainQ16);
+          out[x] = static_cast<std::uint8_t>(luma);
         }
         break;
       case PixelFormat::Uyvy422:
-        for (int x = 0; x + 1 < w; x += 2) {
-          int r0, g0, b0, r1, g1, b1;
-          if (rgb) {
-            r0 = in[3 * x], g0 = in[3 * x + 1], b0 = in[3 * x + 2];
-            r1 = in[3 * x + 3], g1 = in[3 * x + 4], b1 = in[3 * x + 5];
-          } else {
-            r0 = g0 = b0 = in[x];
-            r1 = g1 = b1 = in[x + 1];
-          }
-          const YCbCr p0 = toVideoRange(r0, g0, b0), p1 = toVideoRange(r1, g1, b1);
-          constexpr int kHalf = 1 << 15;
-          // Chroma of the pair: the mean of both pixels (a 2-tap decimation filter). No clamp
-          // needed: for 8-bit inputs these roundings stay within Y 16..235 and C 16..240.
-          out[2 * x + 0] = static_cast<std::uint8_t>((p0.cb + p1.cb + 2 * kHalf) >> 17);
-          out[2 * x + 1] = static_cast<std::uint8_t>((p0.y + kHalf) >> 16);
-          out[2 * x + 2] = static_cast<std::uint8_t>((p0.cr + p1.cr + 2 * kHalf) >> 17);
-          out[2 * x + 3] = static_cast<std::uint8_t>((p1.y + kHalf) >> 16);
+        if (lanes && rgb) {
+          conversion::rgbToUyvyRowLanes(in, w, gainQ16, out);
+        } else {
+          conversion::toUyvyRowScalar(in, channels, w, gainQ16, out);
         }
         break;
     }
   }
   return true;
+}
+
+}  // namespace
+
+bool convertPixels(const Image& src, Image& dst, std::int32_t gainQ16) noexcept {
+  return convertRows(src, dst, gainQ16, true);
+}
+
+bool convertPixelsReference(const Image& src, Image& dst, std::int32_t gainQ16) noexcept {
+  return convertRows(src, dst, gainQ16, false);
 }
 
 void mirrorInPlace(Image& image, Mirror mirror) noexcept {

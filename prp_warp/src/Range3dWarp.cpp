@@ -38,7 +38,6 @@ bool rowInField(int rasterRowIndex, FieldParity parity) noexcept {
 
 Range3dWarp::Range3dWarp(int rasterWidthPx, int rasterHeightPx)
     : Warp(rasterWidthPx, rasterHeightPx),
-      mScratch(rasterWidthPx),
       mDepth(static_cast<std::size_t>(rasterWidthPx) * static_cast<std::size_t>(rasterHeightPx), kNoSample),
       mMapX(mDepth.size(), kNan),
       mMapY(mDepth.size(), kNan),
@@ -182,7 +181,7 @@ WarpResult Range3dWarp::doWarp(const Frame& frame, const Image& pixels, const Po
   std::uint32_t violations = 0;
   for (int r = 0; r < out.heightPx(); ++r) {
     const std::size_t base = static_cast<std::size_t>(rasterRow(parity, r)) * static_cast<std::size_t>(rw);
-    violations += sampleRow(pixels, mMapX.data() + base, mMapY.data() + base, rw, out.row(r), mScratch);
+    violations += sampleRow(pixels, mMapX.data() + base, mMapY.data() + base, rw, out.row(r));
   }
   return {WarpStatus::Ok, violations, false};
 }

@@ -1,34 +1,18 @@
 // Bilinear resampling kernels. The reference evaluates the map per pixel in double precision;
-// the fast path splits each row into three short loops a compiler vectorises: generate the
-// frame coordinates (forward differences for the quadratic), convert them to 8-bit fixed point
-// while counting margin violations, then gather and blend in integers (SSE2 for RGB: one pixel's
-// four neighbours blended in 16-bit lanes, the layout OpenCV's remap also uses).
+// the fast path generates each row's frame coordinates (forward differences for the quadratic)
+// and samples them in fixed point, in SIMD lanes at the dispatched level (ResampleLanes.cpp;
+// its scalar reference in SamplePixel.h).
 #include <prp_warp/Resample.h>
+
+#include "SamplePixel.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
-// The branch-free loops are built twice, for AVX2 and for baseline x86-64, and chosen at load
-// time: the service runs on whatever CPU the rig has (FIELDCAST_NATIVE is off by default). Not
-// under ThreadSanitizer: the loader runs the clones' ifunc resolver before TSan's runtime is up,
-// and the instrumented resolver crashes the program at start.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
-    !defined(__SANITIZE_THREAD__)
-#define FIELDCAST_WARP_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define FIELDCAST_WARP_CLONES
-#endif
-
 namespace fieldcast::warp {
 namespace {
 
-constexpr int kFracBits = 8;  // 1/256 px: ≤ ½ grey level of position error at 255 levels/px
-constexpr int kOne = 1 << kFracBits;
 constexpr int kLanes = 4;
 
 int channelsOf(PixelFormat f) noexcept { return f == PixelFormat::Rgb8 ? 3 : 1; }
@@ -62,133 +46,8 @@ void quadraticRow(const std::array<double, 6>& c, int firstPx, double v, int n, 
   }
 }
 
-/// Converts one row of frame coordinates into what the gather needs — the byte offset of the
-/// top-left neighbour and the weight pairs (1 − f, f) in 1/256 for x and y — clamping to
-/// the frame and counting the coordinates outside it (NaN included). Branch-free, so the
-/// compiler vectorises it.
-FIELDCAST_WARP_CLONES
-std::uint32_t toSampleOffsets(const float* x, const float* y, int n, const Image& src, std::int32_t* offset,
-                              std::uint32_t* weightsX, std::uint32_t* weightsY) noexcept {
-  const int w = src.widthPx(), h = src.heightPx();
-  const int channels = channelsOf(src.format());
-  const auto stride = static_cast<std::int32_t>(src.strideBytes());
-  const float maxX = static_cast<float>(w - 1), maxY = static_cast<float>(h - 1);
-  const float fw = static_cast<float>(w), fh = static_cast<float>(h);
-  const int lastX = w - 2, lastY = h - 2;
-  std::uint32_t violations = 0;
-  for (int i = 0; i < n; ++i) {
-    const float px = x[i], py = y[i];
-    // Bitwise, not logical, and: no branches in the loop
-    const unsigned inside = static_cast<unsigned>(px >= 0.0f) & static_cast<unsigned>(px <= fw) &
-                            static_cast<unsigned>(py >= 0.0f) & static_cast<unsigned>(py <= fh);
-    violations += 1u - inside;
-    // Pixel-centre origin, clamped; written so that NaN clamps to 0 (comparisons with NaN are false)
-    float qx = px - 0.5f, qy = py - 0.5f;
-    qx = qx >= 0.0f ? qx : 0.0f;
-    qy = qy >= 0.0f ? qy : 0.0f;
-    qx = qx <= maxX ? qx : maxX;
-    qy = qy <= maxY ? qy : maxY;
-    const auto ix = static_cast<std::int32_t>(qx * kOne + 0.5f);
-    const auto iy = static_cast<std::int32_t>(qy * kOne + 0.5f);
-    // The last column/row samples its left/upper neighbour with weight 0
-    const std::int32_t x0 = std::min(ix >> kFracBits, lastX);
-    const std::int32_t y0 = std::min(iy >> kFracBits, lastY);
-    const std::int32_t fx = ix - (x0 << kFracBits);
-    const std::int32_t fy = iy - (y0 << kFracBits);
-    offset[i] = y0 * stride + x0 * channels;
-    // (1 − f, f) as two 16-bit halves: the operand of a 16-bit multiply-add
-    weightsX[i] = static_cast<std::uint32_t>(kOne - fx) | (static_cast<std::uint32_t>(fx) << 16);
-    weightsY[i] = static_cast<std::uint32_t>(kOne - fy) | (static_cast<std::uint32_t>(fy) << 16);
-  }
-  return violations;
-}
-
-/// Fixed-point bilinear gather of one row from precomputed offsets and weights. The portable
-/// version: any channel count, 32-bit integer blend.
-template <int C>
-void gatherRowScalar(const Image& src, const std::int32_t* offset, const std::uint32_t* weightsX,
-                     const std::uint32_t* weightsY, int n, std::uint8_t* dst) noexcept {
-  const std::uint8_t* base = src.row(0);
-  const auto stride = static_cast<std::ptrdiff_t>(src.strideBytes());
-  for (int i = 0; i < n; ++i) {
-    const int fx = static_cast<int>(weightsX[i] >> 16);
-    const int fy = static_cast<int>(weightsY[i] >> 16);
-    const std::uint8_t* p0 = base + offset[i];
-    const std::uint8_t* p1 = p0 + stride;
-    for (int c = 0; c < C; ++c) {
-      // Blend along x on both rows, then along y
-      const int top = p0[c] * (kOne - fx) + p0[C + c] * fx;
-      const int bottom = p1[c] * (kOne - fx) + p1[C + c] * fx;
-      dst[i * C + c] =
-          static_cast<std::uint8_t>((top * (kOne - fy) + bottom * fy + (1 << (2 * kFracBits - 1))) >> (2 * kFracBits));
-    }
-  }
-}
-
-#if defined(__SSE2__)
-/// Four bytes at `p` (unaligned).
-inline std::uint32_t load32(const std::uint8_t* p) noexcept {
-  std::uint32_t v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
-/// RGB gather with SSE2 (part of every x86-64 CPU). Per pixel: each row's left and right
-/// neighbours are interleaved as 16-bit lanes, so the x blend of a row is one multiply-add,
-/// and the y blend of the two rows another. Reads no byte beyond the right neighbours.
-void gatherRowRgbSse2(const Image& src, const std::int32_t* offset, const std::uint32_t* weightsX,
-                      const std::uint32_t* weightsY, int n, std::uint8_t* dst) noexcept {
-  const std::uint8_t* base = src.row(0);
-  const auto stride = static_cast<std::ptrdiff_t>(src.strideBytes());
-  const __m128i zero = _mm_setzero_si128();
-  constexpr int kShift = 2 * kFracBits - 2;  // x blend: 8 bits, minus 2 dropped, y blend: 8 bits
-  const __m128i round = _mm_set1_epi32(1 << (kShift - 1));
-  auto pixel = [&](int i) noexcept {
-    const std::uint8_t* p0 = base + offset[i];
-    const std::uint8_t* p1 = p0 + stride;
-    // (1 − f, f) pairs as 16-bit lanes, repeated for the four channel slots
-    const __m128i wx = _mm_set1_epi32(static_cast<int>(weightsX[i]));
-    const __m128i wy = _mm_set1_epi32(static_cast<int>(weightsY[i]));
-    // Rows as [L.r R.r L.g R.g L.b R.b L.x R.x] (the right pixel read from p+2, shifted, so no
-    // byte beyond the right neighbour is touched)
-    const __m128i row0 = _mm_unpacklo_epi8(_mm_unpacklo_epi8(_mm_cvtsi32_si128(static_cast<int>(load32(p0))),
-                                                             _mm_cvtsi32_si128(static_cast<int>(load32(p0 + 2) >> 8))),
-                                           zero);
-    const __m128i row1 = _mm_unpacklo_epi8(_mm_unpacklo_epi8(_mm_cvtsi32_si128(static_cast<int>(load32(p1))),
-                                                             _mm_cvtsi32_si128(static_cast<int>(load32(p1 + 2) >> 8))),
-                                           zero);
-    // x blends (≤ 255·256), 2 bits dropped so the y blend's signed 16-bit inputs cannot overflow
-    const __m128i top = _mm_srli_epi32(_mm_madd_epi16(row0, wx), 2);
-    const __m128i bottom = _mm_srli_epi32(_mm_madd_epi16(row1, wx), 2);
-    // y blend of the interleaved [top bottom] pairs
-    const __m128i tb = _mm_unpacklo_epi16(_mm_packs_epi32(top, zero), _mm_packs_epi32(bottom, zero));
-    const __m128i px = _mm_srli_epi32(_mm_add_epi32(_mm_madd_epi16(tb, wy), round), kShift);
-    const __m128i bytes = _mm_packus_epi16(_mm_packs_epi32(px, zero), zero);
-    return static_cast<std::uint32_t>(_mm_cvtsi128_si32(bytes));
-  };
-  // Four-byte stores (the fourth byte is overwritten by the next pixel); three for the last
-  for (int i = 0; i + 1 < n; ++i) {
-    const std::uint32_t rgb = pixel(i);
-    std::memcpy(dst + 3 * i, &rgb, 4);
-  }
-  if (n > 0) {
-    const std::uint32_t rgb = pixel(n - 1);
-    std::memcpy(dst + 3 * (n - 1), &rgb, 3);
-  }
-}
-#endif
-
-void gatherRow(const Image& src, const std::int32_t* offset, const std::uint32_t* weightsX,
-               const std::uint32_t* weightsY, int n, std::uint8_t* dst) noexcept {
-  if (src.format() == PixelFormat::Rgb8) {
-#if defined(__SSE2__)
-    gatherRowRgbSse2(src, offset, weightsX, weightsY, n, dst);
-#else
-    gatherRowScalar<3>(src, offset, weightsX, weightsY, n, dst);
-#endif
-  } else {
-    gatherRowScalar<1>(src, offset, weightsX, weightsY, n, dst);
-  }
+sampling::Source sourceOf(const Image& src) noexcept {
+  return {src.row(0), static_cast<std::int32_t>(src.strideBytes()), src.widthPx(), src.heightPx()};
 }
 
 }  // namespace
@@ -199,9 +58,6 @@ void RowScratch::reserve(int maxWidthPx) {
   const auto n = static_cast<std::size_t>((maxWidthPx + kLanes - 1) / kLanes * kLanes);
   mX.resize(n);
   mY.resize(n);
-  mOffset.resize(n);
-  mWeightsX.resize(n);
-  mWeightsY.resize(n);
   mCapacityPx = maxWidthPx;
 }
 
@@ -259,12 +115,15 @@ std::uint32_t resampleMeshReference(const Image& src, const MeshMap& map, FieldP
   return resampleReference(src, map, parity, rasterHeightPx, dst);
 }
 
-std::uint32_t sampleRow(const Image& src, const float* framePxX, const float* framePxY, int n, std::uint8_t* dstRow,
-                        RowScratch& scratch) noexcept {
-  const std::uint32_t violations =
-      toSampleOffsets(framePxX, framePxY, n, src, scratch.offset(), scratch.weightsX(), scratch.weightsY());
-  gatherRow(src, scratch.offset(), scratch.weightsX(), scratch.weightsY(), n, dstRow);
-  return violations;
+std::uint32_t sampleRow(const Image& src, const float* framePxX, const float* framePxY, int n,
+                        std::uint8_t* dstRow) noexcept {
+  return sampling::sampleRowLanes(sourceOf(src), channelsOf(src.format()), framePxX, framePxY, n, dstRow);
+}
+
+std::uint32_t sampleRowReference(const Image& src, const float* framePxX, const float* framePxY, int n,
+                                 std::uint8_t* dstRow) noexcept {
+  return src.format() == PixelFormat::Rgb8 ? sampling::sampleRowScalar<3>(sourceOf(src), framePxX, framePxY, n, dstRow)
+                                           : sampling::sampleRowScalar<1>(sourceOf(src), framePxX, framePxY, n, dstRow);
 }
 
 /// Runs `row(firstPx, n, fieldRow, dstPixels)` over the field in vertical strips of kStripPx
@@ -289,7 +148,7 @@ std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, F
     const double v = rasterRow(parity, r) + 0.5;
     quadraticRow(map.a, first, v, n, scratch.x());
     quadraticRow(map.b, first, v, n, scratch.y());
-    return sampleRow(src, scratch.x(), scratch.y(), n, out, scratch);
+    return sampleRow(src, scratch.x(), scratch.y(), n, out);
   });
 }
 
@@ -310,7 +169,7 @@ std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldP
       xs[i] = static_cast<float>((h[0] * u + nx0) * inv);
       ys[i] = static_cast<float>((h[3] * u + ny0) * inv);
     }
-    return sampleRow(src, xs, ys, n, out, scratch);
+    return sampleRow(src, xs, ys, n, out);
   });
 }
 
@@ -372,7 +231,7 @@ std::uint32_t resampleMeshFast(const Image& src, const MeshMap& map, FieldParity
       leftY = rightY;
       ++k;
     }
-    return sampleRow(src, xs, ys, n, out, scratch);
+    return sampleRow(src, xs, ys, n, out);
   });
 }
 

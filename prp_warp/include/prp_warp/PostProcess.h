@@ -23,15 +23,20 @@ struct AutoGainConfig {
 
 /// Automatic gain control: measures the mean luma of each field, steers a gain towards
 /// target/mean with a first-order low-pass in time (so a bright flash or a cloud does not pump),
-/// and applies it through a 256-entry table.
+/// and applies it to every 8-bit value v as min(255, (v · gainQ16 + 2^15) >> 16).
 class AutoGain {
  public:
   explicit AutoGain(const AutoGainConfig& config = {}) noexcept;
-  /// Measures `field` (Grey8 or Rgb8), updates the gain for `elapsed` time since the last field,
-  /// and applies the gain in place. RT-safe.
+  /// Measures `field` (Grey8 or Rgb8) and updates the gain for `elapsed` time since the last
+  /// field, without applying it (convertPixels applies it as it converts). Returns false, the gain
+  /// unchanged, when disabled or for an empty or UYVY field. RT-safe.
+  bool update(const Image& field, Nanoseconds elapsed) noexcept;
+  /// update(), then the gain applied to `field` in place through a 256-entry table. RT-safe.
   void process(Image& field, Nanoseconds elapsed) noexcept;
   /// The gain applied to the last field.
   double gain() const noexcept { return mGain; }
+  /// The gain as applied, in 1/65536 (65536 when disabled).
+  std::int32_t gainQ16() const noexcept;
   void reset() noexcept;
 
  private:
@@ -40,6 +45,7 @@ class AutoGain {
   AutoGainConfig mConfig;
   double mGain = 1.0;
   double mTableGain = -1.0;
+  std::int32_t mGainQ16 = 1 << 16;
   std::array<std::uint8_t, 256> mTable{};
 };
 
@@ -55,8 +61,13 @@ bool flickerFilter(const Image& src, Image& dst) noexcept;
 
 /// Converts `src` (Grey8 or Rgb8) into `dst` of the same size in dst's format: Grey8 (BT.601
 /// luma, full range), Rgb8, or UYVY 4:2:2 (BT.601 video range: Y 16..235, Cb/Cr 16..240, chroma
-/// averaged over each pixel pair). Returns false when the shapes or formats do not fit. RT-safe.
-bool convertPixels(const Image& src, Image& dst) noexcept;
+/// averaged over each pixel pair), applying a gain in 1/65536 (AutoGain::gainQ16) to every
+/// value first. Returns false when the shapes or formats do not fit. RGB to UYVY runs in SIMD
+/// lanes at the dispatched level (fieldcast/SimdLevel.h). RT-safe.
+bool convertPixels(const Image& src, Image& dst, std::int32_t gainQ16 = 1 << 16) noexcept;
+
+/// convertPixels in plain C++ only: the judge of its SIMD forms, which give the same bytes.
+bool convertPixelsReference(const Image& src, Image& dst, std::int32_t gainQ16 = 1 << 16) noexcept;
 
 /// How the picture is mirrored on its display: a rear-view mirror, a rear-projection screen (CIGI
 /// View Definition's mirror modes).

@@ -32,16 +32,10 @@ class RowScratch {
   /// Frame coordinates of a row (float: exact to 1e-4 px over any frame, and twice the lanes).
   float* x() noexcept { return mX.data(); }
   float* y() noexcept { return mY.data(); }
-  /// Byte offsets of each sample's top-left neighbour, and its weight pairs (1 − f, f) in x and y.
-  std::int32_t* offset() noexcept { return mOffset.data(); }
-  std::uint32_t* weightsX() noexcept { return mWeightsX.data(); }
-  std::uint32_t* weightsY() noexcept { return mWeightsY.data(); }
 
  private:
   int mCapacityPx = 0;
   std::vector<float> mX, mY;
-  std::vector<std::int32_t> mOffset;
-  std::vector<std::uint32_t> mWeightsX, mWeightsY;
 };
 
 /// True when `dst` is the right shape for a field of `parity` of a raster `rasterHeightPx` high
@@ -75,10 +69,16 @@ std::uint32_t resampleMeshFast(const Image& src, const MeshMap& map, FieldParity
                                RowScratch& scratch) noexcept;
 
 /// Samples `src` at the given frame pixel coordinates for one row of `n` pixels into `dstRow`
-/// (fixed-point bilinear, edge clamp). Returns the margin violations. The shared last stage of
-/// every fast kernel. RT-safe.
-std::uint32_t sampleRow(const Image& src, const float* framePxX, const float* framePxY, int n, std::uint8_t* dstRow,
-                        RowScratch& scratch) noexcept;
+/// (bilinear in 1/256 px and 1/65536 of a grey level, edge clamp). Returns the margin
+/// violations. The shared last stage of every fast kernel, in SIMD lanes at the dispatched level
+/// (fieldcast/SimdLevel.h). RT-safe.
+std::uint32_t sampleRow(const Image& src, const float* framePxX, const float* framePxY, int n,
+                        std::uint8_t* dstRow) noexcept;
+
+/// sampleRow pixel by pixel in plain C++: the judge of its SIMD forms, which give the same bytes
+/// and violations. RT-safe.
+std::uint32_t sampleRowReference(const Image& src, const float* framePxX, const float* framePxY, int n,
+                                 std::uint8_t* dstRow) noexcept;
 
 /// Reference bilinear sample of channel `c` of `src` at frame pixel `(x, y)` (clamped to the
 /// frame), in grey levels. RT-safe.

@@ -158,7 +158,6 @@ class Range3dWarp final : public Warp {
   void splat(const Frame& frame, const Pose& fieldPose, const OutputGeometry& g, FieldParity parity) noexcept;
   void fillHoles(FieldParity parity, const OutputGeometry& g) noexcept;
 
-  RowScratch mScratch;
   std::vector<float> mDepth;        // per raster pixel: depth of the sample kept
   std::vector<float> mMapX, mMapY;  // per raster pixel: frame pixel it samples
   QuadraticWarp mFallback;

@@ -1,0 +1,119 @@
+// The warp's vector kernels at every SIMD level this machine runs, each against its scalar
+// reference: the same bytes and the same margin violations.
+#include <prp_warp/PostProcess.h>
+#include <prp_warp/Resample.h>
+
+#include <fieldcast/SimdLevel.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace fieldcast::warp {
+namespace {
+
+Image noiseImage(int w, int h, PixelFormat format, unsigned seed) {
+  Image img(w, h, format);
+  std::mt19937 rng(seed);
+  for (std::uint8_t& b : img.bytes()) b = static_cast<std::uint8_t>(rng() & 0xff);
+  return img;
+}
+
+/// Runs `check` once at every level, then puts the best level back.
+template <typename Check>
+void atEveryLevel(Check&& check) {
+  const std::vector<std::string> levels = simdLevels();
+  ASSERT_FALSE(levels.empty());
+  EXPECT_EQ(levels.back(), "scalar");
+  for (const std::string& level : levels) {
+    forceSimdLevel(level);
+    ASSERT_EQ(simdLevel(), level);
+    ASSERT_EQ(dispatchedSimdLevel(), level);
+    SCOPED_TRACE("SIMD level " + level);
+    std::printf("checking at SIMD level %s\n", level.c_str());
+    check();
+    EXPECT_EQ(dispatchedSimdLevel(), level) << "the kernels ran at another level";
+  }
+  forceSimdLevel("auto");
+  EXPECT_EQ(simdLevel(), levels.front());
+}
+
+/// Sample coordinates that drive every clamp: inside, on and past each edge, NaN, infinities,
+/// huge values, exact pixel centres and the last 1/256 px before the edge.
+std::vector<float> coordinates(int n, float size, std::mt19937& rng) {
+  std::uniform_real_distribution<float> inside(0.0f, size), wide(-0.3f * size, 1.3f * size);
+  const float special[] = {0.0f,
+                           0.5f,
+                           size,
+                           size - 0.5f,
+                           size - 1.0f / 512.0f,
+                           -1e-7f,
+                           std::nextafter(size, 2.0f * size),
+                           std::numeric_limits<float>::quiet_NaN(),
+                           std::numeric_limits<float>::infinity(),
+                           -std::numeric_limits<float>::infinity(),
+                           3e9f,
+                           -3e9f};
+  std::vector<float> out(static_cast<std::size_t>(n));
+  for (float& v : out) {
+    const auto pick = static_cast<unsigned>(rng() % 10);
+    v = pick < 6 ? inside(rng) : pick < 9 ? wide(rng) : special[static_cast<std::size_t>(rng()) % std::size(special)];
+  }
+  return out;
+}
+
+TEST(SimdLevels, SampleRowGivesTheReferencesBytesAndViolations) {
+  atEveryLevel([] {
+    std::mt19937 rng(11);
+    for (const PixelFormat format : {PixelFormat::Rgb8, PixelFormat::Grey8}) {
+      const int channels = format == PixelFormat::Rgb8 ? 3 : 1;
+      for (const auto& [w, h] : {std::pair{2, 2}, std::pair{3, 5}, std::pair{37, 19}, std::pair{360, 250}}) {
+        const Image src = noiseImage(w, h, format, static_cast<unsigned>(w * h));
+        for (int n = 1; n <= 70; n += 3) {  // every tail length of every vector width
+          const std::vector<float> xs = coordinates(n, static_cast<float>(w), rng);
+          const std::vector<float> ys = coordinates(n, static_cast<float>(h), rng);
+          std::vector<std::uint8_t> fast(static_cast<std::size_t>(n * channels) + 1, 0xA5), ref = fast;
+          const std::uint32_t vFast = sampleRow(src, xs.data(), ys.data(), n, fast.data());
+          const std::uint32_t vRef = sampleRowReference(src, xs.data(), ys.data(), n, ref.data());
+          ASSERT_EQ(fast, ref) << "frame " << w << "x" << h << ", " << channels << " channels, " << n << " pixels";
+          ASSERT_EQ(vFast, vRef);
+        }
+      }
+    }
+  });
+}
+
+TEST(SimdLevels, ConversionToUyvyWithGainGivesTheReferencesBytes) {
+  atEveryLevel([] {
+    std::mt19937 rng(5);
+    for (const int w : {2, 4, 6, 30, 34, 720}) {
+      const Image src = noiseImage(w, 3, PixelFormat::Rgb8, static_cast<unsigned>(w));
+      for (const std::int32_t gain :
+           {65536, 32768, 4 * 65536, 65536 + 3277, static_cast<std::int32_t>(rng() % 262144u)}) {
+        Image fast(w, 3, PixelFormat::Uyvy422), ref(w, 3, PixelFormat::Uyvy422);
+        ASSERT_TRUE(convertPixels(src, fast, gain));
+        ASSERT_TRUE(convertPixelsReference(src, ref, gain));
+        ASSERT_TRUE(std::equal(fast.bytes().begin(), fast.bytes().end(), ref.bytes().begin()))
+            << w << " pixels wide, gain " << gain;
+      }
+    }
+  });
+}
+
+TEST(SimdLevels, AnUnknownLevelIsRefusedAndNamesTheLevelsThereAre) {
+  try {
+    forceSimdLevel("avx1024");
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("scalar"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(simdLevel(), simdLevels().front());
+}
+
+}  // namespace
+}  // namespace fieldcast::warp

@@ -1,0 +1,34 @@
+#pragma once
+// The instruction-set level the vector kernels run at. The binaries target baseline x86-64 and
+// carry each kernel compiled for several levels (Google Highway's dynamic dispatch); at start-up
+// the widest level the CPU has is chosen. A level can be forced (`FIELDCAST_SIMD`, `--simd`) so
+// tests run every level the machine has and a regression can be traced to one of them.
+//
+// Levels, best first: "avx512" (AVX-512 F/VL/DQ/BW), "avx2", "sse4", "ssse3", "scalar" (one lane:
+// the kernels' plain C++ form).
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fieldcast {
+
+/// The level the kernels dispatch to now.
+std::string simdLevel();
+
+/// The level a kernel dispatched now runs at, as the kernel itself knows it: simdLevel(), unless
+/// the dispatch went astray.
+std::string dispatchedSimdLevel();
+
+/// The levels this build carries and this CPU can run, best first ("scalar" always last).
+std::vector<std::string> simdLevels();
+
+/// Makes the kernels run at `level` (one of simdLevels()) or, for "auto", at the best one.
+/// Throws std::invalid_argument naming the levels this machine has. Not thread-safe: call at
+/// start-up or in a test, not while kernels run.
+void forceSimdLevel(std::string_view level);
+
+/// Applies FIELDCAST_SIMD if it is set (see forceSimdLevel; throws the same way).
+void applySimdLevelFromEnvironment();
+
+}  // namespace fieldcast
