@@ -1,6 +1,7 @@
 // Field post-processing: AGC, flicker filter, pixel format conversion (ITU-R BT.601 coefficients).
 #include <prp_warp/PostProcess.h>
 
+#include "FlickerRow.h"
 #include "PixelConversion.h"
 
 #include <algorithm>
@@ -65,7 +66,9 @@ bool AutoGain::update(const Image& field, Nanoseconds elapsed) noexcept {
   return true;
 }
 
-bool flickerFilter(const Image& src, Image& dst) noexcept {
+namespace {
+
+bool filterRows(const Image& src, Image& dst, bool lanes) noexcept {
   if (src.format() == PixelFormat::Uyvy422 || dst.format() != src.format() || dst.widthPx() != src.widthPx() ||
       dst.heightPx() != src.heightPx() || src.empty())
     return false;
@@ -74,13 +77,21 @@ bool flickerFilter(const Image& src, Image& dst) noexcept {
   for (int y = 0; y < h; ++y) {
     // Edge rows repeat themselves
     const std::uint8_t* above = src.row(std::max(y - 1, 0));
-    const std::uint8_t* here = src.row(y);
     const std::uint8_t* below = src.row(std::min(y + 1, h - 1));
-    std::uint8_t* out = dst.row(y);
-    for (int i = 0; i < n; ++i) out[i] = static_cast<std::uint8_t>((above[i] + 2 * here[i] + below[i] + 2) >> 2);
+    if (lanes) {
+      flicker::filterRowLanes(above, src.row(y), below, n, dst.row(y));
+    } else {
+      flicker::filterRowScalar(above, src.row(y), below, n, dst.row(y));
+    }
   }
   return true;
 }
+
+}  // namespace
+
+bool flickerFilter(const Image& src, Image& dst) noexcept { return filterRows(src, dst, true); }
+
+bool flickerFilterReference(const Image& src, Image& dst) noexcept { return filterRows(src, dst, false); }
 
 namespace {
 

@@ -105,6 +105,20 @@ TEST(SimdLevels, ConversionToUyvyWithGainGivesTheReferencesBytes) {
   });
 }
 
+TEST(SimdLevels, FlickerFilterGivesTheReferencesBytes) {
+  atEveryLevel([] {
+    for (const PixelFormat format : {PixelFormat::Rgb8, PixelFormat::Grey8}) {
+      for (const auto& [w, h] : {std::pair{1, 1}, std::pair{5, 2}, std::pair{37, 9}, std::pair{864, 7}}) {
+        const Image src = noiseImage(w, h, format, static_cast<unsigned>(w + h));
+        Image fast(w, h, format), ref(w, h, format);
+        ASSERT_TRUE(flickerFilter(src, fast));
+        ASSERT_TRUE(flickerFilterReference(src, ref));
+        ASSERT_EQ(fast, ref) << w << "x" << h;
+      }
+    }
+  });
+}
+
 TEST(SimdLevels, AnUnknownLevelIsRefusedAndNamesTheLevelsThereAre) {
   try {
     forceSimdLevel("avx1024");

@@ -56,8 +56,12 @@ double meanLuma(const Image& image, int step = 1) noexcept;
 /// The interlace flicker filter: a vertical [1 2 1]/4 low-pass across frame rows, which removes
 /// the 30 Hz twitter of one-line detail on an interlaced display. It runs once per new frame
 /// (frame rows ≈ raster lines), not per field. `dst` must already have the shape and format of
-/// `src` (Grey8 or Rgb8). Returns false (dst untouched) otherwise. RT-safe.
+/// `src` (Grey8 or Rgb8). Returns false (dst untouched) otherwise. In SIMD lanes at the
+/// dispatched level (fieldcast/SimdLevel.h). RT-safe.
 bool flickerFilter(const Image& src, Image& dst) noexcept;
+
+/// flickerFilter in plain C++ only: the judge of its SIMD forms, which give the same bytes.
+bool flickerFilterReference(const Image& src, Image& dst) noexcept;
 
 /// Converts `src` (Grey8 or Rgb8) into `dst` of the same size in dst's format: Grey8 (BT.601
 /// luma, full range), Rgb8, or UYVY 4:2:2 (BT.601 video range: Y 16..235, Cb/Cr 16..240, chroma
