@@ -11,6 +11,7 @@
 #include <hwy/highway.h>
 
 #include <type_traits>
+#include <utility>
 
 HWY_BEFORE_NAMESPACE();
 namespace fieldcast::warp::sampling::HWY_NAMESPACE {
@@ -44,6 +45,18 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
   const auto stride = hn::Set(di, src.strideBytes);
   const auto round = hn::Set(di, 1 << (2 * kFracBits - 1));
   const auto* words = reinterpret_cast<const std::int32_t*>(src.base);  // gathered at byte offsets
+#if HWY_TARGET != HWY_SCALAR
+  const auto* pairs = reinterpret_cast<const std::int64_t*>(src.base);
+  const hn::Repartition<std::int64_t, decltype(di)> d64;
+  const hn::Half<decltype(di)> dHalf;
+  // Eight bytes at each lane's offset, as the low and high 32 bits of each lane
+  auto gatherPairs = [&](auto offsets) {
+    const auto first = hn::BitCast(di, hn::GatherOffset(d64, pairs, hn::PromoteTo(d64, hn::LowerHalf(dHalf, offsets))));
+    const auto second =
+        hn::BitCast(di, hn::GatherOffset(d64, pairs, hn::PromoteTo(d64, hn::UpperHalf(dHalf, offsets))));
+    return std::pair{hn::ConcatEven(di, second, first), hn::ConcatOdd(di, second, first)};
+  };
+#endif
   std::uint32_t violations = 0;
   int i = 0;
   for (; i + lanes <= n; i += lanes) {
@@ -64,21 +77,34 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
     const auto top = hn::Add(hn::Mul(y0, stride), C == 3 ? hn::Add(x0, hn::ShiftLeft<1>(x0)) : x0);
     const auto bottom = hn::Add(top, stride);
     if constexpr (C == 3) {
-      // [L.r L.g L.b R.r] at the left pixel and [L.b R.r R.g R.b] two bytes on: no byte read
-      // beyond the right neighbour
+#if HWY_TARGET == HWY_SCALAR
+      // One lane: the 64-bit reads below need two
       const auto two = hn::Set(di, 2);
-      const auto topLeft = hn::GatherOffset(di, words, top);
-      const auto topRight = hn::GatherOffset(di, words, hn::Add(top, two));
-      const auto bottomLeft = hn::GatherOffset(di, words, bottom);
-      const auto bottomRight = hn::GatherOffset(di, words, hn::Add(bottom, two));
-      auto channel = [&](auto k) {
-        constexpr int kByte = decltype(k)::value;  // std::integral_constant
-        const auto upper = blend(byteOf<kByte>(topLeft), byteOf<kByte + 1>(topRight), fx);
-        const auto lower = blend(byteOf<kByte>(bottomLeft), byteOf<kByte + 1>(bottomRight), fx);
-        return hn::DemoteTo(d8, hn::ShiftRight<2 * kFracBits>(hn::Add(blend(upper, lower, fy), round)));
+      const auto upperLo = hn::GatherOffset(di, words, top), upperHi = hn::GatherOffset(di, words, hn::Add(top, two));
+      const auto lowerLo = hn::GatherOffset(di, words, bottom);
+      const auto lowerHi = hn::GatherOffset(di, words, hn::Add(bottom, two));
+      // [L.r L.g L.b R.r] and [L.b R.r R.g R.b] of each row
+      const auto uLr = byteOf<0>(upperLo), uLg = byteOf<1>(upperLo), uLb = byteOf<2>(upperLo);
+      const auto uRr = byteOf<1>(upperHi), uRg = byteOf<2>(upperHi), uRb = byteOf<3>(upperHi);
+      const auto lLr = byteOf<0>(lowerLo), lLg = byteOf<1>(lowerLo), lLb = byteOf<2>(lowerLo);
+      const auto lRr = byteOf<1>(lowerHi), lRg = byteOf<2>(lowerHi), lRb = byteOf<3>(lowerHi);
+#else
+      // Both neighbours of a row in one 64-bit read: [L.r L.g L.b R.r | R.g R.b · ·] on the upper
+      // row; on the lower row two bytes back, [· · L.r L.g | L.b R.r R.g R.b], so that neither
+      // read leaves the frame. Half as many gathered lanes as 32-bit reads of each pixel.
+      const auto [upperLo, upperHi] = gatherPairs(top);
+      const auto [lowerLo, lowerHi] = gatherPairs(hn::Sub(bottom, hn::Set(di, 2)));
+      const auto uLr = byteOf<0>(upperLo), uLg = byteOf<1>(upperLo), uLb = byteOf<2>(upperLo);
+      const auto uRr = byteOf<3>(upperLo), uRg = byteOf<0>(upperHi), uRb = byteOf<1>(upperHi);
+      const auto lLr = byteOf<2>(lowerLo), lLg = byteOf<3>(lowerLo), lLb = byteOf<0>(lowerHi);
+      const auto lRr = byteOf<1>(lowerHi), lRg = byteOf<2>(lowerHi), lRb = byteOf<3>(lowerHi);
+#endif
+      auto channel = [&](auto uL, auto uR, auto lL, auto lR) {
+        const auto value = blend(blend(uL, uR, fx), blend(lL, lR, fx), fy);
+        return hn::DemoteTo(d8, hn::ShiftRight<2 * kFracBits>(hn::Add(value, round)));
       };
-      hn::StoreInterleaved3(channel(std::integral_constant<int, 0>()), channel(std::integral_constant<int, 1>()),
-                            channel(std::integral_constant<int, 2>()), d8, dst + 3 * i);
+      hn::StoreInterleaved3(channel(uLr, uRr, lLr, lRr), channel(uLg, uRg, lLg, lRg), channel(uLb, uRb, lLb, lRb), d8,
+                            dst + 3 * i);
     } else {
       // [L R · ·] on the upper row; on the lower row [· · L R] two bytes back, so that neither read
       // leaves the frame
