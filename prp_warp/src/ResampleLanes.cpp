@@ -45,10 +45,11 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
   const auto stride = hn::Set(di, src.strideBytes);
   const auto round = hn::Set(di, 1 << (2 * kFracBits - 1));
   const auto* words = reinterpret_cast<const std::int32_t*>(src.base);  // gathered at byte offsets
-#if HWY_TARGET != HWY_SCALAR
+#if HWY_TARGET != HWY_SCALAR && HWY_ARCH_X86
   const auto* pairs = reinterpret_cast<const std::int64_t*>(src.base);
   const hn::Repartition<std::int64_t, decltype(di)> d64;
   const hn::Half<decltype(di)> dHalf;
+  const hn::Repartition<std::int16_t, decltype(di)> d16;
   // Eight bytes at each lane's offset, as the low and high 32 bits of each lane
   auto gatherPairs = [&](auto offsets) {
     const auto first = hn::BitCast(di, hn::GatherOffset(d64, pairs, hn::PromoteTo(d64, hn::LowerHalf(dHalf, offsets))));
@@ -77,8 +78,9 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
     const auto top = hn::Add(hn::Mul(y0, stride), C == 3 ? hn::Add(x0, hn::ShiftLeft<1>(x0)) : x0);
     const auto bottom = hn::Add(top, stride);
     if constexpr (C == 3) {
-#if HWY_TARGET == HWY_SCALAR
-      // One lane: the 64-bit reads below need two
+#if HWY_TARGET == HWY_SCALAR || !HWY_ARCH_X86
+      // One lane (the 64-bit reads below need two), or not x86 (where the multiply-add below need
+      // not keep each pair in its lane)
       const auto two = hn::Set(di, 2);
       const auto upperLo = hn::GatherOffset(di, words, top), upperHi = hn::GatherOffset(di, words, hn::Add(top, two));
       const auto lowerLo = hn::GatherOffset(di, words, bottom);
@@ -88,23 +90,38 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
       const auto uRr = byteOf<1>(upperHi), uRg = byteOf<2>(upperHi), uRb = byteOf<3>(upperHi);
       const auto lLr = byteOf<0>(lowerLo), lLg = byteOf<1>(lowerLo), lLb = byteOf<2>(lowerLo);
       const auto lRr = byteOf<1>(lowerHi), lRg = byteOf<2>(lowerHi), lRb = byteOf<3>(lowerHi);
-#else
-      // Both neighbours of a row in one 64-bit read: [L.r L.g L.b R.r | R.g R.b · ·] on the upper
-      // row; on the lower row two bytes back, [· · L.r L.g | L.b R.r R.g R.b], so that neither
-      // read leaves the frame. Half as many gathered lanes as 32-bit reads of each pixel.
-      const auto [upperLo, upperHi] = gatherPairs(top);
-      const auto [lowerLo, lowerHi] = gatherPairs(hn::Sub(bottom, hn::Set(di, 2)));
-      const auto uLr = byteOf<0>(upperLo), uLg = byteOf<1>(upperLo), uLb = byteOf<2>(upperLo);
-      const auto uRr = byteOf<3>(upperLo), uRg = byteOf<0>(upperHi), uRb = byteOf<1>(upperHi);
-      const auto lLr = byteOf<2>(lowerLo), lLg = byteOf<3>(lowerLo), lLb = byteOf<0>(lowerHi);
-      const auto lRr = byteOf<1>(lowerHi), lRg = byteOf<2>(lowerHi), lRb = byteOf<3>(lowerHi);
-#endif
       auto channel = [&](auto uL, auto uR, auto lL, auto lR) {
         const auto value = blend(blend(uL, uR, fx), blend(lL, lR, fx), fy);
         return hn::DemoteTo(d8, hn::ShiftRight<2 * kFracBits>(hn::Add(value, round)));
       };
       hn::StoreInterleaved3(channel(uLr, uRr, lLr, lRr), channel(uLg, uRg, lLg, lRg), channel(uLb, uRb, lLb, lRb), d8,
                             dst + 3 * i);
+#else
+      // Both neighbours of a row in one 64-bit read: [L.r L.g L.b R.r | R.g R.b · ·] on the upper
+      // row; on the lower row two bytes back, [· · L.r L.g | L.b R.r R.g R.b], so that neither
+      // read leaves the frame. Half as many gathered lanes as 32-bit reads of each pixel.
+      const auto [upperLo, upperHi] = gatherPairs(top);
+      const auto [lowerLo, lowerHi] = gatherPairs(hn::Sub(bottom, hn::Set(di, 2)));
+      // Each channel's (left, right) as two 16-bit halves, blended along x by one 16-bit
+      // multiply-add with the weights (256 − fx, fx): left · (256 − fx) + right · fx, exactly
+      // (on x86 the multiply-add is pmaddwd: each pair's sum stays in its 32-bit lane)
+      const auto low = hn::Set(di, 0xFF), high = hn::Set(di, 0xFF0000);
+      const auto weightsX = hn::BitCast(d16, hn::Or(hn::Sub(hn::Set(di, kOne), fx), hn::ShiftLeft<16>(fx)));
+      auto alongX = [&](auto pair) {
+        auto unused = hn::Zero(di);
+        return hn::ReorderWidenMulAccumulate(di, hn::BitCast(d16, pair), weightsX, hn::Zero(di), unused);
+      };
+      const auto upperR = alongX(hn::Or(hn::And(upperLo, low), hn::And(hn::ShiftRight<8>(upperLo), high)));
+      const auto upperG = alongX(hn::Or(byteOf<1>(upperLo), hn::ShiftLeft<16>(hn::And(upperHi, low))));
+      const auto upperB = alongX(hn::Or(byteOf<2>(upperLo), hn::And(hn::ShiftLeft<8>(upperHi), high)));
+      const auto lowerR = alongX(hn::Or(byteOf<2>(lowerLo), hn::And(hn::ShiftLeft<8>(lowerHi), high)));
+      const auto lowerG = alongX(hn::Or(byteOf<3>(lowerLo), hn::And(lowerHi, high)));
+      const auto lowerB = alongX(hn::Or(hn::And(lowerHi, low), hn::And(hn::ShiftRight<8>(lowerHi), high)));
+      auto channel = [&](auto upper, auto lower) {
+        return hn::DemoteTo(d8, hn::ShiftRight<2 * kFracBits>(hn::Add(blend(upper, lower, fy), round)));
+      };
+      hn::StoreInterleaved3(channel(upperR, lowerR), channel(upperG, lowerG), channel(upperB, lowerB), d8, dst + 3 * i);
+#endif
     } else {
       // [L R · ·] on the upper row; on the lower row [· · L R] two bytes back, so that neither read
       // leaves the frame
