@@ -53,12 +53,30 @@ TEST(AppConfig, AnUnwritableSummaryPathIsRefusedBeforeTheRun) {
   EXPECT_TRUE(std::filesystem::exists(fresh)) << ok.output;
 }
 
+TEST(AppConfig, TheSimdLevelIsCheckedAndTheOneRunIsLogged) {
+  const auto bad = run("--check-config --simd avx1024");
+  EXPECT_NE(bad.exitCode, 0) << bad.output;
+  EXPECT_NE(bad.output.find("fieldcast: --simd: SIMD level \"avx1024\" is not one this machine runs (it has: "),
+            std::string::npos)
+      << bad.output;
+  EXPECT_NE(bad.output.find("scalar, or auto)"), std::string::npos) << bad.output;
+  const auto cache = std::filesystem::temp_directory_path() / "fieldcast_test_simd_cache";
+  const std::string config = writeConfig("simd", "[terrain]\nsource = \"builtin\"\ncache_dir = \"" + cache.string() +
+                                                     "\"\nbuiltin_size = 256\nmemory_budget_mb = 16\n"
+                                                     "[output]\nwidth = 160\nheight = 120\n"
+                                                     "[threads]\nrealtime_field_thread = false\n") +
+                             " --flight " FIELDCAST_SOURCE_DIR "/config/flights/ridge_run.toml";
+  const auto scalar = run("--config " + config + " --duration 0.2 --simd scalar");
+  EXPECT_EQ(scalar.exitCode, 0) << scalar.output;
+  EXPECT_NE(scalar.output.find("SIMD level scalar (this CPU runs "), std::string::npos) << scalar.output;
+}
+
 TEST(AppConfig, HelpAndVersion) {
   // --help names every option (and where the configuration keys are documented).
   const auto h = run("--help");
   EXPECT_EQ(h.exitCode, 0);
   for (const char* option : {"-c,--config", "--set", "--duration", "--flight", "--y4m", "--contact-sheet", "--summary",
-                             "--rtp", "--check-config", "--version", "--help"}) {
+                             "--rtp", "--simd", "--check-config", "--version", "--help"}) {
     EXPECT_NE(h.output.find(option), std::string::npos) << "--help does not name " << option << ":\n" << h.output;
   }
   EXPECT_NE(h.output.find("config/README.md"), std::string::npos) << h.output;
