@@ -67,6 +67,11 @@ int run(int argc, char** argv) {
   CLI11_PARSE(cli, argc, argv);
   try {
     fieldcast::applySimdLevelFromEnvironment();
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "fieldcast: FIELDCAST_SIMD: %s\n", e.what());
+    return 1;
+  }
+  try {
     if (!simd.empty()) fieldcast::forceSimdLevel(simd);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "fieldcast: --simd: %s\n", e.what());

@@ -1,7 +1,8 @@
 // Field warp timings (one core). Run:
 //   fieldcast_bench_warp --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 // The kernels and the service's field step run at every SIMD level the machine has
-// (".../level:avx2"); the others at the best one (or FIELDCAST_SIMD's).
+// (".../level:avx2"); the others at the best one (FIELDCAST_SIMD's only when they run before
+// the per-level ones, which put "auto" back when they end).
 // Sizes: an NTSC field (720 × 243 of a 720 × 486 raster) and a 1080i field (1920 × 540).
 // The frame is the analytic ground-plane scene (10 % margins, RGB8) rendered once; the field pose
 // is 80 ms later with 3° of roll, the kind of map the PRP fits every field.

@@ -9,8 +9,13 @@ namespace fieldcast::warp::conversion {
 
 /// Unity gain in the 1/65536 steps of AutoGain::gainQ16().
 constexpr std::int32_t kUnityGain = 1 << 16;
+/// The largest gain applied, 128: 255 times it, plus the rounding, stays within 32 bits.
+constexpr std::int32_t kMaxGain = 128 << 16;
 
-/// An 8-bit value times a gain in 1/65536, rounded half up, clipped at 255.
+/// A gain as applied: within [0, kMaxGain].
+inline std::int32_t validGain(std::int32_t gainQ16) noexcept { return std::clamp(gainQ16, 0, kMaxGain); }
+
+/// An 8-bit value times a gain in 1/65536 (within [0, kMaxGain]), rounded half up, clipped at 255.
 inline int applyGain(int value, std::int32_t gainQ16) noexcept {
   return std::min((value * gainQ16 + (1 << 15)) >> 16, 255);
 }

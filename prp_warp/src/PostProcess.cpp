@@ -26,7 +26,7 @@ void AutoGain::reset() noexcept {
 }
 
 void AutoGain::rebuildTable() noexcept {
-  mGainQ16 = static_cast<std::int32_t>(std::lround(mGain * conversion::kUnityGain));
+  mGainQ16 = static_cast<std::int32_t>(std::lround(std::clamp(mGain, 0.0, 128.0) * conversion::kUnityGain));
   for (int i = 0; i < 256; ++i) mTable[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(applyGain(i, mGainQ16));
   mTableGain = mGain;
 }
@@ -98,6 +98,7 @@ namespace {
 /// convertPixels' rows; `lanes` picks the vector kernel where there is one.
 bool convertRows(const Image& src, Image& dst, std::int32_t gainQ16, bool lanes) noexcept {
   if (src.widthPx() != dst.widthPx() || src.heightPx() != dst.heightPx()) return false;
+  gainQ16 = conversion::validGain(gainQ16);
   if (src.format() == PixelFormat::Uyvy422) return false;
   const bool rgb = src.format() == PixelFormat::Rgb8;
   const int channels = rgb ? 3 : 1;

@@ -119,8 +119,9 @@ std::uint32_t resampleMeshReference(const Image& src, const MeshMap& map, FieldP
 /// vector kernel reads the frame by gathers, which the CPU's prefetchers do not follow, and a
 /// field row needs new frame lines at every row: without this a 1080i field waited on memory for
 /// most of its time (fieldcast_bench_warp, AVX-512, the kernel alone: 3.6 ms with it, 6.1–7.1 ms
-/// without). Whatever the map, a field's next rows lie further down the frame (a mirror is
-/// applied after the warp). Inlined on purpose: as a call, measured the same, it gained nothing.
+/// without). For the maps of a field (rolled less than 90°; a mirror is applied after the warp) a
+/// field's next rows lie further down the frame; for others the prefetch is wasted, not wrong.
+/// Inlined on purpose: as a call, measured the same, it gained nothing.
 [[gnu::always_inline]] inline void prefetchRowsAhead(const Image& src, const float* framePxX, const float* framePxY,
                                                      int n) noexcept {
   constexpr float kRowsAhead = 6.0f;  // three field rows; 3 to 10 measured the same

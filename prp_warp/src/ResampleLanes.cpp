@@ -45,7 +45,7 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
   const auto stride = hn::Set(di, src.strideBytes);
   const auto round = hn::Set(di, 1 << (2 * kFracBits - 1));
   const auto* words = reinterpret_cast<const std::int32_t*>(src.base);  // gathered at byte offsets
-#if HWY_TARGET != HWY_SCALAR && HWY_ARCH_X86
+#if HWY_TARGET != HWY_SCALAR
   const auto* pairs = reinterpret_cast<const std::int64_t*>(src.base);
   const hn::Repartition<std::int64_t, decltype(di)> d64;
   const hn::Half<decltype(di)> dHalf;
@@ -78,9 +78,8 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
     const auto top = hn::Add(hn::Mul(y0, stride), C == 3 ? hn::Add(x0, hn::ShiftLeft<1>(x0)) : x0);
     const auto bottom = hn::Add(top, stride);
     if constexpr (C == 3) {
-#if HWY_TARGET == HWY_SCALAR || !HWY_ARCH_X86
-      // One lane (the 64-bit reads below need two), or not x86 (where the multiply-add below need
-      // not keep each pair in its lane)
+#if HWY_TARGET == HWY_SCALAR
+      // One lane: the 64-bit reads below need two
       const auto two = hn::Set(di, 2);
       const auto upperLo = hn::GatherOffset(di, words, top), upperHi = hn::GatherOffset(di, words, hn::Add(top, two));
       const auto lowerLo = hn::GatherOffset(di, words, bottom);
@@ -103,13 +102,14 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
       const auto [upperLo, upperHi] = gatherPairs(top);
       const auto [lowerLo, lowerHi] = gatherPairs(hn::Sub(bottom, hn::Set(di, 2)));
       // Each channel's (left, right) as two 16-bit halves, blended along x by one 16-bit
-      // multiply-add with the weights (256 − fx, fx): left · (256 − fx) + right · fx, exactly
-      // (on x86 the multiply-add is pmaddwd: each pair's sum stays in its 32-bit lane)
+      // multiply-add with the weights (256 − fx, fx): left · (256 − fx) + right · fx, exactly (on
+      // x86 pmaddwd, whose pair sums stay in their lanes; elsewhere the rearrangement sums them)
       const auto low = hn::Set(di, 0xFF), high = hn::Set(di, 0xFF0000);
       const auto weightsX = hn::BitCast(d16, hn::Or(hn::Sub(hn::Set(di, kOne), fx), hn::ShiftLeft<16>(fx)));
       auto alongX = [&](auto pair) {
-        auto unused = hn::Zero(di);
-        return hn::ReorderWidenMulAccumulate(di, hn::BitCast(d16, pair), weightsX, hn::Zero(di), unused);
+        auto odd = hn::Zero(di);
+        const auto even = hn::ReorderWidenMulAccumulate(di, hn::BitCast(d16, pair), weightsX, hn::Zero(di), odd);
+        return hn::RearrangeToOddPlusEven(even, odd);
       };
       const auto upperR = alongX(hn::Or(hn::And(upperLo, low), hn::And(hn::ShiftRight<8>(upperLo), high)));
       const auto upperG = alongX(hn::Or(byteOf<1>(upperLo), hn::ShiftLeft<16>(hn::And(upperHi, low))));

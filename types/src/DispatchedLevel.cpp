@@ -17,7 +17,8 @@ const char* CompiledLevel() {
     case HWY_AVX2: return "avx2";
     case HWY_SSE4: return "sse4";
     case HWY_SSSE3: return "ssse3";
-    case HWY_SCALAR: return "scalar";
+    case HWY_SCALAR:
+    case HWY_EMU128: return "scalar";
     default: return hwy::TargetName(HWY_TARGET);
   }
 }

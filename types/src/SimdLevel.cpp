@@ -13,10 +13,15 @@ namespace {
 
 struct NamedLevel {
   const char* name;
-  std::int64_t target;
+  std::int64_t targets;  // Highway's targets of this level
 };
+// One lane is HWY_SCALAR with GCC before 12.3 (which cannot build EMU128), else HWY_EMU128
 constexpr NamedLevel kLevels[] = {
-    {"avx512", HWY_AVX3}, {"avx2", HWY_AVX2}, {"sse4", HWY_SSE4}, {"ssse3", HWY_SSSE3}, {"scalar", HWY_SCALAR},
+    {"avx512", HWY_AVX3},
+    {"avx2", HWY_AVX2},
+    {"sse4", HWY_SSE4},
+    {"ssse3", HWY_SSSE3},
+    {"scalar", HWY_SCALAR | HWY_EMU128},
 };
 
 /// Highway's SupportedTargets, with the kernels' dispatch kept to it. In Highway 1.0 the call
@@ -37,48 +42,49 @@ void disableTargets(std::int64_t disabled) {
 /// The targets this build carries and the CPU runs, as Highway sees them now (forcing included).
 std::int64_t runnableTargets() { return supportedTargets() & HWY_TARGETS; }
 
-/// What forcing does not change: what the CPU could run, were nothing disabled.
+/// What the CPU and this build can run, forcing aside: found once, on the first call (made at
+/// start-up, before any level is forced), so later queries do not touch the dispatch.
 std::int64_t availableTargets() {
-  disableTargets(0);
-  return runnableTargets();
+  static const std::int64_t available = [] {
+    disableTargets(0);
+    return runnableTargets();
+  }();
+  return available;
 }
+
+std::int64_t lowestBit(std::int64_t bits) { return bits & -bits; }
 
 }  // namespace
 
 std::string simdLevel() {
   const std::int64_t targets = runnableTargets();
   for (const NamedLevel& level : kLevels)
-    if (targets & level.target) return level.name;
-  return hwy::TargetName(targets & -targets);  // a target without a name here (e.g. EMU128)
+    if (lowestBit(targets) & level.targets) return level.name;
+  return hwy::TargetName(lowestBit(targets));  // a target without a name here
 }
 
 std::vector<std::string> simdLevels() {
-  const std::int64_t current = runnableTargets();
   const std::int64_t available = availableTargets();
   std::vector<std::string> names;
   for (const NamedLevel& level : kLevels)
-    if (available & level.target) names.emplace_back(level.name);
-  // Put back what was forced: disabling every target better than the best current one
-  const std::int64_t best = current & -current;
-  disableTargets(best - 1);
+    if (available & level.targets) names.emplace_back(level.name);
   return names;
 }
 
 void forceSimdLevel(std::string_view level) {
+  const std::int64_t available = availableTargets();
   if (level == "auto") {
     disableTargets(0);
     return;
   }
-  const std::int64_t available = availableTargets();
   for (const NamedLevel& named : kLevels) {
     if (level != named.name) continue;
-    if ((available & named.target) == 0) break;
-    disableTargets(named.target - 1);  // every better target (a lower bit) off
+    if ((available & named.targets) == 0) break;
+    disableTargets(lowestBit(available & named.targets) - 1);  // every better target (a lower bit) off
     return;
   }
   std::string have;
-  for (const NamedLevel& named : kLevels)
-    if (available & named.target) have += std::string(have.empty() ? "" : ", ") + named.name;
+  for (const std::string& name : simdLevels()) have += (have.empty() ? "" : ", ") + name;
   throw std::invalid_argument("SIMD level \"" + std::string(level) +
                               "\" is not one this machine runs (it has: " + have + ", or auto)");
 }

@@ -4,8 +4,12 @@
 // the widest level the CPU has is chosen. A level can be forced (`FIELDCAST_SIMD`, `--simd`) so
 // tests run every level the machine has and a regression can be traced to one of them.
 //
-// Levels, best first: "avx512" (AVX-512 F/VL/DQ/BW), "avx2", "sse4", "ssse3", "scalar" (one lane:
-// the kernels' plain C++ form).
+// Levels, best first: "avx512" (AVX-512 F/VL/DQ/BW), "avx2", "sse4", "ssse3", "scalar" (the
+// kernels' Highway code without SIMD instructions). A FIELDCAST_NATIVE build carries only the
+// level its compiler targets and the better ones.
+//
+// Call these at start-up or in a test, not while kernels run: forcing changes a process-wide
+// dispatch.
 
 #include <string>
 #include <string_view>
@@ -20,12 +24,11 @@ std::string simdLevel();
 /// the dispatch went astray.
 std::string dispatchedSimdLevel();
 
-/// The levels this build carries and this CPU can run, best first ("scalar" always last).
+/// The levels this build carries and this CPU can run, best first.
 std::vector<std::string> simdLevels();
 
 /// Makes the kernels run at `level` (one of simdLevels()) or, for "auto", at the best one.
-/// Throws std::invalid_argument naming the levels this machine has. Not thread-safe: call at
-/// start-up or in a test, not while kernels run.
+/// Throws std::invalid_argument naming the levels this machine has, the level unchanged.
 void forceSimdLevel(std::string_view level);
 
 /// Applies FIELDCAST_SIMD if it is set (see forceSimdLevel; throws the same way).
