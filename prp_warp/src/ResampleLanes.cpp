@@ -1,7 +1,8 @@
 // The fixed-point bilinear sampling of a row in SIMD lanes, one pixel per 32-bit lane, compiled
 // for every level Highway dispatches to (fieldcast/SimdLevel.h). Per lane: the frame coordinate
-// to 1/256 px, clamped (NaN to 0) and checked against the margins; each neighbour pair read by a
-// 32-bit gather; blends in 32-bit integers. The same bytes as SamplePixel.h's scalar reference.
+// to 1/256 px, clamped (NaN to 0) and checked against the margins; each row's two neighbours read
+// by one gather (64-bit for RGB, 32-bit for grey); the x blend of an RGB channel one 16-bit
+// multiply-add, the rest in 32-bit integers. The same bytes as SamplePixel.h's scalar reference.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "ResampleLanes.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep

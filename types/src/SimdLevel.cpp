@@ -43,7 +43,7 @@ void disableTargets(std::int64_t disabled) {
 std::int64_t runnableTargets() { return supportedTargets() & HWY_TARGETS; }
 
 /// What the CPU and this build can run, forcing aside: found once, on the first call (made at
-/// start-up, before any level is forced), so later queries do not touch the dispatch.
+/// start-up, before any level is forced), so later queries do not undo a forced level.
 std::int64_t availableTargets() {
   static const std::int64_t available = [] {
     disableTargets(0);
