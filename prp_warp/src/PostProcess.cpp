@@ -116,6 +116,10 @@ bool convertRows(const Image& src, Image& dst, std::int32_t gainQ16, bool lanes)
         for (int x = 0; x < 3 * w; ++x) out[x] = static_cast<std::uint8_t>(applyGain(in[rgb ? x : x / 3], gainQ16));
         break;
       case PixelFormat::Grey8:
+        if (unity && !rgb) {
+          std::memcpy(out, in, src.strideBytes());
+          break;
+        }
         for (int x = 0; x < w; ++x) {
           const std::uint8_t* p = in + channels * x;
           const int luma = rgb ? (kWr * applyGain(p[0], gainQ16) + kWg * applyGain(p[1], gainQ16) +
