@@ -1,4 +1,6 @@
 // The fast kernels against the scalar reference, margin violations and edge fill.
+#include "NoiseImage.h"
+
 #include <prp_warp/Resample.h>
 
 #include <gtest/gtest.h>
@@ -9,12 +11,7 @@
 namespace fieldcast::warp {
 namespace {
 
-Image noiseImage(int w, int h, PixelFormat format, unsigned seed) {
-  Image img(w, h, format);
-  std::mt19937 rng(seed);
-  for (std::uint8_t& b : img.bytes()) b = static_cast<std::uint8_t>(rng() & 0xff);
-  return img;
-}
+using test::noiseImage;
 
 int maxAbsDiff(const Image& a, const Image& b) {
   int m = 0;

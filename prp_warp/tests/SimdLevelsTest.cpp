@@ -1,6 +1,8 @@
 // The warp's vector kernels at every SIMD level this machine runs, each against its scalar
 // reference: the same bytes and the same margin violations.
 #include <prp_warp/PostProcess.h>
+#include "NoiseImage.h"
+
 #include <prp_warp/Resample.h>
 
 #include <fieldcast/SimdLevel.h>
@@ -17,12 +19,7 @@
 namespace fieldcast::warp {
 namespace {
 
-Image noiseImage(int w, int h, PixelFormat format, unsigned seed) {
-  Image img(w, h, format);
-  std::mt19937 rng(seed);
-  for (std::uint8_t& b : img.bytes()) b = static_cast<std::uint8_t>(rng() & 0xff);
-  return img;
-}
+using test::noiseImage;
 
 /// Runs `check` once at every level, then puts the best level back.
 template <typename Check>

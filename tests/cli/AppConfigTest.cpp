@@ -21,6 +21,17 @@ std::string writeConfig(const std::string& name, const std::string& text) {
   return path.string();
 }
 
+/// A configuration for a short real run (a small built-in terrain cached under its own name, a
+/// small raster, no real-time thread) and the flight it flies: "PATH --flight FLIGHT".
+std::string smallRun(const std::string& name) {
+  const auto cache = std::filesystem::temp_directory_path() / ("fieldcast_test_" + name + "_cache");
+  return writeConfig(name, "[terrain]\nsource = \"builtin\"\ncache_dir = \"" + cache.string() +
+                               "\"\nbuiltin_size = 256\nmemory_budget_mb = 16\n"
+                               "[output]\nwidth = 160\nheight = 120\n"
+                               "[threads]\nrealtime_field_thread = false\n") +
+         " --flight " FIELDCAST_SOURCE_DIR "/config/flights/ridge_run.toml";
+}
+
 TEST(AppConfig, ShippedConfigIsValid) {
   const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml");
   EXPECT_EQ(r.exitCode, 0) << r.output;
@@ -30,12 +41,7 @@ TEST(AppConfig, ShippedConfigIsValid) {
 TEST(AppConfig, AnUnwritableSummaryPathIsRefusedBeforeTheRun) {
   // The summary is written at exit; a path that cannot be written must stop the service at start,
   // with one line naming it, before the terrain is opened or a field is made.
-  const auto cache = std::filesystem::temp_directory_path() / "fieldcast_test_summary_cache";
-  const std::string config = writeConfig("summary", "[terrain]\nsource = \"builtin\"\ncache_dir = \"" + cache.string() +
-                                                        "\"\nbuiltin_size = 256\nmemory_budget_mb = 16\n"
-                                                        "[output]\nwidth = 160\nheight = 120\n"
-                                                        "[threads]\nrealtime_field_thread = false\n") +
-                             " --flight " FIELDCAST_SOURCE_DIR "/config/flights/ridge_run.toml";
+  const std::string config = smallRun("summary");
   for (const char* bad : {"/proc/fieldcast/summary.json", "/dev/null/summary.json"}) {
     const auto r = run("--config " + config + " --duration 30 --summary " + bad);
     EXPECT_NE(r.exitCode, 0) << r.output;
@@ -60,12 +66,7 @@ TEST(AppConfig, TheSimdLevelIsCheckedAndTheOneRunIsLogged) {
             std::string::npos)
       << bad.output;
   EXPECT_NE(bad.output.find("scalar, or auto)"), std::string::npos) << bad.output;
-  const auto cache = std::filesystem::temp_directory_path() / "fieldcast_test_simd_cache";
-  const std::string config = writeConfig("simd", "[terrain]\nsource = \"builtin\"\ncache_dir = \"" + cache.string() +
-                                                     "\"\nbuiltin_size = 256\nmemory_budget_mb = 16\n"
-                                                     "[output]\nwidth = 160\nheight = 120\n"
-                                                     "[threads]\nrealtime_field_thread = false\n") +
-                             " --flight " FIELDCAST_SOURCE_DIR "/config/flights/ridge_run.toml";
+  const std::string config = smallRun("simd");
   const auto scalar = run("--config " + config + " --duration 0.2 --simd scalar");
   EXPECT_EQ(scalar.exitCode, 0) << scalar.output;
   EXPECT_NE(scalar.output.find("SIMD level scalar (this CPU runs "), std::string::npos) << scalar.output;

@@ -66,8 +66,8 @@ bool flickerFilterReference(const Image& src, Image& dst) noexcept;
 /// Converts `src` (Grey8 or Rgb8) into `dst` of the same size in dst's format: Grey8 (BT.601
 /// luma, full range), Rgb8, or UYVY 4:2:2 (BT.601 video range: Y 16..235, Cb/Cr 16..240, chroma
 /// averaged over each pixel pair), applying a gain in 1/65536 (AutoGain::gainQ16, taken within
-/// [0, 128]) to every value first. Returns false when the shapes or formats do not fit. RGB to UYVY runs in SIMD
-/// lanes at the dispatched level (fieldcast/SimdLevel.h). RT-safe.
+/// [0, 128]) to every value first. Returns false when the shapes or formats do not fit. RGB to
+/// UYVY runs in SIMD lanes at the dispatched level (fieldcast/SimdLevel.h). RT-safe.
 bool convertPixels(const Image& src, Image& dst, std::int32_t gainQ16 = 1 << 16) noexcept;
 
 /// convertPixels in plain C++ only: the judge of its SIMD forms, which give the same bytes.
