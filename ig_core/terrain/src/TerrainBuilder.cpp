@@ -1,5 +1,5 @@
 // Level-0 grid → pyramid → compressed tiles → database file (written atomically).
-#include <ig_core/MemoryTerrain.h>
+#include <ig_core/Pyramid.h>
 #include <ig_core/TerrainBuilder.h>
 
 #include "Parallel.h"
@@ -61,7 +61,7 @@ BuildReport writeTerrainDatabase(const TerrainGrid& grid, const std::filesystem:
     }
   }
   if (options.progress) options.progress("pyramid", 0.0);
-  const std::vector<PyramidLevel> pyramid = buildPyramid(g, grid.heightQ, grid.colourRgba, grid.stickId);
+  const Pyramid pyramid = buildPyramid(g, grid.heightQ, grid.colourRgba, grid.stickId, options.threads);
   if (options.progress) options.progress("pyramid", 1.0);
 
   // Tiles in index order; compressed in parallel, written in batches so memory stays bounded.

@@ -169,7 +169,7 @@ TerrainGrid gridWithSticks() {
 TEST(StickPyramid, ACoarseVoxelOverAStickTakesItsTopAndId) {
   TerrainGrid grid = gridWithSticks();
   grid.geometry.levels = 4;
-  const std::vector<PyramidLevel> pyramid = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba, grid.stickId);
+  const Pyramid pyramid = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba, grid.stickId);
   // The lone stick: its top, not a quarter of its height, at every level
   for (int level = 1; level < 4; ++level) {
     const PyramidLevel& l = pyramid[static_cast<std::size_t>(level)];
@@ -182,7 +182,7 @@ TEST(StickPyramid, ACoarseVoxelOverAStickTakesItsTopAndId) {
   EXPECT_EQ(l1.heightQ[static_cast<std::size_t>(2 * l1.widthVox + 2)], 1000);
   EXPECT_EQ(l1.stickId[static_cast<std::size_t>(2 * l1.widthVox + 2)], 0u);
   // Without stick ids the same heights are box-filtered: the lone stick shrinks to a quarter
-  const std::vector<PyramidLevel> plain = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba);
+  const Pyramid plain = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba);
   EXPECT_EQ(plain[1].heightQ[static_cast<std::size_t>(4 * plain[1].widthVox + 4)], 1050);
   EXPECT_TRUE(plain[1].stickId.empty());
 }
@@ -196,7 +196,7 @@ TEST(StickPyramid, AStickBelowTheFilteredGroundLeavesTheCoarseVoxelToTheTerrain)
   grid.stickId[at(40, 40)] = 1;
   grid.heightQ[at(41, 41)] = 1400;
   grid.geometry.levels = 2;
-  const std::vector<PyramidLevel> pyramid = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba, grid.stickId);
+  const Pyramid pyramid = buildPyramid(grid.geometry, grid.heightQ, grid.colourRgba, grid.stickId);
   const std::size_t o = static_cast<std::size_t>(20 * pyramid[1].widthVox + 20);
   EXPECT_EQ(pyramid[1].heightQ[o], 1113);  // (1050 + 1000 + 1000 + 1400 + 2) / 4
   EXPECT_EQ(pyramid[1].stickId[o], 0u);

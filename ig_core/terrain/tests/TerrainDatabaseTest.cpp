@@ -53,7 +53,7 @@ TEST(TerrainDatabase, RoundTripGivesTheSamePyramidTiles) {
   EXPECT_EQ(g.heightBaseM, -20.0);
   EXPECT_EQ(reader.layout().tileCount, report.tileCount);
 
-  const std::vector<PyramidLevel> pyramid = buildPyramid(g, grid.heightQ, grid.colourRgba);
+  const Pyramid pyramid = buildPyramid(g, grid.heightQ, grid.colourRgba);
   TileBuffers expected, actual;
   expected.resize(g.tileShift);
   for (int level = 0; level < g.levels; ++level) {
