@@ -147,8 +147,8 @@ class Shape {
 // gaps). Deterministic for the seed.
 class Furnisher {
  public:
-  Furnisher(const Shape& shape, TerrainGrid& grid, const std::vector<LandCover>& cover)
-      : mShape(shape), mGrid(grid), mCover(cover), mPlacer(grid), mSeed(shape.seed() ^ 0x0B1EC75u) {}
+  Furnisher(const Shape& shape, TerrainGrid& grid, const std::vector<LandCover>& cover, int threads)
+      : mShape(shape), mGrid(grid), mCover(cover), mPlacer(grid), mSeed(shape.seed() ^ 0x0B1EC75u), mThreads(threads) {}
 
   PlacementReport run(const ProgressFn& progress) {
     placeVillages();
@@ -157,6 +157,7 @@ class Furnisher {
     placeWoods();
     if (progress) progress("objects", 0.7);
     placeHedgerows();
+    flush();
     if (progress) progress("objects", 1.0);
     return mPlacer.finish();
   }
@@ -184,6 +185,17 @@ class Furnisher {
     });
   }
 
+  // Objects are chosen here one after another and placed in that order, in batches whose
+  // footprints are found on every core. No choice reads what was placed before it.
+  void place(const VoxelModel& model, double xM, double yM, double headingDeg, double scale) {
+    mRequests.push_back({&model, xM, yM, headingDeg, scale});
+    if (mRequests.size() >= 65536) flush();
+  }
+  void flush() {
+    mPlacer.place(mRequests, mThreads);
+    mRequests.clear();
+  }
+
   void placeVillages() {
     const double extent = mShape.extentM();
     const VoxelModel& house = *findBuiltinModel("house");
@@ -202,7 +214,7 @@ class Furnisher {
       const double along = std::atan2((mShape.riverU(v + dv) - mShape.riverU(v - dv)) * extent, 2.0 * dv * extent);
       const double streetDeg = along * 180.0 / std::numbers::pi;  // the river's heading
       mVillages.push_back(centre);
-      mPlacer.place(church, centre.x, centre.y, streetDeg, 1.0);
+      place(church, centre.x, centre.y, streetDeg, 1.0);
       // Houses on a jittered grid of 22 m around the church, barns at the edge
       for (int gy = -4; gy <= 4; ++gy) {
         for (int gx = -4; gx <= 4; ++gx) {
@@ -218,7 +230,7 @@ class Furnisher {
           const bool isBarn = r > 70.0 && unit(gx, gy, 4 + k) < 0.4;
           const double heading =
               streetDeg + 90.0 * std::floor(4.0 * unit(gx, gy, 5 + k)) + 8.0 * (unit(gx, gy, 6) - 0.5);
-          mPlacer.place(isBarn ? barn : house, x, y, heading, 0.9 + 0.25 * unit(gx, gy, 7 + k));
+          place(isBarn ? barn : house, x, y, heading, 0.9 + 0.25 * unit(gx, gy, 7 + k));
         }
       }
     }
@@ -250,11 +262,11 @@ class Furnisher {
         const auto at = [&](double ox, double oy) {
           return glm::dvec2{x + ox * std::cos(a) + oy * std::sin(a), y - ox * std::sin(a) + oy * std::cos(a)};
         };
-        mPlacer.place(house, x, y, heading, 1.0);
+        place(house, x, y, heading, 1.0);
         const glm::dvec2 b = at(22.0, 4.0), t1 = at(-14.0, 8.0), t2 = at(-12.0, -9.0);
-        mPlacer.place(barn, b.x, b.y, heading + 90.0, 1.0);
-        mPlacer.place(broadleaf, t1.x, t1.y, 0.0, 1.1);
-        mPlacer.place(broadleaf, t2.x, t2.y, 0.0, 0.9);
+        place(barn, b.x, b.y, heading + 90.0, 1.0);
+        place(broadleaf, t1.x, t1.y, 0.0, 1.1);
+        place(broadleaf, t2.x, t2.y, 0.0, 0.9);
       }
     }
   }
@@ -271,9 +283,9 @@ class Furnisher {
         if (mCover[k] != LandCover::Forest || unit(ci, cj, 13) > 0.85) continue;
         const double x = i * spacing(), y = j * spacing();
         if (inVillage(x, y)) continue;
-        const double groundM = mGrid.geometry.heightM(mGrid.heightQ[k]);
+        const double groundM = mGrid.geometry.heightM(mPlacer.groundQ(k));
         const bool needles = groundM > 350.0 || unit(ci, cj, 14) < 0.3;
-        mPlacer.place(needles ? conifer : broadleaf, x, y, 360.0 * unit(ci, cj, 15), 0.75 + 0.5 * unit(ci, cj, 16));
+        place(needles ? conifer : broadleaf, x, y, 360.0 * unit(ci, cj, 15), 0.75 + 0.5 * unit(ci, cj, 16));
       }
     }
   }
@@ -286,7 +298,7 @@ class Furnisher {
         if (mCover[k] != LandCover::FieldEdge || unit(i / 8, j / 8, 21) < 0.25) continue;  // gaps of 16 m
         const double x = i * spacing(), y = j * spacing();
         if (inVillage(x, y)) continue;
-        mPlacer.place(hedge, x, y, 0.0, 0.8 + 0.4 * unit(i, j, 22));
+        place(hedge, x, y, 0.0, 0.8 + 0.4 * unit(i, j, 22));
       }
     }
   }
@@ -296,6 +308,8 @@ class Furnisher {
   const std::vector<LandCover>& mCover;
   ObjectPlacer mPlacer;
   std::uint32_t mSeed;
+  int mThreads;
+  std::vector<PlacementRequest> mRequests;  // chosen, not yet placed
   std::vector<glm::dvec2> mVillages;
 };
 
@@ -472,7 +486,7 @@ TerrainGrid generateBuiltinTerrain(const BuiltinTerrainSpec& spec, const Procedu
   grid.heightQ = std::move(heights.heightQ);
   if (spec.objects) {
     const Shape shape(spec);
-    const PlacementReport placed = Furnisher(shape, grid, cover).run(progress);
+    const PlacementReport placed = Furnisher(shape, grid, cover, colour.threads).run(progress);
     spdlog::debug("built-in terrain: {} objects, {} voxels with sticks, {} stick table entries", placed.placed,
                   placed.stickVoxels, placed.tableEntries);
   }

@@ -1,7 +1,10 @@
 #include <ig_core/ObjectPlacement.h>
 
+#include "Parallel.h"
+
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -103,6 +106,37 @@ ObjectPlacer::ObjectPlacer(TerrainGrid& grid) : mGrid(grid) {
 }
 
 bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double headingDeg, double scale) {
+  findFootprint(PlacementRequest{&model, xM, yM, headingDeg, scale}, mFootprint);
+  return apply(mFootprint);
+}
+
+void ObjectPlacer::place(std::span<const PlacementRequest> requests, int threads) {
+  // Batches bound the footprints held at once (a forest is millions of trees)
+  constexpr std::size_t kBatch = 16384;
+  std::vector<Footprint> footprints(std::min(kBatch, requests.size()));
+  std::vector<std::exception_ptr> errors(footprints.size());
+  for (std::size_t first = 0; first < requests.size(); first += kBatch) {
+    const std::size_t count = std::min(kBatch, requests.size() - first);
+    detail::parallelFor(count, threads, 64, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        errors[k] = nullptr;
+        try {
+          findFootprint(requests[first + k], footprints[k]);
+        } catch (...) {
+          errors[k] = std::current_exception();
+        }
+      }
+    });
+    for (std::size_t k = 0; k < count; ++k) {  // in order: where objects overlap, order decides ties
+      if (errors[k]) std::rethrow_exception(errors[k]);
+      apply(footprints[k]);
+    }
+  }
+}
+
+void ObjectPlacer::findFootprint(const PlacementRequest& request, Footprint& out) const {
+  const VoxelModel& model = *request.model;
+  const double xM = request.xM, yM = request.yM, headingDeg = request.headingDeg, scale = request.scale;
   const TerrainGeometry& g = mGrid.geometry;
   // Positions within a million grid widths of the grid: far enough for anything meant, near enough
   // that the voxel ranges below stay in int
@@ -126,7 +160,8 @@ bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double h
   const int i1 = std::min(g.widthVox - 1, voxel(std::ceil((xM + radius - g.originM.x) / g.spacingM), g.widthVox));
   const int j0 = std::max(0, voxel(std::floor((yM - radius - g.originM.y) / g.spacingM), g.heightVox));
   const int j1 = std::min(g.heightVox - 1, voxel(std::ceil((yM + radius - g.originM.y) / g.spacingM), g.heightVox));
-  mFootprint.clear();
+  out.model = &model;
+  out.voxels.clear();
   std::uint16_t baseQ = 65535;
   for (int j = j0; j <= j1; ++j) {
     for (int i = i0; i <= i1; ++i) {
@@ -143,47 +178,69 @@ bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double h
                                     " of " + std::to_string(model.sticks.size()));
       }
       const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(g.widthVox) + i;
-      mFootprint.emplace_back(k, &column);
+      out.voxels.push_back({k, column.stick, 0, static_cast<std::uint32_t>(column.heightUnits)});
       baseQ = std::min(baseQ, mGround[k]);
     }
   }
-  bool any = false;
-  for (const auto& [k, column] : mFootprint) {
-    const double topM = g.heightM(baseQ) + column->heightUnits * kModelStickUnitM * scale;
-    const auto topQ =
-        static_cast<std::uint16_t>(std::clamp(std::lround((topM - g.heightBaseM) / g.heightStepM), 0L, 65535L));
-    if (topQ <= mGround[k]) continue;                                 // buried by the slope
-    if (mGrid.stickId[k] != 0 && mGrid.heightQ[k] >= topQ) continue;  // a taller stick is there
+  // Each voxel's top over the lowest ground; voxels buried by the slope dropped
+  std::size_t kept = 0;
+  for (FootprintVoxel v : out.voxels) {
+    const double topM = g.heightM(baseQ) + v.heightUnits * kModelStickUnitM * scale;
+    v.topQ = static_cast<std::uint16_t>(std::clamp(std::lround((topM - g.heightBaseM) / g.heightStepM), 0L, 65535L));
+    if (v.topQ <= mGround[v.k]) continue;
     // A complex stick reaches down to this voxel's ground, its texels stretched or squeezed to the
     // length (a tree's gap under its crown stays open to the ground however it is scaled, and on a
     // slope ends on the ground here, not under the lowest ground of the footprint): an entry per
     // model stick and length placed. Others keep the model's entry, its last colour filling a
     // longer stick, a shorter one losing its foot.
-    const StickEntry& modelEntry = model.sticks[column->stick - 1];
-    std::uint32_t placedLength = 0;
-    if (modelEntry.kind == StickKind::Complex) {
-      placedLength = static_cast<std::uint32_t>(std::clamp(
-          std::lround((topQ - mGround[k]) * g.heightStepM / kModelStickUnitM), 1L, static_cast<long>(kMaxStickLength)));
+    v.placedLength = 0;
+    if (model.sticks[v.stick - 1].kind == StickKind::Complex) {
+      v.placedLength =
+          static_cast<std::uint32_t>(std::clamp(std::lround((v.topQ - mGround[v.k]) * g.heightStepM / kModelStickUnitM),
+                                                1L, static_cast<long>(kMaxStickLength)));
     }
-    auto [it, added] = mIdOf.try_emplace({&model, column->stick, placedLength}, 0u);
-    if (added) {
-      StickEntry entry = modelEntry;
-      if (placedLength != 0) {
-        entry.lengthVox = placedLength;
-        entry.texels.resize(placedLength);
-        for (std::uint32_t u = 0; u < placedLength; ++u) {  // the model's texel under each one's middle
-          const std::size_t from = (2 * u + 1) * modelEntry.texels.size() / (2 * placedLength);
-          entry.texels[u] = modelEntry.texels[from];
-        }
+    out.voxels[kept++] = v;
+  }
+  out.voxels.resize(kept);
+}
+
+std::uint32_t ObjectPlacer::tableId(const VoxelModel& model, std::uint32_t stick, std::uint32_t placedLength) {
+  auto [it, added] = mIdOf.try_emplace({&model, stick, placedLength}, 0u);
+  if (added) {
+    const StickEntry& modelEntry = model.sticks[stick - 1];
+    StickEntry entry = modelEntry;
+    if (placedLength != 0) {
+      entry.lengthVox = placedLength;
+      entry.texels.resize(placedLength);
+      for (std::uint32_t u = 0; u < placedLength; ++u) {  // the model's texel under each one's middle
+        const std::size_t from = (2 * u + 1) * modelEntry.texels.size() / (2 * placedLength);
+        entry.texels[u] = modelEntry.texels[from];
       }
-      mEntries.push_back(std::move(entry));
-      it->second = static_cast<std::uint32_t>(mEntries.size());
     }
-    mGrid.heightQ[k] = topQ;
-    mGrid.stickId[k] = it->second;
+    mEntries.push_back(std::move(entry));
+    it->second = static_cast<std::uint32_t>(mEntries.size());
+  }
+  return it->second;
+}
+
+bool ObjectPlacer::apply(const Footprint& footprint) {
+  const VoxelModel& model = *footprint.model;
+  bool any = false;
+  // Neighbouring voxels mostly carry the same stick: its id is looked up once for a run of them
+  std::uint32_t lastStick = 0, lastLength = 0, lastId = 0;
+  for (const FootprintVoxel& v : footprint.voxels) {
+    if (mGrid.stickId[v.k] != 0 && mGrid.heightQ[v.k] >= v.topQ) continue;  // a taller stick is there
+    if (v.stick != lastStick || v.placedLength != lastLength || lastId == 0) {
+      lastStick = v.stick;
+      lastLength = v.placedLength;
+      lastId = tableId(model, v.stick, v.placedLength);
+    }
+    mGrid.heightQ[v.k] = v.topQ;
+    mGrid.stickId[v.k] = lastId;
     // The voxel's colour: the top's, for coarse levels; a complex stick keeps the ground's, which
     // its cavities show below it (unless another stick stood there before)
-    if (modelEntry.kind != StickKind::Complex) mGrid.colourRgba[k] = modelEntry.texels.front();
+    const StickEntry& modelEntry = model.sticks[v.stick - 1];
+    if (modelEntry.kind != StickKind::Complex) mGrid.colourRgba[v.k] = modelEntry.texels.front();
     any = true;
   }
   ++(any ? mReport.placed : mReport.offGrid);
@@ -199,16 +256,20 @@ PlacementReport ObjectPlacer::finish() {
   return mReport;
 }
 
-PlacementReport placeObjects(TerrainGrid& grid, std::span<const ObjectPlacement> objects, const ModelLookup& lookup) {
-  ObjectPlacer placer(grid);
+PlacementReport placeObjects(TerrainGrid& grid, std::span<const ObjectPlacement> objects, const ModelLookup& lookup,
+                             int threads) {
+  std::vector<PlacementRequest> requests;
+  requests.reserve(objects.size());
   for (const ObjectPlacement& p : objects) {
     const VoxelModel* model = lookup(p.model);
     if (model == nullptr) {
       throw std::invalid_argument("unknown model '" + p.model + "' (built in: " + knownModels() +
                                   "; or a .vox file named by its path)");
     }
-    placer.place(*model, p.xM, p.yM, p.headingDeg, p.scale);
+    requests.push_back({model, p.xM, p.yM, p.headingDeg, p.scale});
   }
+  ObjectPlacer placer(grid);
+  placer.place(requests, threads);
   return placer.finish();
 }
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <random>
 #include <set>
 #include <string>
 #include <tuple>
@@ -145,6 +146,67 @@ TEST(ObjectPlacement, AModelPlacedAmongObjectsStandsOnTheirGroundNotOnThem) {
   EXPECT_TRUE(houseTops.count(static_cast<std::uint32_t>(2000 + southUnits * kModelStickUnitM / 0.05)))
       << "the house's south row is not " << southUnits * kModelStickUnitM << " m over the ground";
   EXPECT_THROW(placeObjects(grid, std::vector<ObjectPlacement>{{"house", 1e12, 0.0, 0.0, 1.0}}), std::invalid_argument);
+}
+
+// Every built-in model, crowded so that objects overlap, on rough ground (complex sticks of
+// many lengths), with random headings and scales; more than two batches' worth
+std::vector<PlacementRequest> crowdedRequests(std::size_t count) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> along(-10.0, 266.0), unit(0.0, 1.0);
+  const std::vector<VoxelModel>& models = builtinModels();
+  std::vector<PlacementRequest> requests;
+  for (std::size_t k = 0; k < count; ++k) {
+    requests.push_back({&models[k % models.size()], along(rng), along(rng), 360.0 * unit(rng), 0.5 + 1.5 * unit(rng)});
+  }
+  return requests;
+}
+
+TerrainGrid roughGrid() {
+  TerrainGrid grid = flatGrid(128);
+  std::mt19937 rng(3);
+  for (std::uint16_t& h : grid.heightQ) h = static_cast<std::uint16_t>(2000 + rng() % 200);
+  return grid;
+}
+
+void expectSameGrid(const TerrainGrid& a, const TerrainGrid& b) {
+  EXPECT_EQ(a.heightQ, b.heightQ);
+  EXPECT_EQ(a.stickId, b.stickId);
+  EXPECT_EQ(a.colourRgba, b.colourRgba);
+  ASSERT_EQ(a.sticks->size(), b.sticks->size());
+  for (std::uint32_t id = 1; id <= a.sticks->size(); ++id) {
+    EXPECT_EQ(a.sticks->entry(id).texels, b.sticks->entry(id).texels) << "table entry " << id;
+  }
+}
+
+TEST(ObjectPlacement, ABatchOnSeveralThreadsPlacesWhatOneByOneDoes) {
+  const std::vector<PlacementRequest> requests = crowdedRequests(10000);
+  TerrainGrid oneByOne = roughGrid(), batched = roughGrid();
+  ObjectPlacer single(oneByOne);
+  for (const PlacementRequest& r : requests) single.place(*r.model, r.xM, r.yM, r.headingDeg, r.scale);
+  const PlacementReport expected = single.finish();
+  ObjectPlacer batch(batched);
+  batch.place(requests, 3);
+  const PlacementReport report = batch.finish();
+  EXPECT_EQ(report.placed, expected.placed);
+  EXPECT_EQ(report.offGrid, expected.offGrid);
+  EXPECT_GT(report.tableEntries, 20u) << "complex sticks placed at many lengths";
+  expectSameGrid(oneByOne, batched);
+}
+
+TEST(ObjectPlacement, ABatchStopsAtARequestItRefusesWithTheOnesBeforeItPlaced) {
+  std::vector<PlacementRequest> requests = crowdedRequests(6000);
+  requests[5000].scale = 100.0;
+  TerrainGrid before = roughGrid(), batched = roughGrid();
+  ObjectPlacer single(before);
+  for (std::size_t k = 0; k < 5000; ++k) {
+    const PlacementRequest& r = requests[k];
+    single.place(*r.model, r.xM, r.yM, r.headingDeg, r.scale);
+  }
+  single.finish();
+  ObjectPlacer batch(batched);
+  EXPECT_THROW(batch.place(requests, 2), std::invalid_argument);
+  batch.finish();
+  expectSameGrid(before, batched);
 }
 
 TEST(ObjectPlacement, ObjectsOffTheGridAreCountedNotPlaced) {

@@ -32,7 +32,7 @@ struct BuiltinTerrainSpec {
 };
 
 /// Bumped whenever the generator's output changes, so stale caches are not reused.
-inline constexpr int kBuiltinGeneratorVersion = 5;
+inline constexpr int kBuiltinGeneratorVersion = 6;
 
 /// A named place of the built-in terrain, for scripting flights.
 struct BuiltinLandmark {

@@ -49,9 +49,17 @@ struct PlacementReport {
 /// Finds a model by name (nullptr: unknown).
 using ModelLookup = std::function<const VoxelModel*(const std::string&)>;
 
-/// Places objects into a grid one by one (for generators that make millions): heights, stick ids
-/// and top colours as each is placed, the stick table (the grid's entries kept, the models'
-/// added) at finish().
+/// One object to place: a model (which must outlive the placing) and where, as ObjectPlacement.
+struct PlacementRequest {
+  const VoxelModel* model = nullptr;
+  double xM = 0.0, yM = 0.0;
+  double headingDeg = 0.0;
+  double scale = 1.0;
+};
+
+/// Places objects into a grid (for generators that make millions): heights, stick ids and top
+/// colours as each is placed, the stick table (the grid's entries kept, the models' added) at
+/// finish(). Objects are placed in the order given, whether one by one or in batches.
 class ObjectPlacer {
  public:
   /// Throws std::invalid_argument when the grid's arrays do not match its size, or its stick table
@@ -63,22 +71,47 @@ class ObjectPlacer {
   /// Places `model` with its footprint's centre at world (xM, yM); false when none of it landed on
   /// the grid. Throws std::invalid_argument for a scale out of range or a non-finite position.
   bool place(const VoxelModel& model, double xM, double yM, double headingDeg, double scale);
+  /// Places every request in order, as place() one by one would, the footprints found on
+  /// `threads` threads (0: every core). A request place() would refuse throws the same error,
+  /// after the requests before it are placed.
+  void place(std::span<const PlacementRequest> requests, int threads);
+  /// The ground under level-0 voxel k: the heights before any object was placed.
+  std::uint16_t groundQ(std::size_t k) const noexcept { return mGround[k]; }
   /// Installs the stick table into the grid and says what was done. Once, after the last place().
   PlacementReport finish();
 
  private:
+  // A voxel whose centre falls in a placement's footprint, and the stick the model puts there
+  struct FootprintVoxel {
+    std::size_t k = 0;               // the level-0 voxel
+    std::uint32_t stick = 0;         // the model's stick (1-based)
+    std::uint16_t topQ = 0;          // its top, over the lowest ground of the footprint
+    std::uint32_t heightUnits = 0;   // the model column's height
+    std::uint32_t placedLength = 0;  // a complex stick's length down to this voxel's ground, else 0
+  };
+  struct Footprint {
+    const VoxelModel* model = nullptr;
+    std::vector<FootprintVoxel> voxels;  // those not buried by the slope
+  };
+  // Reads only the ground and the model: safe on several threads at once
+  void findFootprint(const PlacementRequest& request, Footprint& out) const;
+  // Writes the voxels where no taller stick stands; the stick table grows as new sticks are used
+  bool apply(const Footprint& footprint);
+  std::uint32_t tableId(const VoxelModel& model, std::uint32_t stick, std::uint32_t placedLength);
+
   TerrainGrid& mGrid;
   std::vector<std::uint16_t> mGround;  // the ground under the objects (TerrainGrid::groundQ)
   std::vector<StickEntry> mEntries;
   // (model, its stick, the length placed: 0 but for a complex stick) → table id
   std::map<std::tuple<const VoxelModel*, std::uint32_t, std::uint32_t>, std::uint32_t> mIdOf;
-  std::vector<std::pair<std::size_t, const VoxelModel::Column*>> mFootprint;  // reused
+  Footprint mFootprint;  // reused by place() one by one
   PlacementReport mReport;
 };
 
-/// Places `objects` into `grid` (ObjectPlacer). Throws std::invalid_argument for an unknown model
-/// (naming the known ones), a scale out of range, or a non-finite position.
+/// Places `objects` into `grid` in order (ObjectPlacer), on `threads` threads (0: every core).
+/// Throws std::invalid_argument for an unknown model (naming the known ones), a scale out of
+/// range, or a non-finite position.
 PlacementReport placeObjects(TerrainGrid& grid, std::span<const ObjectPlacement> objects,
-                             const ModelLookup& lookup = findBuiltinModel);
+                             const ModelLookup& lookup = findBuiltinModel, int threads = 0);
 
 }  // namespace fieldcast::core
