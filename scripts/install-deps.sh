@@ -15,6 +15,7 @@ build_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libzstd-dev libxxhash-dev
   libhwy-dev  # Google Highway: SIMD kernels dispatched at run time (prp_warp)
+  libembree-dev  # Embree 3: the independent renderer fieldcast_bench_table times beside the caster
   libtiff-dev  # GeoTIFF tags for terrain import (ig_core)
   libproj-dev  # PROJ: geographic DEMs reprojected at import, the database georeference (ig_core)
   libnova-dev  # the sun's position for a CIGI host's date and time of day (app)

@@ -25,6 +25,8 @@
 // Counters: frame_ms (per frame), ns_per_px (frame time / frame pixels), steps_per_px (height
 // samples per pixel), ref_ns_per_px (reference renderer, one thread, sampled pixels), speedup
 // (reference ns/px over this run's ns/px × threads: the per-core speed-up).
+#include "BenchPoses.h"
+
 #include <ig_core/BuiltinTerrain.h>
 #include <ig_core/FrameTimeController.h>
 #include <ig_core/OpenTerrain.h>
@@ -52,18 +54,6 @@
 namespace fieldcast::core {
 namespace {
 
-struct BenchPose {
-  const char* name;
-  double headingDeg, pitchDeg, altitudeM;
-};
-constexpr std::array<BenchPose, 4> kPoses{{
-    {"down", 30.0, -70.0, 400.0},
-    {"oblique", 75.0, -25.0, 250.0},
-    {"low", 200.0, -8.0, 60.0},
-    {"horizon", 315.0, -1.0, 30.0},
-}};
-constexpr std::array<std::array<int, 2>, 2> kSizes{{{720, 486}, {1920, 1080}}};
-
 struct BenchTerrain {
   std::unique_ptr<MemoryTerrain> synthetic;
   std::unique_ptr<TileCache> cache;
@@ -86,20 +76,7 @@ const BenchTerrain& terrain() {
   return *t;
 }
 
-ViewRequest requestFor(int pose, int size) {
-  const TerrainView& view = terrain().view();
-  const BenchPose& p = kPoses[static_cast<std::size_t>(pose)];
-  const TerrainGeometry& g = terrain().geometry();
-  const double x = g.originM.x + 0.5 * (g.widthVox - 1) * g.spacingM;  // centre of the terrain
-  const double y = g.originM.y + 0.5 * (g.heightVox - 1) * g.spacingM;
-  ViewRequest r;
-  r.pose.positionM = {x, y, view.heightAtM(x, y) + p.altitudeM};
-  r.pose.headingRad = radians(p.headingDeg);
-  r.pose.pitchRad = radians(p.pitchDeg);
-  const auto& s = kSizes[static_cast<std::size_t>(size)];
-  r.display = Intrinsics::fromHorizontalFov(s[0], s[1], radians(60.0));
-  return r;
-}
+ViewRequest requestFor(int pose, int size) { return benchRequest(terrain().view(), pose, size); }
 
 // Reference renderer ns per pixel for a pose, on a sparse grid of pixels (it is slow).
 double referenceNsPerPixel(int pose, int size) {
