@@ -89,8 +89,9 @@ void SceneEntities::at(TimePoint t, std::vector<core::EntityInstance>& out) cons
   if (!mHost) return;
   std::vector<HostEntitySample> host;
   mHost(host);
-  const FindHostEntity find = [&host](std::uint16_t id) -> const HostEntitySample* {
-    const auto it = std::find_if(host.begin(), host.end(), [id](const HostEntitySample& s) { return s.id == id; });
+  const FindHostEntity find = [&host](std::uint16_t wanted) -> const HostEntitySample* {
+    const auto it =
+        std::find_if(host.begin(), host.end(), [wanted](const HostEntitySample& s) { return s.id == wanted; });
     return it == host.end() ? nullptr : &*it;
   };
   for (const HostEntitySample& sample : host) {

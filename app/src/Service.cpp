@@ -192,7 +192,7 @@ struct Service::Parts {
 
   void fail(const std::string& why) {
     {
-      std::lock_guard lock(fatalMutex);
+      std::lock_guard guard(fatalMutex);
       if (fatal.empty()) fatal = why;
     }
     failed.store(true, std::memory_order_release);
