@@ -70,10 +70,13 @@ EmbreeHeightField::~EmbreeHeightField() {
   if (mDevice != nullptr) rtcReleaseDevice(mDevice);
 }
 
-std::size_t EmbreeHeightField::render(const ViewGeometry& view, int threads, std::vector<std::uint8_t>& rgb) const {
+std::size_t EmbreeHeightField::render(const ViewGeometry& view, int threads, std::vector<std::uint8_t>& rgb,
+                                      std::vector<float>* rangeM) const {
   const Intrinsics& k = view.intrinsics();
   const TerrainGeometry& g = mGrid.geometry;
-  rgb.assign(static_cast<std::size_t>(k.widthPx) * static_cast<std::size_t>(k.heightPx) * 3, 0);
+  const std::size_t pixels = static_cast<std::size_t>(k.widthPx) * static_cast<std::size_t>(k.heightPx);
+  rgb.assign(pixels * 3, 0);
+  if (rangeM != nullptr) rangeM->assign(pixels, std::numeric_limits<float>::infinity());
   const glm::dvec3 eye = view.pose().positionM - glm::dvec3{g.originM.x, g.originM.y, 0.0};
   std::atomic<std::size_t> hits{0};
   shareRows(k.heightPx, 4, threads, [&](int v0, int v1) {
@@ -111,7 +114,12 @@ std::size_t EmbreeHeightField::render(const ViewGeometry& view, int threads, std
         const int j = std::clamp(static_cast<int>(std::lround(y / g.spacingM)), 0, g.heightVox - 1);
         const std::uint32_t c = mGrid.colour(i, j);
         const int u = u0 + lane % 4, v = v0 + lane / 4;
-        std::uint8_t* px = &rgb[3 * (static_cast<std::size_t>(v) * static_cast<std::size_t>(k.widthPx) + u)];
+        const std::size_t at = static_cast<std::size_t>(v) * static_cast<std::size_t>(k.widthPx) + u;
+        if (rangeM != nullptr) {
+          const float dx = packet.ray.dir_x[lane], dy = packet.ray.dir_y[lane], dz = packet.ray.dir_z[lane];
+          (*rangeM)[at] = t * std::sqrt(dx * dx + dy * dy + dz * dz);
+        }
+        std::uint8_t* px = &rgb[3 * at];
         px[0] = static_cast<std::uint8_t>(c);
         px[1] = static_cast<std::uint8_t>(c >> 8);
         px[2] = static_cast<std::uint8_t>(c >> 16);

@@ -26,9 +26,11 @@ class EmbreeHeightField {
   EmbreeHeightField(const EmbreeHeightField&) = delete;
   EmbreeHeightField& operator=(const EmbreeHeightField&) = delete;
 
-  /// Renders the frame of `view` (RGB, its intrinsics' size) on `threads` threads into `rgb`.
+  /// Renders the frame of `view` (RGB, its intrinsics' size) on `threads` threads into `rgb`,
+  /// and each pixel's range along its ray into `rangeM` when given (metres, +inf: sky).
   /// Returns how many pixels hit the terrain.
-  std::size_t render(const ViewGeometry& view, int threads, std::vector<std::uint8_t>& rgb) const;
+  std::size_t render(const ViewGeometry& view, int threads, std::vector<std::uint8_t>& rgb,
+                     std::vector<float>* rangeM = nullptr) const;
 
  private:
   const LevelZeroGrid& mGrid;

@@ -10,8 +10,9 @@
 // (EmbreeHeightField.h), and a VoxelSpace-style column render (VoxelSpaceRenderer.h, low and
 // horizon views only: its pitch is a shear). Each round renders one frame with each, in turn, so
 // that all three see the same machine load; the table gives the medians over the rounds and the
-// ratios to Fieldcast's. Frames include the margins (10% a side). The built-in terrain is generated
-// into the cache folder on first use.
+// ratios to Fieldcast's. Frames include the margins (10% a side). "Same surface" is the share of
+// pixels where the caster's range image and Embree's agree (agreement() below), once per view. The built-in terrain is
+// generated into the cache folder on first use.
 //
 // Then the field warp on one core at every SIMD level this CPU runs, NTSC and 1080i fields: the
 // service's whole field step (pose, fit, warp, AGC, flicker filter, UYVY; a new frame every field)
@@ -35,6 +36,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <functional>
@@ -96,6 +98,17 @@ void writePpm(const std::filesystem::path& path, int width, int height, const st
   const bool written =
       std::fwrite(rgb, 3, static_cast<std::size_t>(width) * height, file) == static_cast<std::size_t>(width) * height;
   if (std::fclose(file) != 0 || !written) throw std::runtime_error(path.string() + ": cannot write");
+}
+
+// Pixels where the caster and Embree see the same thing: both the sky, or the terrain at ranges
+// within 2% of each other (objects are sticks to the caster, bumps of the height field to Embree)
+double agreement(const std::vector<float>& ours, const std::vector<float>& theirs) {
+  std::size_t same = 0;
+  for (std::size_t k = 0; k < ours.size(); ++k) {
+    const bool sky = !std::isfinite(ours[k]), theirSky = !std::isfinite(theirs[k]);
+    same += sky || theirSky ? sky == theirSky : std::abs(ours[k] - theirs[k]) <= 0.02f * ours[k];
+  }
+  return static_cast<double>(same) / static_cast<double>(ours.size());
 }
 
 double secondsOf(const auto& render) {
@@ -168,8 +181,8 @@ int run(const Options& options) {
               simdLevel().c_str());
   std::printf(
       "| view | frame (with margins) | threads | Fieldcast ms | Embree ms | Embree / Fieldcast | "
-      "VoxelSpace ms | VoxelSpace / Fieldcast |\n");
-  std::printf("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+      "VoxelSpace ms | VoxelSpace / Fieldcast | same surface as Embree |\n");
+  std::printf("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
   std::vector<std::uint8_t> rgb;
   for (const int size : options.sizes) {
     for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
@@ -180,6 +193,13 @@ int run(const Options& options) {
       const FrameLease lease = cache->lease();
       const ViewGeometry geometry(request.pose, layout.frame, view.geometry(), settings);
       const bool voxelSpace = pose >= 2;  // low and horizon: where a shear stands in for the pitch
+      // The same surface? Both frames' ranges, compared once per view (outside the timed rounds)
+      RenderSettings withRange = settings;
+      withRange.rangeImage = true;
+      const Frame ranged = Renderer(view, withRange, 2).render(request);
+      std::vector<float> embreeRange;
+      embree.render(geometry, 2, rgb, &embreeRange);
+      const double same = agreement(ranged.rangeM, embreeRange);
       for (const int threads : options.threads) {
         Renderer renderer(view, settings, threads);
         Frame frame = renderer.render(request);  // warm-up, each
@@ -209,10 +229,11 @@ int run(const Options& options) {
                     layout.frame.widthPx, layout.frame.heightPx, threads, oursMs, theirsMs, theirsMs / oursMs);
         if (voxelSpace) {
           const double columnsMs = medianMs(columns);
-          std::printf(" %.2f | %.2f × |\n", columnsMs, columnsMs / oursMs);
+          std::printf(" %.2f | %.2f × |", columnsMs, columnsMs / oursMs);
         } else {
-          std::printf(" — | — |\n");
+          std::printf(" — | — |");
         }
+        std::printf(" %.1f%% |\n", 100.0 * same);
         std::fflush(stdout);
       }
     }
