@@ -15,12 +15,13 @@ namespace fieldcast::core {
 struct BenchPose {
   const char* name;
   double headingDeg, pitchDeg, altitudeM;
+  bool nearHorizon;  ///< pitched little enough that a shear stands in for the pitch (VoxelSpace)
 };
 inline constexpr std::array<BenchPose, 4> kPoses{{
-    {"down", 30.0, -70.0, 400.0},
-    {"oblique", 75.0, -25.0, 250.0},
-    {"low", 200.0, -8.0, 60.0},
-    {"horizon", 315.0, -1.0, 30.0},
+    {"down", 30.0, -70.0, 400.0, false},
+    {"oblique", 75.0, -25.0, 250.0, false},
+    {"low", 200.0, -8.0, 60.0, true},
+    {"horizon", 315.0, -1.0, 30.0, true},
 }};
 inline constexpr std::array<std::array<int, 2>, 2> kSizes{{{720, 486}, {1920, 1080}}};
 

@@ -5,6 +5,7 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -27,8 +28,13 @@ void check(RTCDevice device, const char* what) {
 EmbreeHeightField::EmbreeHeightField(const LevelZeroGrid& grid) : mGrid(grid) {
   const TerrainGeometry& g = grid.geometry;
   const int w = g.widthVox, h = g.heightVox;
+  const std::size_t vertices = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (vertices > std::numeric_limits<unsigned>::max()) {
+    throw std::runtime_error("Embree: " + std::to_string(w) + " × " + std::to_string(h) +
+                             " voxels is more vertices than its 32-bit ids number");
+  }
   // One vertex more than needed: Embree reads vertices with 16-byte loads
-  mVertices.resize(3 * (static_cast<std::size_t>(w) * static_cast<std::size_t>(h) + 1));
+  mVertices.resize(3 * (vertices + 1));
   for (int j = 0; j < h; ++j) {
     for (int i = 0; i < w; ++i) {
       float* v = &mVertices[3 * (static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + i)];
@@ -37,32 +43,45 @@ EmbreeHeightField::EmbreeHeightField(const LevelZeroGrid& grid) : mGrid(grid) {
       v[2] = grid.height(i, j);
     }
   }
+  // Released by the destructor, or here when building fails
+  struct Release {
+    EmbreeHeightField& self;
+    RTCGeometry geometry = nullptr;
+    bool done = false;
+    ~Release() {
+      if (geometry != nullptr) rtcReleaseGeometry(geometry);
+      if (done) return;
+      if (self.mScene != nullptr) rtcReleaseScene(self.mScene);
+      if (self.mDevice != nullptr) rtcReleaseDevice(self.mDevice);
+    }
+  } release{*this};
   mDevice = rtcNewDevice(nullptr);
   if (mDevice == nullptr) throw std::runtime_error("Embree: rtcNewDevice failed");
-  RTCGeometry geometry = rtcNewGeometry(mDevice, RTC_GEOMETRY_TYPE_GRID);
+  release.geometry = rtcNewGeometry(mDevice, RTC_GEOMETRY_TYPE_GRID);
   check(mDevice, "rtcNewGeometry(GRID)");
-  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mVertices.data(), 0,
-                             3 * sizeof(float), static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  rtcSetSharedGeometryBuffer(release.geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mVertices.data(), 0,
+                             3 * sizeof(float), vertices);
   const int gx = (w - 1 + kGridVoxels - 1) / kGridVoxels, gy = (h - 1 + kGridVoxels - 1) / kGridVoxels;
-  auto* grids = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID,
-                                                              sizeof(RTCGrid), static_cast<std::size_t>(gx) * gy));
+  auto* grids = static_cast<RTCGrid*>(
+      rtcSetNewGeometryBuffer(release.geometry, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid),
+                              static_cast<std::size_t>(gx) * static_cast<std::size_t>(gy)));
   check(mDevice, "the grid buffer");
   for (int by = 0; by < gy; ++by) {
     for (int bx = 0; bx < gx; ++bx) {
-      RTCGrid& cell = grids[static_cast<std::size_t>(by) * gx + bx];
+      RTCGrid& cell = grids[static_cast<std::size_t>(by) * static_cast<std::size_t>(gx) + bx];
       const int i0 = bx * kGridVoxels, j0 = by * kGridVoxels;
-      cell.startVertexID = static_cast<unsigned>(j0 * w + i0);
+      cell.startVertexID = static_cast<unsigned>(static_cast<std::size_t>(j0) * static_cast<std::size_t>(w) + i0);
       cell.stride = static_cast<unsigned>(w);
       cell.width = static_cast<unsigned short>(std::min(kGridVoxels, w - 1 - i0) + 1);
       cell.height = static_cast<unsigned short>(std::min(kGridVoxels, h - 1 - j0) + 1);
     }
   }
-  rtcCommitGeometry(geometry);
+  rtcCommitGeometry(release.geometry);
   mScene = rtcNewScene(mDevice);
-  rtcAttachGeometry(mScene, geometry);
-  rtcReleaseGeometry(geometry);
+  rtcAttachGeometry(mScene, release.geometry);
   rtcCommitScene(mScene);
   check(mDevice, "building the scene");
+  release.done = true;
 }
 
 EmbreeHeightField::~EmbreeHeightField() {

@@ -31,10 +31,17 @@ std::size_t renderVoxelSpace(const LevelZeroGrid& grid, const ViewGeometry& view
       const double dirX = (fwdX + xc * rightX) / g.spacingM, dirY = (fwdY + xc * rightY) / g.spacingM;
       int top = k.heightPx;  // rows at and below this are drawn
       for (double z = g.spacingM; z < farM && top > 0; z += std::max(g.spacingM, z / k.fyPx)) {
-        const auto i = static_cast<int>(camX + z * dirX + 0.5), j = static_cast<int>(camY + z * dirY + 0.5);
-        if (i < 0 || j < 0 || i >= g.widthVox || j >= g.heightVox) break;
+        // The nearest voxel (off the grid: the walk is over; checked before the truncation, which
+        // rounds toward zero)
+        const double x = camX + z * dirX + 0.5, y = camY + z * dirY + 0.5;
+        if (!(x >= 0.0 && y >= 0.0)) break;
+        const auto i = static_cast<int>(x), j = static_cast<int>(y);
+        if (i >= g.widthVox || j >= g.heightVox) break;
         const double row = horizonRow - k.fyPx * (grid.height(i, j) - camZ) / z;
-        const int from = std::max(0, static_cast<int>(std::ceil(row)));
+        // The first row at or below `row` (integer arithmetic: a library call per sample would
+        // slow the comparison down)
+        const int whole = row > 0.0 ? static_cast<int>(row) : 0;
+        const int from = row > 0.0 ? whole + (row > whole) : 0;
         if (from >= top) continue;
         const std::uint32_t c = grid.colour(i, j);
         for (int v = from; v < top; ++v) {

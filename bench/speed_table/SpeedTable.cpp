@@ -192,7 +192,7 @@ int run(const Options& options) {
       cache->waitIdle(std::chrono::seconds(120));
       const FrameLease lease = cache->lease();
       const ViewGeometry geometry(request.pose, layout.frame, view.geometry(), settings);
-      const bool voxelSpace = pose >= 2;  // low and horizon: where a shear stands in for the pitch
+      const bool voxelSpace = kPoses[static_cast<std::size_t>(pose)].nearHorizon;
       // The same surface? Both frames' ranges, compared once per view (outside the timed rounds)
       RenderSettings withRange = settings;
       withRange.rangeImage = true;

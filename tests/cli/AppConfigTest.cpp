@@ -38,6 +38,9 @@ TEST(AppConfig, ShippedConfigIsValid) {
   const auto r = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("720x486 interlaced 59.940 Hz uyvy422"), std::string::npos) << r.output;
+  const auto hd = run("--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast-1080i.toml");
+  EXPECT_EQ(hd.exitCode, 0) << hd.output;
+  EXPECT_NE(hd.output.find("1920x1080 interlaced 59.940 Hz uyvy422"), std::string::npos) << hd.output;
 }
 
 TEST(AppConfig, AnUnwritableSummaryPathIsRefusedBeforeTheRun) {

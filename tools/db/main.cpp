@@ -154,7 +154,7 @@ int runBuild(const BuildArgs& a) {
   if (!a.objects.empty()) {
     const std::vector<ObjectPlacement> objects = readPlacementList(a.objects);
     ModelLibrary models(std::filesystem::path(a.objects).parent_path());
-    const PlacementReport placed = placeObjects(grid, objects, models.lookup());
+    const PlacementReport placed = placeObjects(grid, objects, models.lookup(), a.threads);
     std::printf("%s: %zu objects placed (%zu off the grid), %zu voxels with sticks, %u stick table entries\n",
                 a.objects.c_str(), placed.placed, placed.offGrid, placed.stickVoxels, placed.tableEntries);
   }

@@ -187,9 +187,10 @@ class Furnisher {
 
   // Objects are chosen here one after another and placed in that order, in batches whose
   // footprints are found on every core. No choice reads what was placed before it.
-  void place(const VoxelModel& model, double xM, double yM, double headingDeg, double scale) {
+  static constexpr std::size_t kQueuedObjects = 65536;  // chosen objects held before they are placed
+  void queue(const VoxelModel& model, double xM, double yM, double headingDeg, double scale) {
     mRequests.push_back({&model, xM, yM, headingDeg, scale});
-    if (mRequests.size() >= 65536) flush();
+    if (mRequests.size() >= kQueuedObjects) flush();
   }
   void flush() {
     mPlacer.place(mRequests, mThreads);
@@ -214,7 +215,7 @@ class Furnisher {
       const double along = std::atan2((mShape.riverU(v + dv) - mShape.riverU(v - dv)) * extent, 2.0 * dv * extent);
       const double streetDeg = along * 180.0 / std::numbers::pi;  // the river's heading
       mVillages.push_back(centre);
-      place(church, centre.x, centre.y, streetDeg, 1.0);
+      queue(church, centre.x, centre.y, streetDeg, 1.0);
       // Houses on a jittered grid of 22 m around the church, barns at the edge
       for (int gy = -4; gy <= 4; ++gy) {
         for (int gx = -4; gx <= 4; ++gx) {
@@ -230,7 +231,7 @@ class Furnisher {
           const bool isBarn = r > 70.0 && unit(gx, gy, 4 + k) < 0.4;
           const double heading =
               streetDeg + 90.0 * std::floor(4.0 * unit(gx, gy, 5 + k)) + 8.0 * (unit(gx, gy, 6) - 0.5);
-          place(isBarn ? barn : house, x, y, heading, 0.9 + 0.25 * unit(gx, gy, 7 + k));
+          queue(isBarn ? barn : house, x, y, heading, 0.9 + 0.25 * unit(gx, gy, 7 + k));
         }
       }
     }
@@ -262,11 +263,11 @@ class Furnisher {
         const auto at = [&](double ox, double oy) {
           return glm::dvec2{x + ox * std::cos(a) + oy * std::sin(a), y - ox * std::sin(a) + oy * std::cos(a)};
         };
-        place(house, x, y, heading, 1.0);
+        queue(house, x, y, heading, 1.0);
         const glm::dvec2 b = at(22.0, 4.0), t1 = at(-14.0, 8.0), t2 = at(-12.0, -9.0);
-        place(barn, b.x, b.y, heading + 90.0, 1.0);
-        place(broadleaf, t1.x, t1.y, 0.0, 1.1);
-        place(broadleaf, t2.x, t2.y, 0.0, 0.9);
+        queue(barn, b.x, b.y, heading + 90.0, 1.0);
+        queue(broadleaf, t1.x, t1.y, 0.0, 1.1);
+        queue(broadleaf, t2.x, t2.y, 0.0, 0.9);
       }
     }
   }
@@ -285,7 +286,7 @@ class Furnisher {
         if (inVillage(x, y)) continue;
         const double groundM = mGrid.geometry.heightM(mPlacer.groundQ(k));
         const bool needles = groundM > 350.0 || unit(ci, cj, 14) < 0.3;
-        place(needles ? conifer : broadleaf, x, y, 360.0 * unit(ci, cj, 15), 0.75 + 0.5 * unit(ci, cj, 16));
+        queue(needles ? conifer : broadleaf, x, y, 360.0 * unit(ci, cj, 15), 0.75 + 0.5 * unit(ci, cj, 16));
       }
     }
   }
@@ -298,7 +299,7 @@ class Furnisher {
         if (mCover[k] != LandCover::FieldEdge || unit(i / 8, j / 8, 21) < 0.25) continue;  // gaps of 16 m
         const double x = i * spacing(), y = j * spacing();
         if (inVillage(x, y)) continue;
-        place(hedge, x, y, 0.0, 0.8 + 0.4 * unit(i, j, 22));
+        queue(hedge, x, y, 0.0, 0.8 + 0.4 * unit(i, j, 22));
       }
     }
   }

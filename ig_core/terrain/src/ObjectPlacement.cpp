@@ -111,12 +111,10 @@ bool ObjectPlacer::place(const VoxelModel& model, double xM, double yM, double h
 }
 
 void ObjectPlacer::place(std::span<const PlacementRequest> requests, int threads) {
-  // Batches bound the footprints held at once (a forest is millions of trees)
-  constexpr std::size_t kBatch = 16384;
-  std::vector<Footprint> footprints(std::min(kBatch, requests.size()));
+  std::vector<Footprint> footprints(std::min(kBatchRequests, requests.size()));
   std::vector<std::exception_ptr> errors(footprints.size());
-  for (std::size_t first = 0; first < requests.size(); first += kBatch) {
-    const std::size_t count = std::min(kBatch, requests.size() - first);
+  for (std::size_t first = 0; first < requests.size(); first += kBatchRequests) {
+    const std::size_t count = std::min(kBatchRequests, requests.size() - first);
     detail::parallelFor(count, threads, 64, [&](std::size_t begin, std::size_t end) {
       for (std::size_t k = begin; k < end; ++k) {
         errors[k] = nullptr;
@@ -135,6 +133,7 @@ void ObjectPlacer::place(std::span<const PlacementRequest> requests, int threads
 }
 
 void ObjectPlacer::findFootprint(const PlacementRequest& request, Footprint& out) const {
+  if (request.model == nullptr) throw std::invalid_argument("placement without a model");
   const VoxelModel& model = *request.model;
   const double xM = request.xM, yM = request.yM, headingDeg = request.headingDeg, scale = request.scale;
   const TerrainGeometry& g = mGrid.geometry;
@@ -178,7 +177,7 @@ void ObjectPlacer::findFootprint(const PlacementRequest& request, Footprint& out
                                     " of " + std::to_string(model.sticks.size()));
       }
       const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(g.widthVox) + i;
-      out.voxels.push_back({k, column.stick, 0, static_cast<std::uint32_t>(column.heightUnits)});
+      out.voxels.push_back({k, column.stick, 0, column.heightUnits});
       baseQ = std::min(baseQ, mGround[k]);
     }
   }
@@ -205,22 +204,22 @@ void ObjectPlacer::findFootprint(const PlacementRequest& request, Footprint& out
 }
 
 std::uint32_t ObjectPlacer::tableId(const VoxelModel& model, std::uint32_t stick, std::uint32_t placedLength) {
-  auto [it, added] = mIdOf.try_emplace({&model, stick, placedLength}, 0u);
-  if (added) {
-    const StickEntry& modelEntry = model.sticks[stick - 1];
-    StickEntry entry = modelEntry;
-    if (placedLength != 0) {
-      entry.lengthVox = placedLength;
-      entry.texels.resize(placedLength);
-      for (std::uint32_t u = 0; u < placedLength; ++u) {  // the model's texel under each one's middle
-        const std::size_t from = (2 * u + 1) * modelEntry.texels.size() / (2 * placedLength);
-        entry.texels[u] = modelEntry.texels[from];
-      }
+  const auto key = std::make_tuple(&model, stick, placedLength);
+  if (const auto it = mIdOf.find(key); it != mIdOf.end()) return it->second;
+  const StickEntry& modelEntry = model.sticks[stick - 1];
+  StickEntry entry = modelEntry;
+  if (placedLength != 0) {
+    entry.lengthVox = placedLength;
+    entry.texels.resize(placedLength);
+    for (std::uint32_t u = 0; u < placedLength; ++u) {  // the model's texel under each one's middle
+      const std::size_t from = (2 * u + 1) * modelEntry.texels.size() / (2 * placedLength);
+      entry.texels[u] = modelEntry.texels[from];
     }
-    mEntries.push_back(std::move(entry));
-    it->second = static_cast<std::uint32_t>(mEntries.size());
   }
-  return it->second;
+  mEntries.push_back(std::move(entry));
+  const auto id = static_cast<std::uint32_t>(mEntries.size());
+  mIdOf.emplace(key, id);
+  return id;
 }
 
 bool ObjectPlacer::apply(const Footprint& footprint) {

@@ -149,7 +149,7 @@ TEST(ObjectPlacement, AModelPlacedAmongObjectsStandsOnTheirGroundNotOnThem) {
 }
 
 // Every built-in model, crowded so that objects overlap, on rough ground (complex sticks of
-// many lengths), with random headings and scales; more than two batches' worth
+// many lengths), with random headings and scales
 std::vector<PlacementRequest> crowdedRequests(std::size_t count) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> along(-10.0, 266.0), unit(0.0, 1.0);
@@ -179,7 +179,7 @@ void expectSameGrid(const TerrainGrid& a, const TerrainGrid& b) {
 }
 
 TEST(ObjectPlacement, ABatchOnSeveralThreadsPlacesWhatOneByOneDoes) {
-  const std::vector<PlacementRequest> requests = crowdedRequests(10000);
+  const std::vector<PlacementRequest> requests = crowdedRequests(2 * ObjectPlacer::kBatchRequests + 1000);  // 3 batches
   TerrainGrid oneByOne = roughGrid(), batched = roughGrid();
   ObjectPlacer single(oneByOne);
   for (const PlacementRequest& r : requests) single.place(*r.model, r.xM, r.yM, r.headingDeg, r.scale);
@@ -194,11 +194,13 @@ TEST(ObjectPlacement, ABatchOnSeveralThreadsPlacesWhatOneByOneDoes) {
 }
 
 TEST(ObjectPlacement, ABatchStopsAtARequestItRefusesWithTheOnesBeforeItPlaced) {
-  std::vector<PlacementRequest> requests = crowdedRequests(6000);
-  requests[5000].scale = 100.0;
+  // Refused in the second batch: the first batch's objects and the second's before it are placed
+  const std::size_t refused = ObjectPlacer::kBatchRequests + 500;
+  std::vector<PlacementRequest> requests = crowdedRequests(2 * ObjectPlacer::kBatchRequests);
+  requests[refused].scale = 100.0;
   TerrainGrid before = roughGrid(), batched = roughGrid();
   ObjectPlacer single(before);
-  for (std::size_t k = 0; k < 5000; ++k) {
+  for (std::size_t k = 0; k < refused; ++k) {
     const PlacementRequest& r = requests[k];
     single.place(*r.model, r.xM, r.yM, r.headingDeg, r.scale);
   }
@@ -207,6 +209,11 @@ TEST(ObjectPlacement, ABatchStopsAtARequestItRefusesWithTheOnesBeforeItPlaced) {
   EXPECT_THROW(batch.place(requests, 2), std::invalid_argument);
   batch.finish();
   expectSameGrid(before, batched);
+  // A request without a model is refused too
+  TerrainGrid grid = roughGrid();
+  ObjectPlacer placer(grid);
+  const PlacementRequest none{};
+  EXPECT_THROW(placer.place(std::span(&none, 1), 1), std::invalid_argument);
 }
 
 TEST(ObjectPlacement, ObjectsOffTheGridAreCountedNotPlaced) {

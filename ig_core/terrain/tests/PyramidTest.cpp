@@ -1,7 +1,7 @@
 // The pyramid built on several threads: every level checked against its definition (the box
 // filter of the level below, the max mip as the 3×3 dilation of the block maxima of level 0) on a
-// grid large enough that every level's rows are shared out in several chunks, and the same bytes
-// for any thread count.
+// grid large enough that the finer levels' rows are shared out in several chunks, and the same
+// bytes for any thread count.
 #include <ig_core/Pyramid.h>
 
 #include "TerrainTestUtil.h"

@@ -1,7 +1,7 @@
 #pragma once
-// A terrain held wholly in memory: level-0 heights and colours in, the binary pyramid (filtered
-// heights and colours, conservative max mip) built and cut into tiles, every tile published.
-// Used for small terrains, synthetic test terrains, and as the builder of database tiles.
+// A terrain held wholly in memory: level-0 heights and colours in, the binary pyramid (Pyramid.h)
+// built and cut into tiles, every tile published. Used for small terrains and synthetic test
+// terrains.
 
 #include <ig_core/Pyramid.h>
 #include <ig_core/TerrainView.h>

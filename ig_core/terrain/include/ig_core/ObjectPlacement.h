@@ -62,6 +62,9 @@ struct PlacementRequest {
 /// finish(). Objects are placed in the order given, whether one by one or in batches.
 class ObjectPlacer {
  public:
+  /// Requests of a batch whose footprints are held at once (a forest is millions of trees).
+  static constexpr std::size_t kBatchRequests = 16384;
+
   /// Throws std::invalid_argument when the grid's arrays do not match its size, or its stick table
   /// has another unit than the models.
   explicit ObjectPlacer(TerrainGrid& grid);
@@ -72,10 +75,11 @@ class ObjectPlacer {
   /// the grid. Throws std::invalid_argument for a scale out of range or a non-finite position.
   bool place(const VoxelModel& model, double xM, double yM, double headingDeg, double scale);
   /// Places every request in order, as place() one by one would, the footprints found on
-  /// `threads` threads (0: every core). A request place() would refuse throws the same error,
-  /// after the requests before it are placed.
+  /// `threads` threads (0: every core). A request place() would refuse (or one without a model)
+  /// throws the same error, after the requests before it are placed. After a throw the grid holds
+  /// stick ids of a table finish() never installed: use it no further.
   void place(std::span<const PlacementRequest> requests, int threads);
-  /// The ground under level-0 voxel k: the heights before any object was placed.
+  /// The ground under level-0 voxel k: the heights before any object was placed. Until finish().
   std::uint16_t groundQ(std::size_t k) const noexcept { return mGround[k]; }
   /// Installs the stick table into the grid and says what was done. Once, after the last place().
   PlacementReport finish();
@@ -86,7 +90,7 @@ class ObjectPlacer {
     std::size_t k = 0;               // the level-0 voxel
     std::uint32_t stick = 0;         // the model's stick (1-based)
     std::uint16_t topQ = 0;          // its top, over the lowest ground of the footprint
-    std::uint32_t heightUnits = 0;   // the model column's height
+    int heightUnits = 0;             // the model column's height
     std::uint32_t placedLength = 0;  // a complex stick's length down to this voxel's ground, else 0
   };
   struct Footprint {
