@@ -2,6 +2,7 @@
 #include <prp_warp/PostProcess.h>
 
 #include "FlickerRow.h"
+#include "LumaSum.h"
 #include "PixelConversion.h"
 
 #include <algorithm>
@@ -11,10 +12,24 @@
 namespace fieldcast::warp {
 namespace {
 
-// BT.601 luma weights in 1/256 (0.299, 0.587, 0.114) sum to exactly 256.
-constexpr int kWr = 77, kWg = 150, kWb = 29;
-
 using conversion::applyGain;
+using luma::kWb;
+using luma::kWg;
+using luma::kWr;
+
+// The mean of the row sums `rowSum(row, channels, widthPx)` of every `step`-th row
+template <typename RowSum>
+double meanOfRows(const Image& image, int step, RowSum&& rowSum) noexcept {
+  if (image.empty() || step < 1) return 0.0;
+  if (image.format() != PixelFormat::Rgb8 && image.format() != PixelFormat::Grey8) return 0.0;
+  const int channels = image.format() == PixelFormat::Rgb8 ? 3 : 1;
+  std::uint64_t sum = 0, count = 0;
+  for (int y = 0; y < image.heightPx(); y += step) {
+    sum += rowSum(image.row(y), channels, image.widthPx());
+    count += static_cast<std::uint64_t>((image.widthPx() + step - 1) / step);
+  }
+  return count ? static_cast<double>(sum) / static_cast<double>(count) : 0.0;
+}
 
 }  // namespace
 
@@ -32,19 +47,16 @@ void AutoGain::rebuildTable() noexcept {
 }
 
 double meanLuma(const Image& image, int step) noexcept {
-  if (image.empty() || step < 1) return 0.0;
-  const int ch = image.format() == PixelFormat::Rgb8 ? 3 : 1;
-  if (image.format() == PixelFormat::Uyvy422) return 0.0;
-  std::uint64_t sum = 0, count = 0;
-  for (int y = 0; y < image.heightPx(); y += step) {
-    const std::uint8_t* row = image.row(y);
-    for (int x = 0; x < image.widthPx(); x += step) {
-      const std::uint8_t* p = row + x * ch;
-      sum += ch == 3 ? static_cast<std::uint64_t>((kWr * p[0] + kWg * p[1] + kWb * p[2]) >> 8) : p[0];
-      ++count;
-    }
-  }
-  return count ? static_cast<double>(sum) / static_cast<double>(count) : 0.0;
+  return meanOfRows(image, step, [step](const std::uint8_t* row, int channels, int widthPx) {
+    return channels == 3 && step <= 2 ? luma::rgbLumaSumRowLanes(row, widthPx, step == 2)
+                                      : luma::lumaSumRowScalar(row, channels, widthPx, step);
+  });
+}
+
+double meanLumaReference(const Image& image, int step) noexcept {
+  return meanOfRows(image, step, [step](const std::uint8_t* row, int channels, int widthPx) {
+    return luma::lumaSumRowScalar(row, channels, widthPx, step);
+  });
 }
 
 void AutoGain::process(Image& field, Nanoseconds elapsed) noexcept {

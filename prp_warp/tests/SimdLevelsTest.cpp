@@ -100,6 +100,23 @@ TEST(SimdLevels, ConversionToUyvyWithGainGivesTheReferencesBytes) {
   });
 }
 
+TEST(SimdLevels, TheAgcsMeanLumaIsTheReferences) {
+  atEveryLevel([] {
+    for (const int w : {1, 2, 3, 7, 15, 16, 17, 31, 33, 63, 65, 720, 1921}) {
+      for (const PixelFormat format : {PixelFormat::Rgb8, PixelFormat::Grey8}) {
+        const Image src = noiseImage(w, 5, format, static_cast<unsigned>(w));
+        for (const int step : {1, 2, 3}) {
+          EXPECT_EQ(meanLuma(src, step), meanLumaReference(src, step)) << w << " pixels wide, step " << step;
+        }
+      }
+    }
+    // Every pixel the brightest: no sum may wrap
+    Image white(1921, 3, PixelFormat::Rgb8);
+    std::fill(white.bytes().begin(), white.bytes().end(), std::uint8_t{255});
+    EXPECT_EQ(meanLuma(white, 2), 255.0);
+  });
+}
+
 TEST(SimdLevels, FlickerFilterGivesTheReferencesBytes) {
   atEveryLevel([] {
     for (const PixelFormat format : {PixelFormat::Rgb8, PixelFormat::Grey8}) {

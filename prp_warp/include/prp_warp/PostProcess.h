@@ -50,8 +50,11 @@ class AutoGain {
 };
 
 /// Mean luma (BT.601 weights, 0..255) of an Rgb8 or Grey8 image, from every `step`-th pixel of
-/// every `step`-th row. RT-safe.
+/// every `step`-th row (0 for other formats). R'G'B' rows in SIMD lanes at the dispatched level
+/// for steps 1 and 2. RT-safe.
 double meanLuma(const Image& image, int step = 1) noexcept;
+/// meanLuma in plain scalar code: the reference the lanes must equal exactly.
+double meanLumaReference(const Image& image, int step = 1) noexcept;
 
 /// The interlace flicker filter: a vertical [1 2 1]/4 low-pass across frame rows, which removes
 /// the 30 Hz twitter of one-line detail on an interlaced display. It runs once per new frame
