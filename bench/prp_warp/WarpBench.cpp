@@ -10,6 +10,7 @@
 
 #include <motion/PosePredictor.h>
 #include <prp_warp/FieldWarper.h>
+#include <prp_warp/PostProcess.h>
 #include <prp_warp/Resample.h>
 #include <prp_warp/WarpFit.h>
 #include <prp_warp/Warps.h>
@@ -142,10 +143,39 @@ void BM_FieldWarperUyvy(benchmark::State& state, const std::string& level) {
   label(state, s);
 }
 
+/// The AGC's measure of a warped field (every other pixel of every other row, as FieldWarper
+/// takes it): in lanes at one level, and the scalar reference.
+Image warpedField(const Setup& s) {
+  Image field(s.rasterW, fieldRowCount(FieldParity::Bottom, s.rasterH), PixelFormat::Rgb8);
+  RowScratch scratch(s.rasterW);
+  resampleQuadraticFast(s.frame.image, s.map, FieldParity::Bottom, s.rasterH, field, scratch);
+  return field;
+}
+
+void BM_MeanLuma(benchmark::State& state, const std::string& level) {
+  const AtLevel at(level);
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  const Image field = warpedField(s);
+  for (auto _ : state) benchmark::DoNotOptimize(meanLuma(field, 2));
+  label(state, s);
+}
+
+void BM_MeanLumaReference(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  const Image field = warpedField(s);
+  for (auto _ : state) benchmark::DoNotOptimize(meanLumaReference(field, 2));
+  label(state, s);
+}
+BENCHMARK(BM_MeanLumaReference)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
 /// The per-level benchmarks, one per level this machine runs.
 void registerAtEveryLevel() {
   for (const std::string& level : simdLevels()) {
     benchmark::RegisterBenchmark(("BM_FastKernel/level:" + level).c_str(), BM_FastKernel, level)
+        ->Arg(0)
+        ->Arg(1)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_MeanLuma/level:" + level).c_str(), BM_MeanLuma, level)
         ->Arg(0)
         ->Arg(1)
         ->Unit(benchmark::kMicrosecond);

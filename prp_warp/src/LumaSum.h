@@ -23,8 +23,11 @@ inline std::uint64_t lumaSumRowScalar(const std::uint8_t* row, int channels, int
   return sum;
 }
 
+/// The widest row the lanes sum: 255 a pixel stays within their 31-bit totals.
+constexpr int kMaxLanesRowPx = 1 << 22;
+
 /// lumaSumRowScalar of an R'G'B' row with step 1, or 2 when `everyOther`, in SIMD lanes at the
-/// dispatched level. Rows of up to 2^22 pixels.
+/// dispatched level. Rows of up to kMaxLanesRowPx pixels.
 std::uint64_t rgbLumaSumRowLanes(const std::uint8_t* row, int widthPx, bool everyOther) noexcept;
 
 }  // namespace fieldcast::warp::luma

@@ -1,7 +1,7 @@
-// The AGC's luma sum along an R'G'B' row in SIMD lanes, one pixel per 32-bit lane, compiled for
+// The AGC's luma sum along an R'G'B' row in SIMD lanes, one pixel per 16-bit lane, compiled for
 // every level Highway dispatches to. Each lane computes its pixel's luma as the scalar form does;
-// with every other pixel asked for, the odd lanes are left out of the sum. The same sums as
-// LumaSum.h's scalar reference.
+// pairs of lanes are summed into 32 bits by one multiply-add, with the weights (1, 0) when every
+// other pixel is asked for. The same sums as LumaSum.h's scalar reference.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "LumaSumLanes.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -17,23 +17,25 @@ namespace hn = hwy::HWY_NAMESPACE;
 std::uint64_t RgbLumaSumRow(const std::uint8_t* HWY_RESTRICT row, int widthPx, bool everyOther) {
   int x = 0;
   std::uint64_t sum = 0;
-#if HWY_TARGET != HWY_SCALAR  // every other lane needs two lanes: one lane is the scalar form below
-  const hn::ScalableTag<std::int32_t> di;
-  const hn::Rebind<std::uint8_t, decltype(di)> d8;
-  const int lanes = static_cast<int>(hn::Lanes(di));
-  // Lanes summed: all, or the even ones (an even count of lanes keeps x even from block to block)
-  const auto counted =
-      everyOther ? hn::Eq(hn::And(hn::Iota(di, 0), hn::Set(di, 1)), hn::Zero(di)) : hn::Eq(hn::Zero(di), hn::Zero(di));
-  const auto wr = hn::Set(di, kWr), wg = hn::Set(di, kWg), wb = hn::Set(di, kWb);
-  auto total = hn::Zero(di);  // at most 255 a lane per block: 2^22 pixels stay within 31 bits
+#if HWY_TARGET != HWY_SCALAR  // pairs of lanes: one lane is the scalar form below
+  const hn::ScalableTag<std::uint16_t> d16;
+  const hn::Rebind<std::uint8_t, decltype(d16)> d8;
+  const hn::RepartitionToWide<hn::RebindToSigned<decltype(d16)>> d32;
+  const int lanes = static_cast<int>(hn::Lanes(d16));
+  const auto wr = hn::Set(d16, kWr), wg = hn::Set(d16, kWg), wb = hn::Set(d16, kWb);
+  // Each pair of lanes summed with these weights: (1, 0) keeps the even pixel, (1, 1) both
+  const auto weights = hn::BitCast(hn::RebindToSigned<decltype(d16)>(), hn::Set(d32, everyOther ? 1 : 0x10001));
+  auto even = hn::Zero(d32), odd = hn::Zero(d32);  // 2 · 255 a lane per block: 2^22 pixels fit 31 bits
   for (; x + lanes <= widthPx; x += lanes) {
     hn::Vec<decltype(d8)> r, g, b;
     hn::LoadInterleaved3(d8, row + 3 * x, r, g, b);
-    const auto weighted = hn::Add(hn::Add(hn::Mul(hn::PromoteTo(di, r), wr), hn::Mul(hn::PromoteTo(di, g), wg)),
-                                  hn::Mul(hn::PromoteTo(di, b), wb));
-    total = hn::Add(total, hn::IfThenElseZero(counted, hn::ShiftRight<8>(weighted)));
+    // At most 256 · 255: the weighted sum fits 16 bits, the luma 8
+    const auto weighted = hn::Add(hn::Add(hn::Mul(hn::PromoteTo(d16, r), wr), hn::Mul(hn::PromoteTo(d16, g), wg)),
+                                  hn::Mul(hn::PromoteTo(d16, b), wb));
+    const auto luma = hn::BitCast(hn::RebindToSigned<decltype(d16)>(), hn::ShiftRight<8>(weighted));
+    even = hn::ReorderWidenMulAccumulate(d32, luma, weights, even, odd);
   }
-  sum = static_cast<std::uint64_t>(hn::GetLane(hn::SumOfLanes(di, total)));
+  sum = static_cast<std::uint64_t>(hn::GetLane(hn::SumOfLanes(d32, hn::Add(even, odd))));
 #endif
   return sum + lumaSumRowScalar(row + 3 * x, 3, widthPx - x, everyOther ? 2 : 1);
 }

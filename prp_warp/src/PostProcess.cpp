@@ -26,7 +26,7 @@ double meanOfRows(const Image& image, int step, RowSum&& rowSum) noexcept {
   std::uint64_t sum = 0, count = 0;
   for (int y = 0; y < image.heightPx(); y += step) {
     sum += rowSum(image.row(y), channels, image.widthPx());
-    count += static_cast<std::uint64_t>((image.widthPx() + step - 1) / step);
+    count += static_cast<std::uint64_t>((image.widthPx() - 1) / step + 1);
   }
   return count ? static_cast<double>(sum) / static_cast<double>(count) : 0.0;
 }
@@ -48,8 +48,9 @@ void AutoGain::rebuildTable() noexcept {
 
 double meanLuma(const Image& image, int step) noexcept {
   return meanOfRows(image, step, [step](const std::uint8_t* row, int channels, int widthPx) {
-    return channels == 3 && step <= 2 ? luma::rgbLumaSumRowLanes(row, widthPx, step == 2)
-                                      : luma::lumaSumRowScalar(row, channels, widthPx, step);
+    const bool lanes = channels == 3 && step <= 2 && widthPx <= luma::kMaxLanesRowPx;
+    return lanes ? luma::rgbLumaSumRowLanes(row, widthPx, step == 2)
+                 : luma::lumaSumRowScalar(row, channels, widthPx, step);
   });
 }
 

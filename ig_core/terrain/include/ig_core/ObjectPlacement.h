@@ -76,8 +76,9 @@ class ObjectPlacer {
   bool place(const VoxelModel& model, double xM, double yM, double headingDeg, double scale);
   /// Places every request in order, as place() one by one would, the footprints found on
   /// `threads` threads (0: every core). A request place() would refuse (or one without a model)
-  /// throws the same error, after the requests before it are placed. After a throw the grid holds
-  /// stick ids of a table finish() never installed: use it no further.
+  /// throws the same error, after the requests before it are placed; finish() then installs the
+  /// table of what was placed. (An allocation failing while a footprint is written leaves that
+  /// object half placed.)
   void place(std::span<const PlacementRequest> requests, int threads);
   /// The ground under level-0 voxel k: the heights before any object was placed. Until finish().
   std::uint16_t groundQ(std::size_t k) const noexcept { return mGround[k]; }
