@@ -4,6 +4,7 @@
 // flight at that field's display time: flight.poseAtSeconds((display − flight start) / 1 s), with
 // the flight start read from the host's --summary (a CLOCK_MONOTONIC instant, as the IG's are).
 #include "../common/FreePort.h"
+#include "../common/MachineStallWatch.h"
 #include "../common/RunFieldcast.h"
 #include "HostServiceConfig.h"
 
@@ -87,6 +88,7 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
   const std::string config = (mDir / "fieldcast.toml").string();
   // The service makes 23 s of video; the host waits for its first Start of Frame, then flies 20 s,
   // each datagram up to 3 ms late (the IG's clock estimate must see through it).
+  fieldcast::testing::MachineStallWatch stallWatch;
   auto service = std::async(std::launch::async, [&] {
     return fieldcast::testing::runFieldcast("--config " + config + " --duration 23", 90);
   });
@@ -97,6 +99,7 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
           (mDir / "host.json").string(),
       90);
   const RunResult run = service.get();
+  const std::vector<fieldcast::tools::MachineStall>& stalls = stallWatch.stop();
   ASSERT_EQ(host.exitCode, 0) << host.output;
   ASSERT_EQ(run.exitCode, 0) << run.output;
 
@@ -109,7 +112,9 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
   std::printf("fields emitted %llu, missed %llu, field wake-up lateness max %.1f ms\n",
               static_cast<unsigned long long>(s["fields_emitted"].get<std::uint64_t>()),
               static_cast<unsigned long long>(missed), s["field_jitter"]["max_ms"].get<double>());
-  EXPECT_LE(missed, 14u) << s.dump();
+  const int machine = fieldcast::tools::fieldsDueInStalls(stalls, 16'683'333);
+  EXPECT_LE(missed, 14u + static_cast<unsigned>(machine)) << machine << " fields due while the machine stalled\n"
+                                                          << s.dump();
   EXPECT_EQ(s["fields_black"].get<int>(), 0);
   EXPECT_EQ(s["host"]["host_restarts"].get<int>(), 0) << s["host"].dump();
   ASSERT_TRUE(s.contains("field_log")) << s.dump();
@@ -154,9 +159,21 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
           percentile(angleDeg, 1.0), worstAngleAtS, percentile(angleDeg, 0.95));
     }
   } early, converged;
+  // Fields shown while the machine stood still, or within 50 ms after (the host's samples of that
+  // time arrive late, all at once), are not the IG's doing: left out and counted
+  const auto duringStall = [&stalls](std::int64_t displayNs) {
+    return std::any_of(stalls.begin(), stalls.end(), [displayNs](const fieldcast::tools::MachineStall& m) {
+      return displayNs >= m.dueNs && displayNs <= m.wokeNs + 50'000'000;
+    });
+  };
+  std::size_t stalled = 0;
   for (const LoggedField& f : fields) {
     const double tS = static_cast<double>(f.displayNs - flightStartNs) * 1e-9;
     if (!f.hasHostSample || tS < 0.0 || tS > lastSampleS) continue;
+    if (duringStall(f.displayNs)) {
+      ++stalled;
+      continue;
+    }
     const fieldcast::Pose want = flight.poseAtSeconds(tS);
     const double dx = f.xM - want.positionM.x, dy = f.yM - want.positionM.y, dz = f.zM - want.positionM.z;
     const double angleDeg = std::max({angleDifferenceDeg(f.headingDeg, fieldcast::degrees(want.headingRad)),
@@ -167,8 +184,9 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
   early.print("first second (clock estimate converging)");
   converged.print("from 1 s to the last sample");
   // Nearly every field of the 20 s flight is compared (the first one or two wait for the sample).
-  EXPECT_GE(early.positionM.size() + converged.positionM.size(),
+  EXPECT_GE(early.positionM.size() + converged.positionM.size() + stalled,
             static_cast<std::size_t>((lastSampleS - 0.1) * kFieldHz) - missed);
+  std::printf("%zu fields left out: shown while the machine stalled\n", stalled);
   // The first fields follow a clock estimate of one or two samples: a sample's scheduling delay
   // on this busy machine (10 ms is 1 m at 100 m/s) is in it until the estimate has more.
   EXPECT_LT(percentile(early.positionM, 0.95), 0.4);

@@ -1,5 +1,6 @@
 // The real service, run as a user runs it, on a small built-in terrain: fields at the right
 // rate into a Y4M file, a clean stop on SIGTERM, and one clear line for each bad configuration.
+#include "../common/MachineStallWatch.h"
 #include "../common/RunFieldcast.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -155,10 +157,14 @@ double lumaChange(const std::string& a, const std::string& b) {
 // other tests, and the field thread runs without real-time priority here (realtime_field_thread =
 // false), so a busy moment can cost a field or two. An idle machine misses none (README); 2% of
 // the fields plus 2 is what a loaded one was seen to stay within.
+// Fields due while the machine itself stood still (MachineStallWatch.h) are allowed on top.
 double missedAllowance(double seconds) { return 0.02 * seconds * 60000.0 / 1001.0 + 2.0; }
+constexpr std::int64_t kFieldPeriodNs = 16'683'333;
 
 TEST_F(ServiceRun, EmitsEveryFieldForTheDuration) {
+  fieldcast::testing::MachineStallWatch stalls;
   const RunResult r = run("--config " + config() + " --duration 3");
+  const int machine = stalls.fieldsDueInStalls(kFieldPeriodNs);
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json s = summary();
   // Every field of the schedule is accounted for: emitted, or missed when this shared machine
@@ -167,7 +173,9 @@ TEST_F(ServiceRun, EmitsEveryFieldForTheDuration) {
   const auto emitted = s.at("fields_emitted").get<double>();
   const auto missed = s.at("fields_missed").get<double>();
   EXPECT_NEAR(emitted + missed, expected, 1.0) << s.dump(2);
-  EXPECT_LE(missed, missedAllowance(3.0)) << "the field thread is behind its schedule\n" << s.dump(2);
+  EXPECT_LE(missed, missedAllowance(3.0) + machine)
+      << "the field thread is behind its schedule (" << machine << " fields due while the machine stalled)\n"
+      << s.dump(2);
   EXPECT_EQ(s.at("fields_black").get<int>(), 0) << s.dump(2);
   EXPECT_GT(s.at("frames_rendered").get<int>(), 0);
   EXPECT_EQ(s.at("sinks_dropped").get<int>(), 0);
@@ -192,14 +200,16 @@ TEST_F(ServiceRun, EmitsEveryFieldForTheDuration) {
 }
 
 TEST_F(ServiceRun, WarmsUpBeforeTheFirstFieldAndReportsTheStartUp) {
+  fieldcast::testing::MachineStallWatch stalls;
   const RunResult r = run("--config " + config() + " --duration 2");
+  const int machine = stalls.fieldsDueInStalls(kFieldPeriodNs);
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json s = summary();
   const nlohmann::json& startup = s.at("startup");
   // The field thread warped a real frame before the field clock existed.
   EXPECT_GE(startup.at("warm_up_frame").get<int>(), 1) << s.dump(2);
   EXPECT_GT(startup.at("warm_up_warp_ms").get<double>(), 0.0) << s.dump(2);
-  EXPECT_LE(s.at("fields_missed_first_second").get<double>(), missedAllowance(1.0)) << s.dump(2);
+  EXPECT_LE(s.at("fields_missed_first_second").get<double>(), missedAllowance(1.0) + machine) << s.dump(2);
   // Fallbacks by reason add up to the total.
   const nlohmann::json& reasons = s.at("warp_fallbacks_by_reason");
   EXPECT_EQ(reasons.at("few_points").get<int>() + reasons.at("all_sky").get<int>() +

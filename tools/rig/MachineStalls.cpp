@@ -1,10 +1,12 @@
 // The stall probe's file, and which field a stall explains.
 #include "MachineStalls.h"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace fieldcast::tools {
 namespace {
@@ -39,12 +41,28 @@ void writeMachineStalls(const std::filesystem::path& path, const std::vector<Mac
   if (!out.flush()) throw std::runtime_error(path.string() + ": cannot write");
 }
 
+namespace {
+constexpr std::int64_t kLeastWorkNs = 1'000'000;    // warp::FieldClock's minimum work before a field
+constexpr std::int64_t kProbePeriodNs = 1'000'000;  // fieldcast-stall-probe's period (rig.sh's)
+// Two warps: two field threads share a CPU in the rig and both run when it comes back (a warp
+// here takes up to 5 ms, the summaries' warp_time)
+constexpr std::int64_t kAfterStallNs = 10'000'000;
+}  // namespace
+
+int fieldsDueInStalls(const std::vector<MachineStall>& stalls, std::int64_t fieldPeriodNs) {
+  std::vector<std::pair<std::int64_t, std::int64_t>> windows;  // deadlines a stall explains
+  for (const MachineStall& s : stalls) windows.emplace_back(s.dueNs - kProbePeriodNs, s.wokeNs + kAfterStallNs);
+  std::sort(windows.begin(), windows.end());
+  int fields = 0;
+  for (std::size_t k = 0; k < windows.size();) {
+    auto [from, to] = windows[k];
+    for (++k; k < windows.size() && windows[k].first <= to; ++k) to = std::max(to, windows[k].second);
+    fields += static_cast<int>((to - from) / fieldPeriodNs) + 1;  // deadlines one period apart
+  }
+  return fields;
+}
+
 const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs, int cpu) {
-  constexpr std::int64_t kLeastWorkNs = 1'000'000;    // warp::FieldClock's minimum work before a field
-  constexpr std::int64_t kProbePeriodNs = 1'000'000;  // fieldcast-stall-probe's period (rig.sh's)
-  // Two warps: two field threads share a CPU in the rig and both run when it comes back (a warp
-  // here takes up to 5 ms, the summaries' warp_time)
-  constexpr std::int64_t kAfterStallNs = 10'000'000;
   const std::int64_t deadline = displayNs - kLeastWorkNs;
   for (const MachineStall& s : stalls) {
     if ((cpu < 0 || s.cpu == cpu) && deadline >= s.dueNs - kProbePeriodNs && deadline <= s.wokeNs + kAfterStallNs)

@@ -31,4 +31,8 @@ void writeMachineStalls(const std::filesystem::path& path, const std::vector<Mac
 /// thread is pinned to; −1 (not pinned): a stall on any CPU. Assumes the probe's period of 1 ms.
 const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs, int cpu = -1);
 
+/// How many fields of period `fieldPeriodNs` a stall explains at most: those whose deadline falls
+/// in a window of stallAround (any CPU), the windows of overlapping stalls merged.
+int fieldsDueInStalls(const std::vector<MachineStall>& stalls, std::int64_t fieldPeriodNs);
+
 }  // namespace fieldcast::tools

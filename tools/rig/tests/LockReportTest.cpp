@@ -194,6 +194,20 @@ TEST(MachineStalls, AStallExplainsAFieldWhoseLatestStartFallsInItOrAWarpAfter) {
   EXPECT_EQ(stallAround(stalls, 120 * kMs, 1), nullptr);  // another CPU's field thread ran on
 }
 
+TEST(MachineStalls, TheFieldsAStallMayHaveCostAreCountedOncePerMergedWindow) {
+  constexpr std::int64_t kField = 16'683'333;  // 59.94 Hz
+  // 100 ms on both CPUs at once: one window of 1 + 100 + 10 ms, seven deadlines
+  const std::vector<MachineStall> both = {{0, 100 * kMs, 200 * kMs}, {1, 100 * kMs, 200 * kMs}};
+  EXPECT_EQ(fieldsDueInStalls(both, kField), 7);
+  // Two stalls of 6 ms far apart: a window of 17 ms each, which may hold two deadlines
+  const std::vector<MachineStall> apart = {{0, 100 * kMs, 106 * kMs}, {0, 900 * kMs, 906 * kMs}};
+  EXPECT_EQ(fieldsDueInStalls(apart, kField), 4);
+  // Overlapping stalls on two CPUs merge into one window (99 .. 230 ms: eight deadlines)
+  const std::vector<MachineStall> overlapping = {{0, 100 * kMs, 180 * kMs}, {1, 150 * kMs, 220 * kMs}};
+  EXPECT_EQ(fieldsDueInStalls(overlapping, kField), 8);
+  EXPECT_EQ(fieldsDueInStalls({}, kField), 0);
+}
+
 TEST(MachineStalls, AMalformedLineIsNamed) {
   const auto path =
       std::filesystem::temp_directory_path() / ("fieldcast_machine_stalls_test_" + std::to_string(::getpid()) + ".csv");

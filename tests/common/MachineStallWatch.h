@@ -1,0 +1,47 @@
+#pragma once
+// The machine's own stalls while a test runs the service: the stall probe (tools/rig/StallProbe.h,
+// a SCHED_FIFO thread pinned to each CPU, waking every millisecond) runs beside it. A virtual
+// machine whose CPUs the hypervisor takes away for 100 ms stops the field thread whatever its
+// priority; the fields due then are the machine's misses, not the service's. Where the probe
+// cannot run pinned at real-time priority (an unprivileged runner) it explains nothing.
+
+#include <MachineStalls.h>
+#include <StallProbe.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+namespace fieldcast::testing {
+
+class MachineStallWatch {
+ public:
+  MachineStallWatch() : mThread([this] { mRun = tools::runStallProbe(tools::StallProbeOptions{}, mStop); }) {}
+  ~MachineStallWatch() { stop(); }
+  MachineStallWatch(const MachineStallWatch&) = delete;
+  MachineStallWatch& operator=(const MachineStallWatch&) = delete;
+
+  /// Stops the probe; the stalls it saw (none when it could not run pinned at real-time priority).
+  const std::vector<tools::MachineStall>& stop() {
+    if (mThread.joinable()) {
+      mStop.store(true);
+      mThread.join();
+      const bool trusted = !mRun.cpus.empty() && std::all_of(mRun.cpus.begin(), mRun.cpus.end(),
+                                                             [](const auto& cpu) { return cpu.realtime; });
+      if (!trusted) mRun.stalls.clear();
+    }
+    return mRun.stalls;
+  }
+
+  /// The fields of `fieldPeriodNs` the machine's stalls may have cost (stops the probe).
+  int fieldsDueInStalls(std::int64_t fieldPeriodNs) { return tools::fieldsDueInStalls(stop(), fieldPeriodNs); }
+
+ private:
+  std::atomic<bool> mStop{false};
+  tools::StallProbeRun mRun;
+  std::thread mThread;
+};
+
+}  // namespace fieldcast::testing
