@@ -2,6 +2,7 @@
 // small built-in terrain: the host's flight moves the picture, every field has its Start of Frame,
 // the heights the IG answers are those of the terrain it draws, and the link counts what it saw.
 #include "../common/FreePort.h"
+#include "../common/MachineStallWatch.h"
 #include "../common/RunFieldcast.h"
 #include "HostServiceConfig.h"
 
@@ -84,6 +85,7 @@ double meanAbsoluteDifference(const std::string& a, const std::string& b) {
 TEST_F(HostRun, AByteSwappedJitteryHostDrivesTheService) {
   const std::string config = (mDir / "fieldcast.toml").string();
   // The service runs 12 s of video; the host waits for it, then flies 6 s of the 8 s flight.
+  fieldcast::testing::MachineStallWatch stalls;
   auto service = std::async(std::launch::async, [&] {
     return fieldcast::testing::runFieldcast("--config " + config + " --duration 12", 120);
   });
@@ -93,6 +95,7 @@ TEST_F(HostRun, AByteSwappedJitteryHostDrivesTheService) {
                   (mDir / "host.json").string(),
               120);
   const RunResult run = service.get();
+  const int machine = stalls.fieldsDueInStalls(16'683'333);  // fields due while the machine stalled
   ASSERT_EQ(host.exitCode, 0) << host.output;
   ASSERT_EQ(run.exitCode, 0) << run.output;
 
@@ -113,7 +116,9 @@ TEST_F(HostRun, AByteSwappedJitteryHostDrivesTheService) {
   EXPECT_EQ(link["host_restarts"].get<int>(), 0) << link.dump();
   // Fixed-rate video throughout.
   EXPECT_EQ(s["fields_black"].get<int>(), 0);
-  EXPECT_LE(s["fields_missed"].get<int>(), 12) << s.dump();  // 2% on a shared 2-core machine
+  // 2% on a shared 2-core machine, and what the machine's own stalls cost (MachineStallWatch.h)
+  EXPECT_LE(s["fields_missed"].get<int>(), 12 + machine) << machine << " fields due while the machine stalled\n"
+                                                         << s.dump();
 
   // The picture follows the host: it changes while the host flies and stands still once the host
   // is silent and the pose is held.
