@@ -35,9 +35,35 @@ void FieldLoop::run(const std::atomic<bool>& stop, TimePoint end, std::uint64_t 
     const warp::FieldTick tick = mClock.next();
     if (stop.load(std::memory_order_acquire)) break;
     const bool counted = fieldCount != 0 && mScheduled + 1 + tick.missedBefore > fieldCount;
-    if (tick.displayTime >= end || counted) break;
+    if (tick.displayTime >= end || counted) {
+      endSchedule(tick, end, fieldCount);
+      break;
+    }
     emit(tick);
   }
+}
+
+void FieldLoop::endSchedule(const warp::FieldTick& tick, TimePoint end, std::uint64_t fieldCount) noexcept {
+  // The fields skipped before this tick that still lie in the schedule were missed at its end.
+  const std::uint64_t firstSkipped = tick.fieldNumber - tick.missedBefore;
+  std::uint64_t inSchedule = 0;
+  while (inSchedule < tick.missedBefore && mClock.displayTime(firstSkipped + inSchedule) < end &&
+         (fieldCount == 0 || mScheduled + inSchedule < fieldCount))
+    ++inSchedule;
+  countMissed(inSchedule);
+  mSinks.endSchedule(firstSkipped + inSchedule);
+}
+
+void FieldLoop::countMissed(std::uint64_t missed) noexcept {
+  if (missed == 0) return;
+  ServiceCounters& counters = mMetrics.counters;
+  counters.fieldsMissed.fetch_add(missed, std::memory_order_relaxed);
+  // As far as they lie in the first second of the schedule.
+  if (mScheduled < mFirstSecondFields) {
+    const std::uint64_t early = std::min(mScheduled + missed, mFirstSecondFields) - mScheduled;
+    counters.fieldsMissedFirstSecond.fetch_add(early, std::memory_order_relaxed);
+  }
+  mScheduled += missed;
 }
 
 void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
@@ -45,16 +71,8 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   ServiceCounters& counters = mMetrics.counters;
   // Counted by the schedule, not by field numbers: a channel joining a frame lock starts at the
   // others' number, and a move onto another lock renumbers the fields
-  mScheduled += 1 + tick.missedBefore;
-  if (tick.missedBefore > 0) {
-    counters.fieldsMissed.fetch_add(tick.missedBefore, std::memory_order_relaxed);
-    // The fields missed just before this one, as far as they lie in the first second.
-    const std::uint64_t sinceFirst = mScheduled - 1;  // this field's place in the schedule
-    if (sinceFirst - tick.missedBefore < mFirstSecondFields) {
-      const std::uint64_t early = std::min(sinceFirst, mFirstSecondFields) - (sinceFirst - tick.missedBefore);
-      counters.fieldsMissedFirstSecond.fetch_add(early, std::memory_order_relaxed);
-    }
-  }
+  countMissed(tick.missedBefore);
+  ++mScheduled;
   mMetrics.record(Measure::FieldJitter, Nanoseconds{std::abs((start - tick.wakeTime).count())});
 
   if (mBeforeField) mBeforeField(tick);

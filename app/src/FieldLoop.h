@@ -36,8 +36,10 @@ class FieldLoop {
             PendingInput* pendingInput = nullptr);
 
   /// Emits fields until `stop` is set, the next field's display time is `end` or later, or
-  /// `fieldCount` fields of the schedule (emitted or missed; 0: no limit) have passed. Field
-  /// thread body. RT-safe after the first field.
+  /// `fieldCount` fields of the schedule (emitted or missed; 0: no limit) have passed. When the
+  /// schedule ends (not a stop), the fields of it skipped at its end are counted missed and the
+  /// sinks are told where it ended (SinkHub::endSchedule). Field thread body. RT-safe after the
+  /// first field.
   void run(const std::atomic<bool>& stop, TimePoint end = TimePoint::max(), std::uint64_t fieldCount = 0) noexcept;
 
   /// Makes one field for `tick` and publishes it (the body of run(); exposed for virtual-time tests).
@@ -49,6 +51,11 @@ class FieldLoop {
   void setBeforeField(BeforeField hook) { mBeforeField = std::move(hook); }
 
  private:
+  /// Counts `missed` fields of the schedule as missed (and those of the first second apart).
+  void countMissed(std::uint64_t missed) noexcept;
+  /// The schedule ends at `tick` (past `end` or `fieldCount`): counts the fields skipped before it
+  /// that were still in the schedule and tells the sinks where it ended.
+  void endSchedule(const warp::FieldTick& tick, TimePoint end, std::uint64_t fieldCount) noexcept;
   /// The pose at the field's display time and, with a host (ServiceMetrics::hostSamples), the
   /// sample it was made from (`used` stays invalid otherwise). RT-safe.
   Pose poseAt(TimePoint displayTime, motion::HostSampleUsed& used) const noexcept;

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 namespace fieldcast::app {
@@ -25,6 +26,7 @@ struct Seen {
   std::vector<std::uint64_t> numbers;
   std::vector<FieldParity> parities;
   std::vector<int> meanLuma;
+  std::optional<std::uint64_t> scheduleEnd;  // what FieldSink::scheduleEnded was told
 };
 
 class RecordingSink final : public io::FieldSink {
@@ -40,6 +42,10 @@ class RecordingSink final : public io::FieldSink {
     mSeen->parities.push_back(field.parity);
     mSeen->meanLuma.push_back(static_cast<int>(sum / static_cast<long>(field.image.bytes().size() / 2)));
     return io::SinkStatus::Ok;
+  }
+  void scheduleEnded(std::uint64_t firstFieldAfter) override {
+    std::lock_guard lock(mSeen->mutex);
+    mSeen->scheduleEnd = firstFieldAfter;
   }
   void close() override {}
 
@@ -167,6 +173,42 @@ TEST(FieldLoop, RunStopsAtTheEndInstantAsked) {
   loop.run(stop, rig.fieldClock->displayTime(30));
   rig.hub->stop();
   EXPECT_EQ(rig.seen->numbers.size(), 30u);
+  EXPECT_EQ(rig.seen->scheduleEnd, 30u);
+}
+
+TEST(FieldLoop, FieldsMissedAtTheEndOfTheScheduleAreCountedAndTheSinksToldWhereItEnded) {
+  // Field 27's work stalls four periods: fields 28–31 can no longer be made; 28 and 29 are the
+  // schedule's last (it ends at field 30, by the instant or by the count), 30 and 31 are not in it.
+  for (const bool byCount : {false, true}) {
+    SCOPED_TRACE(byCount ? "ended by the field count" : "ended by the instant");
+    Rig rig;
+    FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
+    loop.setBeforeField([&rig](const warp::FieldTick& tick) {
+      if (tick.fieldNumber == 27) rig.clock.advance(4 * rig.clockConfig.rate.period());
+    });
+    std::atomic<bool> stop{false};
+    if (byCount)
+      loop.run(stop, TimePoint::max(), 30);
+    else
+      loop.run(stop, rig.fieldClock->displayTime(30));
+    rig.hub->stop();
+    EXPECT_EQ(rig.seen->numbers.size(), 28u);
+    EXPECT_EQ(rig.metrics.figures(rig.clock.now()).fieldsMissed, 2u);
+    EXPECT_EQ(rig.seen->scheduleEnd, 30u);
+  }
+}
+
+TEST(FieldLoop, AStoppedRunTellsTheSinksNoScheduleEnd) {
+  Rig rig;
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
+  std::atomic<bool> stop{false};
+  loop.setBeforeField([&stop](const warp::FieldTick& tick) {
+    if (tick.fieldNumber == 5) stop.store(true);
+  });
+  loop.run(stop, TimePoint::max(), 30);
+  rig.hub->stop();
+  EXPECT_EQ(rig.seen->numbers.size(), 6u);
+  EXPECT_FALSE(rig.seen->scheduleEnd.has_value());
 }
 
 TEST(FieldLoop, RunStopsAfterTheFieldCountAskedMissedOnesIncluded) {

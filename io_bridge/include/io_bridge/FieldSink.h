@@ -7,6 +7,7 @@
 
 #include <fieldcast/Field.h>
 
+#include <cstdint>
 #include <string>
 
 namespace fieldcast::io {
@@ -18,7 +19,7 @@ enum class SinkStatus : std::uint8_t {
 };
 
 /// A field output. All calls come from the one worker thread that owns the sink, in the order
-/// open → consume* → close; a sink therefore needs no locking of its own.
+/// open → consume* → [scheduleEnded] → close; a sink therefore needs no locking of its own.
 class FieldSink {
  public:
   virtual ~FieldSink() = default;
@@ -35,6 +36,12 @@ class FieldSink {
   /// Emits one field (which matches the format given to open()). May block; must not throw for
   /// a consumer going away: return Ended and say why in endReason().
   virtual SinkStatus consume(const Field& field) = 0;
+  /// The run's schedule ended just before field number `firstFieldAfter`: fields numbered below it
+  /// that never came were missed at the end of the run (a stall in its last fields). Called after
+  /// the last consume() and before close(), only when the run ended by its schedule (--duration,
+  /// a flight's end), not when it was stopped. A sink whose output keeps time by counting
+  /// (a Y4M file) fills them; the default does nothing.
+  virtual void scheduleEnded(std::uint64_t firstFieldAfter) { (void)firstFieldAfter; }
   /// Flushes and releases the output (completes a half-written frame where the format needs it).
   virtual void close() = 0;
   /// Why consume() returned Ended; empty otherwise.

@@ -61,6 +61,10 @@ class SinkHub {
   /// Offers a field to every live sink. Field thread only. RT-safe: no lock, no allocation, no
   /// wait; costs one copy of the field, whatever the number of sinks.
   void publish(const Field& field) noexcept;
+  /// Tells every sink, once it has consumed the fields already published, that the schedule
+  /// ended just before field `firstFieldAfter` (FieldSink::scheduleEnded). Field thread, after
+  /// its last publish(); takes effect at stop(). RT-safe.
+  void endSchedule(std::uint64_t firstFieldAfter) noexcept;
   /// Lets every sink finish the fields already queued, closes them and joins the workers.
   /// Idempotent.
   void stop();

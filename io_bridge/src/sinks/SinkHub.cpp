@@ -25,6 +25,8 @@ namespace fieldcast::io {
 
 namespace {
 
+constexpr std::uint64_t kNoScheduleEnd = ~std::uint64_t{0};
+
 std::uint64_t elapsedNs(TimePoint from, TimePoint to) noexcept {
   return static_cast<std::uint64_t>(std::max<std::int64_t>(0, (to - from).count()));
 }
@@ -57,6 +59,7 @@ struct SinkHub::Lane {
   alignas(64) std::atomic<std::uint64_t> tail{0};  // next slot the worker consumes
   std::counting_semaphore<(1 << 30)> wake{0};
   std::atomic<bool> stopRequested{false};
+  std::atomic<std::uint64_t> scheduleEnd{kNoScheduleEnd};  // endSchedule()'s field, if it came
   std::atomic<bool> ended{false};
 
   // Figures: written by one thread each, read by anyone.
@@ -161,6 +164,12 @@ void SinkHub::Lane::run(const StreamFormat& format) {
     if (stopRequested.load(std::memory_order_acquire) && t == head.load(std::memory_order_acquire)) break;
   }
   if (!ended.load(std::memory_order_relaxed)) {
+    const std::uint64_t end = scheduleEnd.load(std::memory_order_acquire);
+    try {
+      if (end != kNoScheduleEnd) sink->scheduleEnded(end);
+    } catch (const std::exception& e) {
+      spdlog::error("sink '{}': completing the schedule failed: {}", name, e.what());
+    }
     try {
       sink->close();
     } catch (const std::exception& e) {
@@ -266,6 +275,10 @@ void SinkHub::publish(const Field& field) noexcept {
     lane.head.store(h + 1, std::memory_order_release);  // publishes the field and its count
     lane.wake.release();
   }
+}
+
+void SinkHub::endSchedule(std::uint64_t firstFieldAfter) noexcept {
+  for (auto& lane : mLanes) lane->scheduleEnd.store(firstFieldAfter, std::memory_order_release);
 }
 
 void SinkHub::stop() {

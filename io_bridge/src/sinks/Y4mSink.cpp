@@ -35,7 +35,20 @@ struct Y4mSink::State {
 
   void storeRows(const Field& field);
   bool writeFrame();
+  bool repeatLastFrameUntil(std::int64_t frame);
 };
+
+// A Y4M file has no timestamps: frames the field thread missed entirely are filled by repeating
+// the last picture, so the video keeps time with the schedule. False when the write failed.
+bool Y4mSink::State::repeatLastFrameUntil(std::int64_t frame) {
+  while (frames > 0 && nextFrame < frame) {
+    pendingFields = 3;
+    if (!writeFrame()) return false;
+    ++repeated;
+    ++nextFrame;
+  }
+  return true;
+}
 
 Y4mSink::Y4mSink(Y4mSinkOptions options) : mOptions(std::move(options)) {}
 Y4mSink::~Y4mSink() = default;
@@ -144,14 +157,7 @@ SinkStatus Y4mSink::consume(const Field& field) {
     if (!st.writeFrame()) return SinkStatus::Ended;  // its partner field never came
     st.nextFrame = st.pendingFrameWritten + 1;
   }
-  // A Y4M file has no timestamps: frames the field thread missed entirely are filled by
-  // repeating the last picture, so the video keeps time with the schedule.
-  while (st.frames > 0 && st.nextFrame < frame) {
-    st.pendingFields = 3;
-    if (!st.writeFrame()) return SinkStatus::Ended;
-    ++st.repeated;
-    ++st.nextFrame;
-  }
+  if (!st.repeatLastFrameUntil(frame)) return SinkStatus::Ended;
   st.pendingFrame = frame;
   st.storeRows(field);
   st.pendingFields |= progressive ? 3 : (field.fieldNumber % 2 == 0) ? 1 : 2;
@@ -163,6 +169,19 @@ SinkStatus Y4mSink::consume(const Field& field) {
     st.pendingFrameWritten = frame;
   }
   return SinkStatus::Ok;
+}
+
+void Y4mSink::scheduleEnded(std::uint64_t firstFieldAfter) {
+  if (!mState || !mState->endReason.empty()) return;
+  State& st = *mState;
+  const bool progressive = st.format.scan == ScanMode::Progressive;
+  // Frames the schedule reached: field k belongs to frame k / 2 (interlaced).
+  const auto endFrame = static_cast<std::int64_t>(progressive ? firstFieldAfter : (firstFieldAfter + 1) / 2);
+  if (st.pendingFrame >= 0) {
+    if (!st.writeFrame()) return;  // its partner field never came
+    st.nextFrame = st.pendingFrameWritten + 1;
+  }
+  st.repeatLastFrameUntil(endFrame);
 }
 
 void Y4mSink::close() {

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <mutex>
 #include <new>
+#include <optional>
 #include <thread>
 
 // Counts heap allocations made by the thread that sets gCountAllocations (the "field thread").
@@ -50,6 +51,9 @@ struct GateState {
   std::vector<std::uint8_t> firstBytes;
   int corrupted = 0;  // fields whose bytes changed under the sink while it held them
   bool closed = false;
+  std::optional<std::uint64_t> scheduleEnd;  // what scheduleEnded() was told
+  std::size_t seenAtScheduleEnd = 0;         // fields consumed before it
+  bool closedAtScheduleEnd = false;
 };
 
 class GateSink final : public FieldSink {
@@ -67,6 +71,12 @@ class GateSink final : public FieldSink {
     mS->firstBytes.push_back(field.image.bytes()[0]);
     if (!(field.image == makeField(mFormat, field.fieldNumber).image)) ++mS->corrupted;
     return SinkStatus::Ok;
+  }
+  void scheduleEnded(std::uint64_t firstFieldAfter) override {
+    std::lock_guard lock(mS->m);
+    mS->scheduleEnd = firstFieldAfter;
+    mS->seenAtScheduleEnd = mS->seen.size();
+    mS->closedAtScheduleEnd = mS->closed;
   }
   void close() override {
     std::lock_guard lock(mS->m);
@@ -152,6 +162,43 @@ TEST(SinkHub, AStuckSinkNeitherStarvesNorCorrupts) {
   EXPECT_EQ(figures[0].consumed, 3u);  // fields 0, 1, 2 held the whole time
   EXPECT_EQ(stuck->corrupted, 0);
   EXPECT_EQ(fast->corrupted, 0);
+}
+
+TEST(SinkHub, TheScheduleEndReachesEachSinkAfterItsQueuedFieldsAndBeforeClose) {
+  const StreamFormat format = testFormat(64, 16);
+  auto held = std::make_shared<GateState>();  // holds the fields until the schedule has ended
+  auto told = std::make_shared<GateState>();
+  told->open = true;
+  auto untold = std::make_shared<GateState>();
+  untold->open = true;
+  {
+    SinkHub hub(format, SinkHubOptions{3});
+    hub.add(std::make_unique<GateSink>(held, "held"));
+    hub.add(std::make_unique<GateSink>(told, "told"));
+    hub.start();
+    for (std::uint64_t k = 0; k < 3; ++k) hub.publish(makeField(format, k));
+    hub.endSchedule(9);
+    {
+      std::lock_guard lock(held->m);
+      held->open = true;
+    }
+    held->cv.notify_all();
+    hub.stop();
+  }
+  for (const auto& s : {held, told}) {
+    EXPECT_EQ(s->scheduleEnd, 9u);
+    EXPECT_EQ(s->seenAtScheduleEnd, 3u);
+    EXPECT_FALSE(s->closedAtScheduleEnd);
+    EXPECT_TRUE(s->closed);
+  }
+  // A run stopped rather than ended by its schedule says nothing.
+  SinkHub hub(format, SinkHubOptions{3});
+  hub.add(std::make_unique<GateSink>(untold, "untold"));
+  hub.start();
+  hub.publish(makeField(format, 0));
+  hub.stop();
+  EXPECT_FALSE(untold->scheduleEnd.has_value());
+  EXPECT_TRUE(untold->closed);
 }
 
 TEST(SinkHub, PublishNeverAllocates) {

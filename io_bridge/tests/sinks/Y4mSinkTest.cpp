@@ -144,6 +144,51 @@ TEST(Y4mSink, WholeMissedFramesAreRepeatedSoTheFileKeepsTime) {
   std::filesystem::remove(path);
 }
 
+TEST(Y4mSink, FramesMissedAtTheEndOfTheScheduleAreRepeatedToo) {
+  const StreamFormat f = testFormat(16, 6);
+  const std::uintmax_t frameBytes = 6 + 16 * 6 * 2;
+  {
+    // Fields 0–3 came, the schedule ended before field 10: frames 2, 3 and 4 never came.
+    const auto path = tempPath("end_gap.y4m");
+    Y4mSink sink({path, Y4mChroma::C422});
+    sink.open(f);
+    for (std::uint64_t k = 0; k < 4; ++k) sink.consume(makeField(f, k));
+    sink.scheduleEnded(10);
+    sink.close();
+    EXPECT_EQ(sink.framesWritten(), 5u);
+    EXPECT_EQ(sink.framesRepeated(), 3u);
+    EXPECT_EQ(std::filesystem::file_size(path), headerBytes(path) + 5 * frameBytes);
+    std::filesystem::remove(path);
+  }
+  {
+    // Field 2 came without its partner and the schedule ended before field 7, inside frame 3:
+    // frame 1 is written with one field, frames 2 and 3 repeat it.
+    const auto path = tempPath("end_half.y4m");
+    Y4mSink sink({path, Y4mChroma::C422});
+    sink.open(f);
+    for (std::uint64_t k = 0; k < 3; ++k) sink.consume(makeField(f, k));
+    sink.scheduleEnded(7);
+    sink.close();
+    EXPECT_EQ(sink.framesWritten(), 4u);
+    EXPECT_EQ(sink.framesRepeated(), 2u);
+    EXPECT_EQ(sink.incompleteFrames(), 1u);
+    EXPECT_EQ(std::filesystem::file_size(path), headerBytes(path) + 4 * frameBytes);
+    std::filesystem::remove(path);
+  }
+  {
+    // Every field came: nothing to repeat.
+    const auto path = tempPath("end_full.y4m");
+    Y4mSink sink({path, Y4mChroma::C422});
+    sink.open(f);
+    for (std::uint64_t k = 0; k < 6; ++k) sink.consume(makeField(f, k));
+    sink.scheduleEnded(6);
+    sink.close();
+    EXPECT_EQ(sink.framesWritten(), 3u);
+    EXPECT_EQ(sink.framesRepeated(), 0u);
+    std::filesystem::remove(path);
+  }
+}
+
 TEST(Y4mSink, FieldsRenumberedByAMoveOntoAnotherLockFillNothing) {
   // Fields 0–2, then the field clock moves onto another lock: the field after 2 is 1003 (odd,
   // as 3 would have been), and it completes the frame field 2 began.
