@@ -3,6 +3,7 @@
 // channel killed and restarted rejoins at the others' field without disturbing them; a channel
 // that hears an earlier lock while running moves onto it.
 #include "../common/FreePort.h"
+#include "../common/MachineStallWatch.h"
 
 #include <io_bridge/FieldLockLink.h>
 
@@ -167,6 +168,7 @@ int expectSameInstants(const std::map<std::uint64_t, LoggedField>& a, const std:
 }
 
 TEST_F(FrameLock, AChannelKilledAndRestartedRejoinsWithoutDisturbingTheOthers) {
+  fieldcast::testing::MachineStallWatch stalls;
   // Each channel starts once the one before has begun its fields (its log says how it locked)
   Channel left(channelArgs(0, "left", 18), mDir / "left.log");
   ASSERT_TRUE(waitForLog(mDir / "left.log", "frame lock: this channel's field 0"));
@@ -183,6 +185,7 @@ TEST_F(FrameLock, AChannelKilledAndRestartedRejoinsWithoutDisturbingTheOthers) {
   ASSERT_EQ(rightAgain.wait(), 0) << std::ifstream(mDir / "right.log").rdbuf();
   ASSERT_EQ(centre.wait(), 0) << std::ifstream(mDir / "centre.log").rdbuf();
   ASSERT_EQ(left.wait(), 0) << std::ifstream(mDir / "left.log").rdbuf();
+  const int machine = stalls.fieldsDueInStalls(16'683'333);
 
   const nlohmann::json l = summary("left"), c = summary("centre"), r = summary("right");
   // One lock: the first channel's epoch; the others joined it at start, nobody moved later
@@ -202,9 +205,10 @@ TEST_F(FrameLock, AChannelKilledAndRestartedRejoinsWithoutDisturbingTheOthers) {
   EXPECT_GT(rejoined, centreFirst + 6 * 59);
   EXPECT_EQ(rejoined % 2, 0u);
   // The others were not disturbed: no field black, none missed beyond what a machine shared with
-  // the other tests may cost (as ServiceRun allows), the schedule unbroken
+  // the other tests may cost (as ServiceRun allows, with the fields due while the machine itself
+  // stood still), the schedule unbroken
   for (const auto* s : {&l, &c, &r}) {
-    EXPECT_LE((*s)["fields_missed"].get<double>(), 0.02 * 18 * 59.94 + 2) << s->dump();
+    EXPECT_LE((*s)["fields_missed"].get<double>(), 0.02 * 18 * 59.94 + 2 + machine) << s->dump();
     EXPECT_EQ((*s)["fields_black"], 0) << s->dump();
   }
 
