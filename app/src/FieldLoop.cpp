@@ -71,6 +71,9 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   ServiceCounters& counters = mMetrics.counters;
   // Counted by the schedule, not by field numbers: a channel joining a frame lock starts at the
   // others' number, and a move onto another lock renumbers the fields
+  // The schedule's first field: the sinks learn where it starts, so fields missed before the
+  // first one made are not lost to them either.
+  if (mScheduled == 0) mSinks.beginSchedule(tick.fieldNumber - tick.missedBefore);
   countMissed(tick.missedBefore);
   ++mScheduled;
   mMetrics.record(Measure::FieldJitter, Nanoseconds{std::abs((start - tick.wakeTime).count())});

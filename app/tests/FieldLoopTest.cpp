@@ -26,7 +26,8 @@ struct Seen {
   std::vector<std::uint64_t> numbers;
   std::vector<FieldParity> parities;
   std::vector<int> meanLuma;
-  std::optional<std::uint64_t> scheduleEnd;  // what FieldSink::scheduleEnded was told
+  std::optional<std::uint64_t> scheduleStart;  // what FieldSink::scheduleStarted was told
+  std::optional<std::uint64_t> scheduleEnd;    // what FieldSink::scheduleEnded was told
 };
 
 class RecordingSink final : public io::FieldSink {
@@ -42,6 +43,10 @@ class RecordingSink final : public io::FieldSink {
     mSeen->parities.push_back(field.parity);
     mSeen->meanLuma.push_back(static_cast<int>(sum / static_cast<long>(field.image.bytes().size() / 2)));
     return io::SinkStatus::Ok;
+  }
+  void scheduleStarted(std::uint64_t firstField) override {
+    std::lock_guard lock(mSeen->mutex);
+    mSeen->scheduleStart = firstField;
   }
   void scheduleEnded(std::uint64_t firstFieldAfter) override {
     std::lock_guard lock(mSeen->mutex);
@@ -196,6 +201,20 @@ TEST(FieldLoop, FieldsMissedAtTheEndOfTheScheduleAreCountedAndTheSinksToldWhereI
     EXPECT_EQ(rig.metrics.figures(rig.clock.now()).fieldsMissed, 2u);
     EXPECT_EQ(rig.seen->scheduleEnd, 30u);
   }
+}
+
+TEST(FieldLoop, FieldsMissedBeforeTheFirstOneMadeAreCountedAndTheSinksToldWhereTheScheduleStarts) {
+  Rig rig;
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
+  rig.clock.advance(50ms);  // a stall before the first field: fields 0–2 can no longer be made
+  std::atomic<bool> stop{false};
+  loop.run(stop, TimePoint::max(), 10);
+  rig.hub->stop();
+  EXPECT_EQ(rig.seen->scheduleStart, 0u);
+  ASSERT_FALSE(rig.seen->numbers.empty());
+  EXPECT_EQ(rig.seen->numbers.front(), 3u);
+  EXPECT_EQ(rig.metrics.figures(rig.clock.now()).fieldsMissed, 3u);
+  EXPECT_EQ(rig.seen->scheduleEnd, 10u);
 }
 
 TEST(FieldLoop, AStoppedRunTellsTheSinksNoScheduleEnd) {

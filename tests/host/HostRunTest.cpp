@@ -104,7 +104,7 @@ TEST_F(HostRun, AByteSwappedJitteryHostDrivesTheService) {
   // One Start of Frame per field while the host flew (each field's, or the next one's when the
   // link was late and two coalesced): the host sees the field rate.
   EXPECT_NEAR(h["start_of_frame_rate_hz"].get<double>(), 59.94, 1.0) << h.dump();
-  EXPECT_GT(h["start_of_frames"].get<int>(), 300);
+  EXPECT_GT(h["start_of_frames"].get<int>(), 300 - machine);
   // Heights: answered for (nearly) every request, equal to the drawn surface's.
   EXPECT_GT(h["height_answers_valid"].get<int>(), 340) << h.dump();
   EXPECT_LT(h["height_error_max_m"].get<double>(), 0.05) << h.dump();

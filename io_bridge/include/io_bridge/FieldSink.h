@@ -19,7 +19,8 @@ enum class SinkStatus : std::uint8_t {
 };
 
 /// A field output. All calls come from the one worker thread that owns the sink, in the order
-/// open → consume* → [scheduleEnded] → close; a sink therefore needs no locking of its own.
+/// open → [scheduleStarted] → consume* → [scheduleEnded] → close; a sink therefore needs no
+/// locking of its own.
 class FieldSink {
  public:
   virtual ~FieldSink() = default;
@@ -36,6 +37,10 @@ class FieldSink {
   /// Emits one field (which matches the format given to open()). May block; must not throw for
   /// a consumer going away: return Ended and say why in endReason().
   virtual SinkStatus consume(const Field& field) = 0;
+  /// The run's schedule starts at field number `firstField`: a first field consumed with a higher
+  /// number was preceded by fields that never came (a stall at the run's start). Called before the
+  /// first consume() when the field thread said where its schedule starts. The default does nothing.
+  virtual void scheduleStarted(std::uint64_t firstField) { (void)firstField; }
   /// The run's schedule ended just before field number `firstFieldAfter`: fields numbered below it
   /// that never came were missed at the end of the run (a stall in its last fields). Called after
   /// the last consume() and before close(), only when the run ended by its schedule (--duration,

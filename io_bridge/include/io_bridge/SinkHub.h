@@ -61,6 +61,9 @@ class SinkHub {
   /// Offers a field to every live sink. Field thread only. RT-safe: no lock, no allocation, no
   /// wait; costs one copy of the field, whatever the number of sinks.
   void publish(const Field& field) noexcept;
+  /// Tells every sink, before the first field it consumes, that the schedule starts at field
+  /// `firstField` (FieldSink::scheduleStarted). Field thread, before its first publish(). RT-safe.
+  void beginSchedule(std::uint64_t firstField) noexcept;
   /// Tells every sink, once it has consumed the fields already published, that the schedule
   /// ended just before field `firstFieldAfter` (FieldSink::scheduleEnded). Field thread, after
   /// its last publish(); takes effect at stop(). RT-safe.

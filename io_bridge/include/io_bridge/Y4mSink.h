@@ -33,8 +33,10 @@ class Y4mSink final : public FieldSink {
   std::string name() const override { return "y4m"; }
   void open(const StreamFormat& format) override;
   SinkStatus consume(const Field& field) override;
-  /// Frames of the schedule whose fields never came at its end are repeated too, so a run of
-  /// N seconds is N seconds of video whatever it missed.
+  /// Frames of the schedule whose fields never came at its start or its end are filled too (with
+  /// the first picture, with the last), so a run of N seconds is N seconds of video whatever it
+  /// missed.
+  void scheduleStarted(std::uint64_t firstField) override;
   void scheduleEnded(std::uint64_t firstFieldAfter) override;
   void close() override;
   std::string endReason() const override;

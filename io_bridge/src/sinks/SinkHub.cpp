@@ -25,7 +25,7 @@ namespace fieldcast::io {
 
 namespace {
 
-constexpr std::uint64_t kNoScheduleEnd = ~std::uint64_t{0};
+constexpr std::uint64_t kNoSchedule = ~std::uint64_t{0};
 
 std::uint64_t elapsedNs(TimePoint from, TimePoint to) noexcept {
   return static_cast<std::uint64_t>(std::max<std::int64_t>(0, (to - from).count()));
@@ -59,7 +59,8 @@ struct SinkHub::Lane {
   alignas(64) std::atomic<std::uint64_t> tail{0};  // next slot the worker consumes
   std::counting_semaphore<(1 << 30)> wake{0};
   std::atomic<bool> stopRequested{false};
-  std::atomic<std::uint64_t> scheduleEnd{kNoScheduleEnd};  // endSchedule()'s field, if it came
+  std::atomic<std::uint64_t> scheduleStart{kNoSchedule};  // beginSchedule()'s field, if it came
+  std::atomic<std::uint64_t> scheduleEnd{kNoSchedule};    // endSchedule()'s field, if it came
   std::atomic<bool> ended{false};
 
   // Figures: written by one thread each, read by anyone.
@@ -125,6 +126,7 @@ void SinkHub::Lane::run(const StreamFormat& format) {
   }
   openDone.notify_all();
 
+  bool started = false;  // scheduleStarted() asked for, before the first field
   std::uint64_t reportedDrops = 0;
   TimePoint lastDropReport{};
   const auto depth = static_cast<std::uint64_t>(ring.size());
@@ -134,6 +136,16 @@ void SinkHub::Lane::run(const StreamFormat& format) {
     while (t != head.load(std::memory_order_acquire)) {
       const std::uint32_t slot = ring[t % depth];
       const Field& field = pool->fields[slot];
+      if (!started && !ended.load(std::memory_order_relaxed)) {
+        started = true;
+        // Stored before the first field was published (whose head this worker has acquired).
+        const std::uint64_t first = scheduleStart.load(std::memory_order_acquire);
+        try {
+          if (first != kNoSchedule) sink->scheduleStarted(first);
+        } catch (const std::exception& e) {
+          spdlog::error("sink '{}': starting the schedule failed: {}", name, e.what());
+        }
+      }
       if (!ended.load(std::memory_order_relaxed)) {
         const TimePoint begin = MonotonicClock::now();
         SinkStatus status = SinkStatus::Ended;
@@ -166,7 +178,7 @@ void SinkHub::Lane::run(const StreamFormat& format) {
   if (!ended.load(std::memory_order_relaxed)) {
     const std::uint64_t end = scheduleEnd.load(std::memory_order_acquire);
     try {
-      if (end != kNoScheduleEnd) sink->scheduleEnded(end);
+      if (end != kNoSchedule) sink->scheduleEnded(end);
     } catch (const std::exception& e) {
       spdlog::error("sink '{}': completing the schedule failed: {}", name, e.what());
     }
@@ -275,6 +287,10 @@ void SinkHub::publish(const Field& field) noexcept {
     lane.head.store(h + 1, std::memory_order_release);  // publishes the field and its count
     lane.wake.release();
   }
+}
+
+void SinkHub::beginSchedule(std::uint64_t firstField) noexcept {
+  for (auto& lane : mLanes) lane->scheduleStart.store(firstField, std::memory_order_release);
 }
 
 void SinkHub::endSchedule(std::uint64_t firstFieldAfter) noexcept {

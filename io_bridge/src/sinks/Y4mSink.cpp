@@ -28,6 +28,7 @@ struct Y4mSink::State {
   int pendingFields = 0;                  // bit 0: first field in, bit 1: second field in
   std::int64_t pendingFrameWritten = -1;  // index of the frame the stored rows belong to
   std::int64_t nextFrame = 0;             // index of the next frame the file needs
+  std::int64_t firstScheduledFrame = -1;  // the schedule's first frame (scheduleStarted), if told
   std::uint64_t repeated = 0;             // frames repeated to fill missed ones
   std::uint64_t frames = 0;
   std::uint64_t incomplete = 0;
@@ -131,11 +132,19 @@ bool Y4mSink::State::writeFrame() {
                     {lumaPlane.data(), lumaPlane.size()},
                     {const_cast<std::uint8_t*>(cb), chromaBytes},
                     {const_cast<std::uint8_t*>(cr), chromaBytes}};
-  if (!out.writeAll(parts, 4)) {
-    endReason = out.error();
-    return false;
+  // The first picture also stands for the frames of the schedule before it, whose fields never
+  // came (a stall at the run's start), so the file keeps time from the schedule's first frame.
+  std::int64_t copies = 1;
+  if (frames == 0 && firstScheduledFrame >= 0 && pendingFrameWritten > firstScheduledFrame)
+    copies += pendingFrameWritten - firstScheduledFrame;
+  for (std::int64_t k = 0; k < copies; ++k) {
+    if (!out.writeAll(parts, 4)) {
+      endReason = out.error();
+      return false;
+    }
+    ++frames;
   }
-  ++frames;
+  repeated += static_cast<std::uint64_t>(copies - 1);
   if (format.scan == ScanMode::Interlaced && pendingFields != 3) ++incomplete;
   pendingFields = 0;
   pendingFrame = -1;
@@ -169,6 +178,12 @@ SinkStatus Y4mSink::consume(const Field& field) {
     st.pendingFrameWritten = frame;
   }
   return SinkStatus::Ok;
+}
+
+void Y4mSink::scheduleStarted(std::uint64_t firstField) {
+  if (!mState) return;
+  const bool progressive = mState->format.scan == ScanMode::Progressive;
+  mState->firstScheduledFrame = static_cast<std::int64_t>(progressive ? firstField : firstField / 2);
 }
 
 void Y4mSink::scheduleEnded(std::uint64_t firstFieldAfter) {

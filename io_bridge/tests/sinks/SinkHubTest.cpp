@@ -51,8 +51,10 @@ struct GateState {
   std::vector<std::uint8_t> firstBytes;
   int corrupted = 0;  // fields whose bytes changed under the sink while it held them
   bool closed = false;
-  std::optional<std::uint64_t> scheduleEnd;  // what scheduleEnded() was told
-  std::size_t seenAtScheduleEnd = 0;         // fields consumed before it
+  std::optional<std::uint64_t> scheduleStart;  // what scheduleStarted() was told
+  std::size_t seenAtScheduleStart = 0;         // fields consumed before it
+  std::optional<std::uint64_t> scheduleEnd;    // what scheduleEnded() was told
+  std::size_t seenAtScheduleEnd = 0;           // fields consumed before it
   bool closedAtScheduleEnd = false;
 };
 
@@ -71,6 +73,11 @@ class GateSink final : public FieldSink {
     mS->firstBytes.push_back(field.image.bytes()[0]);
     if (!(field.image == makeField(mFormat, field.fieldNumber).image)) ++mS->corrupted;
     return SinkStatus::Ok;
+  }
+  void scheduleStarted(std::uint64_t firstField) override {
+    std::lock_guard lock(mS->m);
+    mS->scheduleStart = firstField;
+    mS->seenAtScheduleStart = mS->seen.size();
   }
   void scheduleEnded(std::uint64_t firstFieldAfter) override {
     std::lock_guard lock(mS->m);
@@ -164,7 +171,7 @@ TEST(SinkHub, AStuckSinkNeitherStarvesNorCorrupts) {
   EXPECT_EQ(fast->corrupted, 0);
 }
 
-TEST(SinkHub, TheScheduleEndReachesEachSinkAfterItsQueuedFieldsAndBeforeClose) {
+TEST(SinkHub, TheScheduleReachesEachSinkBeforeItsFirstFieldAndAfterItsLast) {
   const StreamFormat format = testFormat(64, 16);
   auto held = std::make_shared<GateState>();  // holds the fields until the schedule has ended
   auto told = std::make_shared<GateState>();
@@ -176,7 +183,8 @@ TEST(SinkHub, TheScheduleEndReachesEachSinkAfterItsQueuedFieldsAndBeforeClose) {
     hub.add(std::make_unique<GateSink>(held, "held"));
     hub.add(std::make_unique<GateSink>(told, "told"));
     hub.start();
-    for (std::uint64_t k = 0; k < 3; ++k) hub.publish(makeField(format, k));
+    hub.beginSchedule(2);
+    for (std::uint64_t k = 4; k < 7; ++k) hub.publish(makeField(format, k));
     hub.endSchedule(9);
     {
       std::lock_guard lock(held->m);
@@ -186,6 +194,8 @@ TEST(SinkHub, TheScheduleEndReachesEachSinkAfterItsQueuedFieldsAndBeforeClose) {
     hub.stop();
   }
   for (const auto& s : {held, told}) {
+    EXPECT_EQ(s->scheduleStart, 2u);
+    EXPECT_EQ(s->seenAtScheduleStart, 0u);
     EXPECT_EQ(s->scheduleEnd, 9u);
     EXPECT_EQ(s->seenAtScheduleEnd, 3u);
     EXPECT_FALSE(s->closedAtScheduleEnd);
@@ -197,6 +207,7 @@ TEST(SinkHub, TheScheduleEndReachesEachSinkAfterItsQueuedFieldsAndBeforeClose) {
   hub.start();
   hub.publish(makeField(format, 0));
   hub.stop();
+  EXPECT_FALSE(untold->scheduleStart.has_value());
   EXPECT_FALSE(untold->scheduleEnd.has_value());
   EXPECT_TRUE(untold->closed);
 }

@@ -189,6 +189,42 @@ TEST(Y4mSink, FramesMissedAtTheEndOfTheScheduleAreRepeatedToo) {
   }
 }
 
+TEST(Y4mSink, FramesMissedAtTheStartOfTheScheduleShowTheFirstPicture) {
+  const StreamFormat f = testFormat(16, 6);
+  const std::uintmax_t frameBytes = 6 + 16 * 6 * 2;
+  {
+    // The schedule starts at field 0; the first field made is 5 (frame 2, its second field).
+    const auto path = tempPath("start_gap.y4m");
+    Y4mSink sink({path, Y4mChroma::C422});
+    sink.open(f);
+    sink.scheduleStarted(0);
+    for (std::uint64_t k = 5; k < 8; ++k) sink.consume(makeField(f, k));
+    sink.close();
+    EXPECT_EQ(sink.framesWritten(), 4u);
+    EXPECT_EQ(sink.framesRepeated(), 2u);
+    const std::string bytes = readAll(path);
+    ASSERT_EQ(bytes.size(), headerBytes(path) + 4 * frameBytes);
+    // Frames 0 and 1 are frame 2's picture
+    const std::string first = bytes.substr(headerBytes(path), frameBytes);
+    EXPECT_EQ(bytes.substr(headerBytes(path) + frameBytes, frameBytes), first);
+    EXPECT_EQ(bytes.substr(headerBytes(path) + 2 * frameBytes, frameBytes), first);
+    EXPECT_NE(bytes.substr(headerBytes(path) + 3 * frameBytes, frameBytes), first);
+    std::filesystem::remove(path);
+  }
+  {
+    // A channel joining a frame lock starts its schedule at the others' field: nothing before it.
+    const auto path = tempPath("start_joined.y4m");
+    Y4mSink sink({path, Y4mChroma::C422});
+    sink.open(f);
+    sink.scheduleStarted(1000);
+    for (std::uint64_t k = 1000; k < 1004; ++k) sink.consume(makeField(f, k));
+    sink.close();
+    EXPECT_EQ(sink.framesWritten(), 2u);
+    EXPECT_EQ(sink.framesRepeated(), 0u);
+    std::filesystem::remove(path);
+  }
+}
+
 TEST(Y4mSink, FieldsRenumberedByAMoveOntoAnotherLockFillNothing) {
   // Fields 0–2, then the field clock moves onto another lock: the field after 2 is 1003 (odd,
   // as 3 would have been), and it completes the frame field 2 began.
