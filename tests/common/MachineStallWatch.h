@@ -37,6 +37,11 @@ class MachineStallWatch {
 
   /// The fields of `fieldPeriodNs` the machine's stalls may have cost (stops the probe).
   int fieldsDueInStalls(std::int64_t fieldPeriodNs) { return tools::fieldsDueInStalls(stop(), fieldPeriodNs); }
+  /// Milliseconds of the time from `fromNs` to `toNs` (CLOCK_MONOTONIC) the machine stood still
+  /// (stops the probe).
+  double stalledMsBetween(std::int64_t fromNs, std::int64_t toNs) {
+    return static_cast<double>(tools::stalledNsBetween(stop(), fromNs, toNs)) * 1e-6;
+  }
 
  private:
   std::atomic<bool> mStop{false};

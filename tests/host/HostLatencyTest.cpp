@@ -69,15 +69,17 @@ TEST_F(HostLatency, AHostTurnShowsInTheFirstFieldMadeAfterItsDatagram) {
     steady = std::max(steady, change(k));
   std::uint64_t pixelField = poseField;
   while (pixelField < frames.size() && change(pixelField) <= 2.0 * steady + 2.0) ++pixelField;
-  ASSERT_LT(pixelField, poseField + 3) << "the pixels never showed the turn (steady change " << steady << ")";
+  // (Fields the machine's own stalls cost come on top: the video repeats a frame for each.)
+  const int machine = mStalls->fieldsDueInStalls(static_cast<std::int64_t>(1e9 / kFieldRateHz));
+  ASSERT_LT(pixelField, poseField + 3 + machine) << "the pixels never showed the turn (steady change " << steady << ")";
   const auto pixelRecord =
       std::find_if(fields.begin(), fields.end(), [&](const auto& f) { return f.number == pixelField; });
   ASSERT_NE(pixelRecord, fields.end());
   const double pixelLatencyMs = msBetween(turnedNs, pixelRecord->emittedNs);
 
-  // Generous for a shared 2-core machine: 15 fields.
+  // Generous for a shared 2-core machine: 15 fields, and the time the machine itself stood still.
   EXPECT_GT(poseLatencyMs, 0.0);
-  EXPECT_LT(poseLatencyMs, 15 * 1000.0 / kFieldRateHz);
+  EXPECT_LT(poseLatencyMs, 15 * 1000.0 / kFieldRateHz + mStalls->stalledMsBetween(turnedNs, byPose->emittedNs));
   EXPECT_GE(pixelLatencyMs, poseLatencyMs);
   RecordProperty("host_to_pose_field_emitted_ms", std::to_string(poseLatencyMs));
   RecordProperty("host_to_pixel_field_emitted_ms", std::to_string(pixelLatencyMs));

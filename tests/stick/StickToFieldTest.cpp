@@ -7,6 +7,7 @@
 #include "../../io_bridge/tests/input/RealDescriptors.h"
 #include "../../tools/latency/EmittedFields.h"
 #include "../../tools/latency/HidSocketStick.h"
+#include "../common/MachineStallWatch.h"
 #include "../common/RunFieldcast.h"
 
 #include <gtest/gtest.h>
@@ -62,6 +63,7 @@ TEST(StickToField, AThrownStickShowsInTheFirstFieldsMadeAfterIt) {
                         << "[sinks.y4m]\nenabled = true\npath = \"out/video.y4m\"\n"
                         << "[metrics]\nsummary_json = \"out/summary.json\"\nfield_log = \"out/fields.csv\"\n"
                         << "[threads]\nrealtime_field_thread = false\n";
+  fieldcast::testing::MachineStallWatch stalls;  // the machine's own stalls, beside the run
   auto service = std::async(std::launch::async, [&] {
     return fieldcast::testing::runFieldcast("--config " + config.string() + " --duration 5");
   });
@@ -109,7 +111,9 @@ TEST(StickToField, AThrownStickShowsInTheFirstFieldsMadeAfterIt) {
          fieldcast::tools::meanAbsDifference(luma[pixelField], luma[pixelField - 2]) <= 1.5 * steady + 1.0) {
     ++pixelField;
   }
-  ASSERT_LT(pixelField, poseField + 6) << "the pixels never showed the roll (steady change " << steady << ")";
+  // (Fields the machine's own stalls cost come on top: the video repeats a frame for each pair.)
+  const int machine = stalls.fieldsDueInStalls(static_cast<std::int64_t>(kFieldPeriodMs * 1e6));
+  ASSERT_LT(pixelField, poseField + 6 + machine) << "the pixels never showed the roll (steady change " << steady << ")";
   const auto pixelRecord =
       std::find_if(fields.begin(), fields.end(), [&](const LoggedField& f) { return f.number == pixelField; });
   ASSERT_NE(pixelRecord, fields.end());
@@ -118,7 +122,7 @@ TEST(StickToField, AThrownStickShowsInTheFirstFieldsMadeAfterIt) {
   // The first field made after the throw shows it: nothing queues input for longer than the
   // field in progress. Generous for a shared 2-core machine: 15 fields.
   EXPECT_GT(poseLatencyMs, 0.0);
-  EXPECT_LT(poseLatencyMs, 15 * kFieldPeriodMs);
+  EXPECT_LT(poseLatencyMs, 15 * kFieldPeriodMs + stalls.stalledMsBetween(thrownNs, byPose->emittedNs));
   EXPECT_GE(pixelLatencyMs, poseLatencyMs);
   ::testing::Test::RecordProperty("stick_to_pose_field_emitted_ms", std::to_string(poseLatencyMs));
   ::testing::Test::RecordProperty("stick_to_pose_field_display_ms", std::to_string(poseToDisplayMs));

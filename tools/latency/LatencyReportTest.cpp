@@ -157,11 +157,16 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
   EXPECT_NE(md.find("| eval_lowpass250 |"), std::string::npos);
   EXPECT_NE(md.find("![PSNR against IG rate"), std::string::npos);
   EXPECT_NE(md.find("## Pose prediction from a host"), std::string::npos);
-  // The running service's stick → field and host → field latency: every step found in the poses,
-  // most in the pixels
-  EXPECT_NE(md.find("| stick | pose | 8 of 8 |"), std::string::npos) << md;
+  // The running service's stick → field and host → field latency: the steps found in the poses,
+  // most in the pixels. (A step is thrown for 150 ms and looked for over 300 ms: a stall of the
+  // machine itself across one can hide it, so one of the eight may go unseen; a cut path shows none.)
+  const auto foundInPoses = [&](const std::string& path) {
+    return md.find("| " + path + " | pose | 8 of 8 |") != std::string::npos ||
+           md.find("| " + path + " | pose | 7 of 8 |") != std::string::npos;
+  };
+  EXPECT_TRUE(foundInPoses("stick")) << md;
   EXPECT_NE(md.find("| stick | pixels | "), std::string::npos);
-  EXPECT_NE(md.find("| host | pose | 8 of 8 |"), std::string::npos) << md;
+  EXPECT_TRUE(foundInPoses("host")) << md;
   EXPECT_NE(md.find("| host | pixels | "), std::string::npos);
   EXPECT_EQ(md.find("could not be drawn"), std::string::npos);
   if (!HasFailure()) {

@@ -49,17 +49,37 @@ constexpr std::int64_t kProbePeriodNs = 1'000'000;  // fieldcast-stall-probe's p
 constexpr std::int64_t kAfterStallNs = 10'000'000;
 }  // namespace
 
-int fieldsDueInStalls(const std::vector<MachineStall>& stalls, std::int64_t fieldPeriodNs) {
-  std::vector<std::pair<std::int64_t, std::int64_t>> windows;  // deadlines a stall explains
+namespace {
+
+// The windows of stallAround (any CPU), those that overlap merged, in time order.
+std::vector<std::pair<std::int64_t, std::int64_t>> mergedStallWindows(const std::vector<MachineStall>& stalls) {
+  std::vector<std::pair<std::int64_t, std::int64_t>> windows;
   for (const MachineStall& s : stalls) windows.emplace_back(s.dueNs - kProbePeriodNs, s.wokeNs + kAfterStallNs);
   std::sort(windows.begin(), windows.end());
-  int fields = 0;
-  for (std::size_t k = 0; k < windows.size();) {
-    auto [from, to] = windows[k];
-    for (++k; k < windows.size() && windows[k].first <= to; ++k) to = std::max(to, windows[k].second);
-    fields += static_cast<int>((to - from) / fieldPeriodNs) + 1;  // deadlines one period apart
+  std::vector<std::pair<std::int64_t, std::int64_t>> merged;
+  for (const auto& w : windows) {
+    if (!merged.empty() && w.first <= merged.back().second)
+      merged.back().second = std::max(merged.back().second, w.second);
+    else
+      merged.push_back(w);
   }
+  return merged;
+}
+
+}  // namespace
+
+int fieldsDueInStalls(const std::vector<MachineStall>& stalls, std::int64_t fieldPeriodNs) {
+  int fields = 0;
+  for (const auto& [from, to] : mergedStallWindows(stalls))
+    fields += static_cast<int>((to - from) / fieldPeriodNs) + 1;  // deadlines one period apart
   return fields;
+}
+
+std::int64_t stalledNsBetween(const std::vector<MachineStall>& stalls, std::int64_t fromNs, std::int64_t toNs) {
+  std::int64_t stalled = 0;
+  for (const auto& [from, to] : mergedStallWindows(stalls))
+    stalled += std::max<std::int64_t>(0, std::min(to, toNs) - std::max(from, fromNs));
+  return stalled;
 }
 
 const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::int64_t displayNs, int cpu) {

@@ -35,4 +35,8 @@ const MachineStall* stallAround(const std::vector<MachineStall>& stalls, std::in
 /// in a window of stallAround (any CPU), the windows of overlapping stalls merged.
 int fieldsDueInStalls(const std::vector<MachineStall>& stalls, std::int64_t fieldPeriodNs);
 
+/// How much of the time from `fromNs` to `toNs` (CLOCK_MONOTONIC) the stalls' windows (those of
+/// fieldsDueInStalls) cover: what a latency measured over that time may owe to the machine.
+std::int64_t stalledNsBetween(const std::vector<MachineStall>& stalls, std::int64_t fromNs, std::int64_t toNs);
+
 }  // namespace fieldcast::tools

@@ -208,6 +208,16 @@ TEST(MachineStalls, TheFieldsAStallMayHaveCostAreCountedOncePerMergedWindow) {
   EXPECT_EQ(fieldsDueInStalls({}, kField), 0);
 }
 
+TEST(MachineStalls, TheTimeStalledBetweenTwoInstantsIsTheMergedWindowsPartInIt) {
+  // Windows 99 .. 190 ms and 499 .. 516 ms (a probe period before, two warps' time after)
+  const std::vector<MachineStall> stalls = {
+      {0, 100 * kMs, 150 * kMs}, {1, 120 * kMs, 180 * kMs}, {0, 500 * kMs, 506 * kMs}};
+  EXPECT_EQ(stalledNsBetween(stalls, 0, 1000 * kMs), 91 * kMs + 17 * kMs);
+  EXPECT_EQ(stalledNsBetween(stalls, 150 * kMs, 505 * kMs), 40 * kMs + 6 * kMs);
+  EXPECT_EQ(stalledNsBetween(stalls, 200 * kMs, 400 * kMs), 0);
+  EXPECT_EQ(stalledNsBetween({}, 0, 1000 * kMs), 0);
+}
+
 TEST(MachineStalls, AMalformedLineIsNamed) {
   const auto path =
       std::filesystem::temp_directory_path() / ("fieldcast_machine_stalls_test_" + std::to_string(::getpid()) + ".csv");
