@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <system_error>
 #include <thread>
 
 namespace fieldcast::tools {
@@ -72,18 +73,24 @@ StallProbeRun runStallProbe(const StallProbeOptions& options, const std::atomic<
   run.cpus.resize(cpus.size());
   std::vector<std::vector<MachineStall>> stallsByCpu(cpus.size());
   for (auto& s : stallsByCpu) s.reserve(4096);  // a real-time thread should not allocate (unless there are more)
-  std::vector<std::thread> threads;
+  std::vector<std::thread> threads(cpus.size());
   for (std::size_t i = 0; i < cpus.size(); ++i) {
-    threads.emplace_back([&, i]() noexcept {
-      try {
-        probeOneCpu(cpus[i], options, stop, run.cpus[i], stallsByCpu[i]);
-      } catch (const std::exception& e) {  // a stall record it could not store
-        run.cpus[i].problem += std::string(run.cpus[i].problem.empty() ? "" : "; ") + e.what();
-        run.cpus[i].realtime = false;
-      }
-    });
+    try {
+      threads[i] = std::thread([&, i]() noexcept {
+        try {
+          probeOneCpu(cpus[i], options, stop, run.cpus[i], stallsByCpu[i]);
+        } catch (const std::exception& e) {  // a stall record it could not store
+          run.cpus[i].problem += std::string(run.cpus[i].problem.empty() ? "" : "; ") + e.what();
+          run.cpus[i].realtime = false;
+        }
+      });
+    } catch (const std::system_error& e) {  // no thread for this CPU: it is not probed
+      run.cpus[i].cpu = cpus[i];
+      run.cpus[i].problem = std::string("probe thread not started: ") + e.what();
+    }
   }
-  for (std::thread& t : threads) t.join();
+  for (std::thread& t : threads)
+    if (t.joinable()) t.join();
   for (const auto& s : stallsByCpu) run.stalls.insert(run.stalls.end(), s.begin(), s.end());
   std::sort(run.stalls.begin(), run.stalls.end(),
             [](const MachineStall& a, const MachineStall& b) { return a.dueNs < b.dueNs; });
