@@ -7,7 +7,10 @@
 #define HWY_TARGET_INCLUDE "ResampleLanes.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
+#include "SampleBlockVbmi.h"
 #include "SamplePixel.h"
+
+#include <fieldcast/SimdLevel.h>
 
 #include <hwy/highway.h>
 
@@ -60,8 +63,16 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
   };
 #endif
   std::uint32_t violations = 0;
+#if HWY_TARGET == HWY_AVX3
+  // At level avx512vbmi: the frame's bytes staged in registers instead of gathered where they fit
+  // (SampleBlockVbmi.h)
+  const bool staged = C == 3 && simdVbmiEnabled();
+#endif
   int i = 0;
   for (; i + lanes <= n; i += lanes) {
+#if HWY_TARGET == HWY_AVX3
+    if (staged && sampleBlockVbmi(src, xs + i, ys + i, dst + C * i, violations)) continue;
+#endif
     const auto px = hn::LoadU(df, xs + i), py = hn::LoadU(df, ys + i);
     const auto inside =
         hn::And(hn::And(hn::Ge(px, zero), hn::Le(px, widthPx)), hn::And(hn::Ge(py, zero), hn::Le(py, heightPx)));

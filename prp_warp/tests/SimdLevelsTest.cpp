@@ -83,6 +83,51 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAndViolations) {
   });
 }
 
+// Rows as a field's map makes them (turned, scaled, mirrored, at the frame's edges), where the
+// avx512vbmi level stages a block's frame bytes in registers, and where it cannot and gathers.
+TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
+  struct RowMap {
+    const char* what;
+    double x0, y0;   // frame coordinates of the row's first pixel
+    double turnDeg;  // the row's direction in the frame
+    double scale;    // frame pixels per field pixel (negative: mirrored)
+    int nanAt = -1;  // a pixel whose coordinates are NaN
+  };
+  const RowMap maps[] = {
+      {"level", 3.2, 40.6, 0.0, 1.0},
+      {"turned 3 degrees", 3.7, 40.2, 3.0, 1.0},
+      {"turned -6 degrees", 5.1, 120.9, -6.0, 0.97},
+      {"turned 10 degrees (three rows: gathered)", 2.3, 20.4, 10.0, 1.0},
+      {"zoomed out 1.3 (too wide: gathered)", 0.6, 60.1, 1.0, 1.3},
+      {"zoomed in", 50.2, 70.7, 2.0, 0.6},
+      {"mirrored", 355.4, 90.3, 2.0, -1.0},
+      {"on the last rows", 1.4, 248.6, 0.5, 1.0},
+      {"past the last row and the right edge", 300.5, 249.7, 1.0, 1.05},
+      {"above the first row", -3.0, -0.8, 1.5, 1.0},
+      {"with a NaN", 10.0, 30.0, 2.0, 1.0, 37},
+  };
+  const Image src = noiseImage(360, 250, PixelFormat::Rgb8, 77u);
+  atEveryLevel([&] {
+    for (const RowMap& m : maps) {
+      for (int n : {16, 64, 70}) {
+        std::vector<float> xs(static_cast<std::size_t>(n)), ys(xs.size());
+        const double c = std::cos(m.turnDeg * M_PI / 180.0), sn = std::sin(m.turnDeg * M_PI / 180.0);
+        for (int i = 0; i < n; ++i) {
+          xs[static_cast<std::size_t>(i)] = static_cast<float>(m.x0 + m.scale * c * i);
+          ys[static_cast<std::size_t>(i)] = static_cast<float>(m.y0 + std::abs(m.scale) * sn * i);
+        }
+        if (m.nanAt >= 0 && m.nanAt < n)
+          xs[static_cast<std::size_t>(m.nanAt)] = std::numeric_limits<float>::quiet_NaN();
+        std::vector<std::uint8_t> fast(static_cast<std::size_t>(n * 3) + 1, 0xA5), ref = fast;
+        const std::uint32_t vFast = sampleRow(src, xs.data(), ys.data(), n, fast.data());
+        const std::uint32_t vRef = sampleRowReference(src, xs.data(), ys.data(), n, ref.data());
+        ASSERT_EQ(fast, ref) << m.what << ", " << n << " pixels";
+        ASSERT_EQ(vFast, vRef) << m.what << ", " << n << " pixels";
+      }
+    }
+  });
+}
+
 TEST(SimdLevels, ConversionToUyvyWithGainGivesTheReferencesBytes) {
   atEveryLevel([] {
     std::mt19937 rng(5);

@@ -4,6 +4,7 @@
 #include <hwy/highway.h>
 #include <hwy/targets.h>
 
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
@@ -54,10 +55,26 @@ std::int64_t availableTargets() {
 
 std::int64_t lowestBit(std::int64_t bits) { return bits & -bits; }
 
+// "avx512vbmi": Highway's AVX-512 target with the kernels' VBMI paths on. Highway 1.0 has no
+// target of its own for it (its AVX3_DL asks for AVX-VNNI too, which AMD's AVX-512 CPUs lack).
+constexpr const char* kVbmiLevel = "avx512vbmi";
+std::atomic<bool> gVbmiAllowed{true};  // off while a level below avx512vbmi is forced
+
+bool cpuHasVbmi() noexcept {
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+         __builtin_cpu_supports("avx512vbmi");
+}
+
 }  // namespace
+
+bool simdVbmiEnabled() noexcept {
+  static const bool cpu = cpuHasVbmi();
+  return cpu && gVbmiAllowed.load(std::memory_order_relaxed);
+}
 
 std::string simdLevel() {
   const std::int64_t targets = runnableTargets();
+  if ((lowestBit(targets) & HWY_AVX3) && simdVbmiEnabled()) return kVbmiLevel;
   for (const NamedLevel& level : kLevels)
     if (lowestBit(targets) & level.targets) return level.name;
   return hwy::TargetName(lowestBit(targets));  // a target without a name here
@@ -66,6 +83,7 @@ std::string simdLevel() {
 std::vector<std::string> simdLevels() {
   const std::int64_t available = availableTargets();
   std::vector<std::string> names;
+  if ((available & HWY_AVX3) && cpuHasVbmi()) names.emplace_back(kVbmiLevel);
   for (const NamedLevel& level : kLevels)
     if (available & level.targets) names.emplace_back(level.name);
   return names;
@@ -75,12 +93,19 @@ void forceSimdLevel(std::string_view level) {
   const std::int64_t available = availableTargets();
   if (level == "auto") {
     disableTargets(0);
+    gVbmiAllowed.store(true, std::memory_order_relaxed);
+    return;
+  }
+  if (level == kVbmiLevel && (available & HWY_AVX3) && cpuHasVbmi()) {
+    disableTargets(lowestBit(available & HWY_AVX3) - 1);
+    gVbmiAllowed.store(true, std::memory_order_relaxed);
     return;
   }
   for (const NamedLevel& named : kLevels) {
     if (level != named.name) continue;
     if ((available & named.targets) == 0) break;
     disableTargets(lowestBit(available & named.targets) - 1);  // every better target (a lower bit) off
+    gVbmiAllowed.store(false, std::memory_order_relaxed);
     return;
   }
   std::string have;

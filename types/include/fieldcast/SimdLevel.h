@@ -4,9 +4,10 @@
 // the widest level the CPU has is chosen. A level can be forced (`FIELDCAST_SIMD`, `--simd`) so
 // tests run every level the machine has and a regression can be traced to one of them.
 //
-// Levels, best first: "avx512" (AVX-512 F/VL/DQ/BW), "avx2", "sse4", "ssse3", "scalar" (the
-// kernels' Highway code without SIMD instructions). A FIELDCAST_NATIVE build carries only the
-// level its compiler targets and the better ones.
+// Levels, best first: "avx512vbmi" (the AVX-512 kernels with their AVX-512 VBMI paths: byte
+// permutes across a whole register), "avx512" (AVX-512 F/VL/DQ/BW), "avx2", "sse4", "ssse3",
+// "scalar" (the kernels' Highway code without SIMD instructions). A FIELDCAST_NATIVE build
+// carries only the level its compiler targets and the better ones.
 //
 // Call these at start-up or in a test, not while kernels run: forcing changes a process-wide
 // dispatch.
@@ -30,6 +31,10 @@ std::vector<std::string> simdLevels();
 /// Makes the kernels run at `level` (one of simdLevels()) or, for "auto", at the best one.
 /// Throws std::invalid_argument naming the levels this machine has, the level unchanged.
 void forceSimdLevel(std::string_view level);
+
+/// Whether the AVX-512 kernels may take their VBMI paths: the CPU has AVX-512 VBMI and the level
+/// is "avx512vbmi" (the best, unless a lower one is forced). Any thread, RT-safe.
+bool simdVbmiEnabled() noexcept;
 
 /// Applies FIELDCAST_SIMD if it is set (see forceSimdLevel; throws the same way).
 void applySimdLevelFromEnvironment();

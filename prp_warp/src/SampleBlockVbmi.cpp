@@ -1,0 +1,112 @@
+// The staged sampling of SampleBlockVbmi.h, in AVX-512 VBMI intrinsics (compiled for it alone and
+// called only when the CPU has it).
+#include "SampleBlockVbmi.h"
+
+#include <immintrin.h>
+
+namespace fieldcast::warp::sampling {
+
+#define FIELDCAST_VBMI __attribute__((target("avx512f,avx512bw,avx512vbmi")))
+
+namespace {
+
+// SamplePixel.h's coordinates in 16 lanes: x0, y0 (the upper-left neighbour), fx, fy (1/256 px),
+// and the lanes inside the frame (the violations are the others).
+struct BlockCoordinates {
+  __m512i x0, y0, fx, fy;
+  __mmask16 inside;
+};
+
+FIELDCAST_VBMI inline BlockCoordinates coordinatesOf(const Source& src, const float* xs, const float* ys) noexcept {
+  const __m512 px = _mm512_loadu_ps(xs), py = _mm512_loadu_ps(ys);
+  const __m512 zero = _mm512_setzero_ps(), half = _mm512_set1_ps(0.5f), unit = _mm512_set1_ps(static_cast<float>(kOne));
+  const __m512 w = _mm512_set1_ps(static_cast<float>(src.widthPx)),
+               h = _mm512_set1_ps(static_cast<float>(src.heightPx));
+  BlockCoordinates b;
+  b.inside = _mm512_cmp_ps_mask(px, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(px, w, _CMP_LE_OQ) &
+             _mm512_cmp_ps_mask(py, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(py, h, _CMP_LE_OQ);
+  // Pixel-centre origin; a false compare (NaN) gives 0, as in the scalar form
+  __m512 qx = _mm512_sub_ps(px, half), qy = _mm512_sub_ps(py, half);
+  qx = _mm512_min_ps(_mm512_maskz_mov_ps(_mm512_cmp_ps_mask(qx, zero, _CMP_GE_OQ), qx),
+                     _mm512_set1_ps(static_cast<float>(src.widthPx - 1)));
+  qy = _mm512_min_ps(_mm512_maskz_mov_ps(_mm512_cmp_ps_mask(qy, zero, _CMP_GE_OQ), qy),
+                     _mm512_set1_ps(static_cast<float>(src.heightPx - 1)));
+  const __m512i ix = _mm512_cvttps_epi32(_mm512_add_ps(_mm512_mul_ps(qx, unit), half));
+  const __m512i iy = _mm512_cvttps_epi32(_mm512_add_ps(_mm512_mul_ps(qy, unit), half));
+  b.x0 = _mm512_min_epi32(_mm512_srai_epi32(ix, kFracBits), _mm512_set1_epi32(src.widthPx - 2));
+  b.y0 = _mm512_min_epi32(_mm512_srai_epi32(iy, kFracBits), _mm512_set1_epi32(src.heightPx - 2));
+  b.fx = _mm512_sub_epi32(ix, _mm512_slli_epi32(b.x0, kFracBits));
+  b.fy = _mm512_sub_epi32(iy, _mm512_slli_epi32(b.y0, kFracBits));
+  return b;
+}
+
+// The staged block; false, having written nothing, when its neighbours do not fit the staged rows.
+FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates& b, std::uint8_t* dst) noexcept {
+  constexpr int kMaxSpanPx = 19;  // x0 − xmin: the right neighbour's last byte is then byte 62
+  // The block's first neighbour: a field's map runs one way along a row, so the least x0 and y0
+  // are those of its first or its last lane (checked below: every lane must lie within the span)
+  const int x0First = _mm_cvtsi128_si32(_mm512_castsi512_si128(b.x0));
+  const int y0First = _mm_cvtsi128_si32(_mm512_castsi512_si128(b.y0));
+  const int x0Last = _mm_extract_epi32(_mm512_extracti32x4_epi32(b.x0, 3), 3);
+  const int y0Last = _mm_extract_epi32(_mm512_extracti32x4_epi32(b.y0, 3), 3);
+  const int xmin = x0First < x0Last ? x0First : x0Last, ymin = y0First < y0Last ? y0First : y0Last;
+  const __m512i dx = _mm512_sub_epi32(b.x0, _mm512_set1_epi32(xmin));
+  const __m512i dy = _mm512_sub_epi32(b.y0, _mm512_set1_epi32(ymin));
+  // Unsigned: a lane before the first (negative) fails too
+  if ((_mm512_cmpgt_epu32_mask(dx, _mm512_set1_epi32(kMaxSpanPx)) |
+       _mm512_cmpgt_epu32_mask(dy, _mm512_set1_epi32(1))) != 0)
+    return false;
+  const __mmask16 onFirstRow = _mm512_cmpeq_epi32_mask(dy, _mm512_setzero_si512());
+  const bool threeRows = onFirstRow != 0xFFFF;  // some lanes' upper row is the second
+  const std::int64_t stride = src.strideBytes;
+  const std::int64_t first = static_cast<std::int64_t>(ymin) * stride + std::int64_t{xmin} * 3;
+  const std::int64_t end = static_cast<std::int64_t>(src.heightPx - 1) * stride + std::int64_t{src.widthPx} * 3;
+  if (first + (threeRows ? 2 : 1) * stride + 64 > end) return false;
+  const std::uint8_t* p = src.base + first;
+  const __m512i row0 = _mm512_loadu_si512(p), row1 = _mm512_loadu_si512(p + stride);
+  const __m512i row2 = threeRows ? _mm512_loadu_si512(p + 2 * stride) : row1;
+
+  // Lane k's bytes 0 and 2 index its left and right neighbour's channel in a staged row; the byte
+  // permute leaves bytes 1 and 3 zero, so each is a 16-bit (left, right) pair for the multiply-add
+  // with the weights (256 − fx, fx)
+  const __m512i left = _mm512_add_epi32(dx, _mm512_slli_epi32(dx, 1));  // 3 · (x0 − xmin)
+  const __m512i pairIndex = _mm512_or_si512(left, _mm512_slli_epi32(_mm512_add_epi32(left, _mm512_set1_epi32(3)), 16));
+  constexpr __mmask64 kBytes0And2 = 0x5555555555555555ULL;
+  const __m512i weightsX =
+      _mm512_or_si512(_mm512_sub_epi32(_mm512_set1_epi32(kOne), b.fx), _mm512_slli_epi32(b.fx, 16));
+  const __m512i round = _mm512_set1_epi32(1 << (2 * kFracBits - 1));
+  __m512i rgb = _mm512_setzero_si512();
+  for (int c = 0; c < 3; ++c) {
+    const __m512i index = _mm512_add_epi32(pairIndex, _mm512_set1_epi32(c * 0x10001));
+    const __m512i on0 = _mm512_madd_epi16(_mm512_maskz_permutexvar_epi8(kBytes0And2, index, row0), weightsX);
+    const __m512i on1 = _mm512_madd_epi16(_mm512_maskz_permutexvar_epi8(kBytes0And2, index, row1), weightsX);
+    const __m512i on2 =
+        threeRows ? _mm512_madd_epi16(_mm512_maskz_permutexvar_epi8(kBytes0And2, index, row2), weightsX) : on1;
+    const __m512i upper = _mm512_mask_blend_epi32(onFirstRow, on1, on0);
+    const __m512i lower = _mm512_mask_blend_epi32(onFirstRow, on2, on1);
+    // upper · (256 − fy) + lower · fy, rounded
+    const __m512i value =
+        _mm512_add_epi32(_mm512_slli_epi32(upper, kFracBits), _mm512_mullo_epi32(_mm512_sub_epi32(lower, upper), b.fy));
+    rgb = _mm512_or_si512(rgb,
+                          _mm512_slli_epi32(_mm512_srli_epi32(_mm512_add_epi32(value, round), 2 * kFracBits), 8 * c));
+  }
+  // [r g b 0] per lane → 48 bytes r g b r g b …
+  alignas(64) static constexpr std::uint8_t kPack[64] = {0,  1,  2,  4,  5,  6,  8,  9,  10, 12, 13, 14, 16, 17, 18, 20,
+                                                         21, 22, 24, 25, 26, 28, 29, 30, 32, 33, 34, 36, 37, 38, 40, 41,
+                                                         42, 44, 45, 46, 48, 49, 50, 52, 53, 54, 56, 57, 58, 60, 61, 62,
+                                                         0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0};
+  _mm512_mask_storeu_epi8(dst, (__mmask64{1} << 48) - 1, _mm512_permutexvar_epi8(_mm512_load_si512(kPack), rgb));
+  return true;
+}
+
+}  // namespace
+
+FIELDCAST_VBMI bool sampleBlockVbmi(const Source& src, const float* xs, const float* ys, std::uint8_t* dst,
+                                    std::uint32_t& violations) noexcept {
+  const BlockCoordinates b = coordinatesOf(src, xs, ys);
+  if (!stagedBlock(src, b, dst)) return false;
+  violations += 16u - static_cast<std::uint32_t>(__builtin_popcount(b.inside));
+  return true;
+}
+
+}  // namespace fieldcast::warp::sampling

@@ -1,0 +1,24 @@
+#pragma once
+// Sixteen bilinear RGB samples with the frame's bytes staged in registers instead of gathered:
+// the AVX-512 kernel's fast path on CPUs with AVX-512 VBMI (a byte permute across a whole
+// register). A field's map turns and scales the frame little, so the sixteen samples of a block
+// lie within a run of at most twenty frame pixels on at most two neighbouring frame rows: three
+// 64-byte loads hold every byte they read, and one byte permute per channel and row lays each
+// lane's left and right neighbour side by side for the same 16-bit multiply-add as the gathers'.
+// The same bytes as SamplePixel.h's scalar reference.
+
+#include "SamplePixel.h"
+
+#include <cstdint>
+
+namespace fieldcast::warp::sampling {
+
+/// Samples the 16 pixels at frame coordinates xs, ys into dst (48 bytes) with samplePixel<3>'s
+/// bytes, and adds their margin violations to `violations`. False, having written nothing, when
+/// their neighbours do not fit the staged rows (more than 20 pixels across, more than two rows —
+/// a map turned by more than about 7° —, or a load past the frame's last byte): the caller then
+/// gathers them. Call only where fieldcast::simdVbmiEnabled().
+bool sampleBlockVbmi(const Source& src, const float* xs, const float* ys, std::uint8_t* dst,
+                     std::uint32_t& violations) noexcept;
+
+}  // namespace fieldcast::warp::sampling
