@@ -51,7 +51,10 @@ void FieldLoop::endSchedule(const warp::FieldTick& tick, TimePoint end, std::uin
          (fieldCount == 0 || mScheduled + inSchedule < fieldCount))
     ++inSchedule;
   countMissed(inSchedule);
-  mSinks.endSchedule(firstSkipped + inSchedule);
+  if (mScheduled == inSchedule) return;  // no field made: nothing for the sinks to complete
+  // A tick renumbered by a move onto another lock counts in a numbering no sink has seen: the
+  // schedule ends after the last field made (its skipped fields, if any, still counted missed).
+  mSinks.endSchedule(tick.renumbered ? mLastFieldNumber + 1 : firstSkipped + inSchedule);
 }
 
 void FieldLoop::countMissed(std::uint64_t missed) noexcept {
@@ -69,13 +72,14 @@ void FieldLoop::countMissed(std::uint64_t missed) noexcept {
 void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   const TimePoint start = mTime.now();
   ServiceCounters& counters = mMetrics.counters;
-  // Counted by the schedule, not by field numbers: a channel joining a frame lock starts at the
-  // others' number, and a move onto another lock renumbers the fields
   // The schedule's first field: the sinks learn where it starts, so fields missed before the
   // first one made are not lost to them either.
   if (mScheduled == 0) mSinks.beginSchedule(tick.fieldNumber - tick.missedBefore);
+  // Counted by the schedule, not by field numbers: a channel joining a frame lock starts at the
+  // others' number, and a move onto another lock renumbers the fields
   countMissed(tick.missedBefore);
   ++mScheduled;
+  mLastFieldNumber = tick.fieldNumber;
   mMetrics.record(Measure::FieldJitter, Nanoseconds{std::abs((start - tick.wakeTime).count())});
 
   if (mBeforeField) mBeforeField(tick);

@@ -73,6 +73,7 @@ class FieldLoop {
   Frame mNoFrame;                        // the empty frame warped (to black) before the first frame arrives
   std::uint64_t mFirstSecondFields = 0;  // fields in the run's first second
   std::uint64_t mScheduled = 0;          // fields of the schedule so far, emitted or missed
+  std::uint64_t mLastFieldNumber = 0;    // of the last field made
   // The warper's totals already reported (from construction: a warm-up before is not counted).
   std::uint64_t mLastFallbacks = 0;
   std::uint64_t mLastFallbacksByReason[4] = {};

@@ -59,9 +59,10 @@ int run(int argc, char** argv) {
   cli.add_option("--summary", summary, "Write the run's figures as JSON here at exit (metrics.summary_json)");
   cli.add_option("--field-log", fieldLog, "Write one CSV line per emitted field here (metrics.field_log)");
   cli.add_option("--rtp", rtp, "Send RFC 4175 RTP video to host:port (sinks.rtp)");
-  cli.add_option("--simd", simd,
-                 "SIMD level of the vector kernels: avx512, avx2, sse4, ssse3, scalar or auto (the best the "
-                 "CPU has; also FIELDCAST_SIMD)");
+  cli.add_option(
+      "--simd", simd,
+      "SIMD level of the vector kernels: avx512vbmi, avx512, avx2, sse4, ssse3, scalar or auto (the best the "
+      "CPU has; also FIELDCAST_SIMD)");
   cli.add_flag("--check-config", checkOnly, "Validate the configuration, print a summary and exit");
   cli.set_version_flag("--version", std::string("fieldcast ") + FIELDCAST_VERSION);
   CLI11_PARSE(cli, argc, argv);

@@ -217,6 +217,25 @@ TEST(FieldLoop, FieldsMissedBeforeTheFirstOneMadeAreCountedAndTheSinksToldWhereT
   EXPECT_EQ(rig.seen->scheduleEnd, 10u);
 }
 
+TEST(FieldLoop, AScheduleEndingOnAMoveOntoAnotherLockEndsAfterTheLastFieldMade) {
+  // During the last field (29) the clock hears of a lock that began 1000¼ fields earlier: the tick
+  // that ends the run is in that lock's numbering, which no sink has seen.
+  Rig rig;
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);
+  loop.setBeforeField([&rig](const warp::FieldTick& tick) {
+    if (tick.fieldNumber == 29) {
+      const RationalRate rate = rig.clockConfig.rate;
+      rig.fieldClock->lockTo(rig.fieldClock->displayTime(0) - rate.tickOffset(1000) - rate.period() / 4);
+    }
+  });
+  std::atomic<bool> stop{false};
+  loop.run(stop, TimePoint::max(), 30);
+  rig.hub->stop();
+  ASSERT_EQ(rig.seen->numbers.size(), 30u);
+  EXPECT_EQ(rig.seen->numbers.back(), 29u);
+  EXPECT_EQ(rig.seen->scheduleEnd, 30u);
+}
+
 TEST(FieldLoop, AStoppedRunTellsTheSinksNoScheduleEnd) {
   Rig rig;
   FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, rig.poses, *rig.hub, rig.metrics);

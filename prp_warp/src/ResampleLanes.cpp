@@ -3,6 +3,8 @@
 // to 1/256 px, clamped (NaN to 0) and checked against the margins; each row's two neighbours read
 // by one gather (64-bit for RGB, 32-bit for grey); the x blend of an RGB channel one 16-bit
 // multiply-add, the rest in 32-bit integers. The same bytes as SamplePixel.h's scalar reference.
+// At level avx512vbmi an RGB block is first offered to the staged sampling (SampleBlockVbmi.h),
+// which reads the frame's rows whole instead of gathering; the gathers take the blocks it refuses.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "ResampleLanes.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep

@@ -15,9 +15,9 @@ namespace fieldcast::warp::sampling {
 
 /// Samples the 16 pixels at frame coordinates xs, ys into dst (48 bytes) with samplePixel<3>'s
 /// bytes, and adds their margin violations to `violations`. False, having written nothing, when
-/// their neighbours do not fit the staged rows (more than 20 pixels across, more than two rows —
-/// a map turned by more than about 7° —, or a load past the frame's last byte): the caller then
-/// gathers them. Call only where fieldcast::simdVbmiEnabled().
+/// their neighbours do not fit the staged rows (more than 20 pixels across; more than two rows:
+/// a map turned by more than about 4° has some such blocks, by more than about 7.5° only such;
+/// or a load past the frame's last byte): the caller then gathers them. Call only where fieldcast::simdVbmiEnabled().
 bool sampleBlockVbmi(const Source& src, const float* xs, const float* ys, std::uint8_t* dst,
                      std::uint32_t& violations) noexcept;
 

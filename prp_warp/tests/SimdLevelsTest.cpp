@@ -2,12 +2,16 @@
 // reference: the same bytes and the same margin violations.
 #include <prp_warp/PostProcess.h>
 #include "NoiseImage.h"
+#include "SampleBlockVbmi.h"
 
 #include <prp_warp/Resample.h>
 
 #include <fieldcast/SimdLevel.h>
 
 #include <gtest/gtest.h>
+
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -126,6 +130,57 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
       }
     }
   });
+}
+
+// The staged block itself (avx512vbmi): taken for a field's blocks, two rows or three, and up to
+// the frame's last bytes, which are followed by a page that may not be read; refused one pixel
+// further on (its load would reach into that page), where the gathers take over.
+TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte) {
+  if (!simdVbmiEnabled()) GTEST_SKIP() << "this CPU has no AVX-512 VBMI (level avx512vbmi)";
+  constexpr int kWidth = 64, kHeight = 8, kStride = kWidth * 3 + 1;  // a padded row
+  const long page = ::sysconf(_SC_PAGESIZE);
+  const std::size_t frameBytes = static_cast<std::size_t>((kHeight - 1) * kStride + kWidth * 3);
+  const std::size_t pages = (frameBytes + static_cast<std::size_t>(page) - 1) / static_cast<std::size_t>(page);
+  auto* area = static_cast<std::uint8_t*>(::mmap(nullptr, (pages + 1) * static_cast<std::size_t>(page),
+                                                 PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
+  ASSERT_NE(area, MAP_FAILED);
+  std::uint8_t* guard = area + pages * static_cast<std::size_t>(page);
+  ASSERT_EQ(::mprotect(guard, static_cast<std::size_t>(page), PROT_NONE), 0);
+  std::uint8_t* base = guard - frameBytes;  // the frame's last byte is the guard page's neighbour
+  std::mt19937 rng(5);
+  for (std::uint8_t* b = base; b < guard; ++b) *b = static_cast<std::uint8_t>(rng());
+  const sampling::Source src{base, kStride, kWidth, kHeight};
+
+  // 16 samples from (x, y) on, one frame pixel apart, rising by `rise` pixels per sample
+  const auto block = [&](float x, float y, float rise, bool staged) {
+    float xs[16], ys[16];
+    for (int i = 0; i < 16; ++i) {
+      xs[i] = x + static_cast<float>(i);
+      ys[i] = y + rise * static_cast<float>(i);
+    }
+    std::uint8_t fast[48], ref[48];
+    std::uint32_t violations = 0;
+    EXPECT_EQ(sampling::sampleBlockVbmi(src, xs, ys, fast, violations), staged)
+        << "block at " << x << ", " << y << " rising " << rise;
+    const std::uint32_t refViolations = sampling::sampleRowScalar<3>(src, xs, ys, 16, ref);
+    if (staged) {
+      EXPECT_EQ(std::vector<std::uint8_t>(fast, fast + 48), std::vector<std::uint8_t>(ref, ref + 48));
+      EXPECT_EQ(violations, refViolations);
+    }
+    // and the row as the kernel samples it at this level, staged or gathered
+    std::uint8_t row[48];
+    forceSimdLevel("avx512vbmi");
+    EXPECT_EQ(sampling::sampleRowLanes(src, 3, xs, ys, 16, row), refViolations);
+    EXPECT_EQ(std::vector<std::uint8_t>(row, row + 48), std::vector<std::uint8_t>(ref, ref + 48));
+    forceSimdLevel("auto");
+  };
+  block(3.3f, 2.6f, 0.0f, true);    // two rows
+  block(10.7f, 2.2f, 0.05f, true);  // three rows: the upper row changes within the block
+  // On the last two rows: a load from x0 = 42 on row 6 ends two bytes before the frame's end
+  block(42.6f, 6.7f, 0.0f, true);
+  block(43.6f, 6.7f, 0.0f, false);  // one pixel on it would reach into the guard page
+  block(3.3f, 2.6f, 0.2f, false);   // turned too far: four rows
+  ASSERT_EQ(::munmap(area, (pages + 1) * static_cast<std::size_t>(page)), 0);
 }
 
 TEST(SimdLevels, ConversionToUyvyWithGainGivesTheReferencesBytes) {

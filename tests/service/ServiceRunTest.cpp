@@ -229,7 +229,7 @@ TEST_F(ServiceRun, TheMeshWarpGetsItsRangeImageAndShowsTheTerrain) {
   const int machine = stalls.fieldsDueInStalls(kFieldPeriodNs);
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json s = summary();
-  EXPECT_GT(s.at("fields_emitted").get<double>(), 2.0 * 60000.0 / 1001.0 - missedAllowance(2.0) - machine) << s.dump(2);
+  EXPECT_GT(s.at("fields_emitted").get<int>(), 100 - machine) << s.dump(2);
   EXPECT_EQ(s.at("warp_fallbacks_by_reason").at("no_range_image").get<int>(), 0) << s.dump(2);
   EXPECT_EQ(s.at("fields_black").get<int>(), 0) << s.dump(2);
   const std::vector<std::string> sampled = lumaFrames(10);

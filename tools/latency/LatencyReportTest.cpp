@@ -2,6 +2,7 @@
 // is finite, the plots are real PNG files, and the report says what it measured: the quadratic
 // beats hold on the turn, and both inputs reach the emitted fields. Plus the "needed rate" finding, on hand-made
 // figures.
+#include "../../tests/common/MachineStallWatch.h"
 #include "EmittedFields.h"
 #include "Report.h"
 
@@ -101,7 +102,9 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
   fs::remove_all(dir);
   const std::string command = std::string(FIELDCAST_LATENCY_BIN) + " --quick --threads 2 --fieldcast " + FIELDCAST_EXE +
                               " --out " + dir.string() + " > " + (dir.string() + ".log") + " 2>&1";
+  fieldcast::testing::MachineStallWatch stalls;  // the machine's own stalls, beside the run
   const int status = std::system(command.c_str());
+  const bool machineStalled = stalls.fieldsDueInStalls(16'683'333) > 0;
   const std::string log = readFile(dir.string() + ".log");
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << log;
 
@@ -157,12 +160,12 @@ TEST(LatencyReport, QuickRunWritesAFiniteReportWhereTheQuadraticBeatsHoldOnTheTu
   EXPECT_NE(md.find("| eval_lowpass250 |"), std::string::npos);
   EXPECT_NE(md.find("![PSNR against IG rate"), std::string::npos);
   EXPECT_NE(md.find("## Pose prediction from a host"), std::string::npos);
-  // The running service's stick → field and host → field latency: the steps found in the poses,
-  // most in the pixels. (A step is thrown for 150 ms and looked for over 300 ms: a stall of the
-  // machine itself across one can hide it, so one of the eight may go unseen; a cut path shows none.)
+  // The running service's stick → field and host → field latency: every step found in the poses,
+  // most in the pixels. (A step is thrown for 150 ms and looked for over 300 ms: when the machine
+  // itself stalled during the run, one may have gone unseen.)
   const auto foundInPoses = [&](const std::string& path) {
     return md.find("| " + path + " | pose | 8 of 8 |") != std::string::npos ||
-           md.find("| " + path + " | pose | 7 of 8 |") != std::string::npos;
+           (machineStalled && md.find("| " + path + " | pose | 7 of 8 |") != std::string::npos);
   };
   EXPECT_TRUE(foundInPoses("stick")) << md;
   EXPECT_NE(md.find("| stick | pixels | "), std::string::npos);

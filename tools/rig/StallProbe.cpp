@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <system_error>
+#include <exception>
 #include <thread>
 
 namespace fieldcast::tools {
@@ -84,7 +84,7 @@ StallProbeRun runStallProbe(const StallProbeOptions& options, const std::atomic<
           run.cpus[i].realtime = false;
         }
       });
-    } catch (const std::system_error& e) {  // no thread for this CPU: it is not probed
+    } catch (const std::exception& e) {  // no thread for this CPU: it is not probed (no resources)
       run.cpus[i].cpu = cpus[i];
       run.cpus[i].problem = std::string("probe thread not started: ") + e.what();
     }

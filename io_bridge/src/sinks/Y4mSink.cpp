@@ -29,7 +29,9 @@ struct Y4mSink::State {
   std::int64_t pendingFrameWritten = -1;  // index of the frame the stored rows belong to
   std::int64_t nextFrame = 0;             // index of the next frame the file needs
   std::int64_t firstScheduledFrame = -1;  // the schedule's first frame (scheduleStarted), if told
-  std::uint64_t repeated = 0;             // frames repeated to fill missed ones
+  bool consumedAny = false;
+  std::int64_t leadingFrames = 0;  // frames of the schedule before the first field's, never made
+  std::uint64_t repeated = 0;      // frames repeated to fill missed ones
   std::uint64_t frames = 0;
   std::uint64_t incomplete = 0;
   std::string endReason;
@@ -134,9 +136,7 @@ bool Y4mSink::State::writeFrame() {
                     {const_cast<std::uint8_t*>(cr), chromaBytes}};
   // The first picture also stands for the frames of the schedule before it, whose fields never
   // came (a stall at the run's start), so the file keeps time from the schedule's first frame.
-  std::int64_t copies = 1;
-  if (frames == 0 && firstScheduledFrame >= 0 && pendingFrameWritten > firstScheduledFrame)
-    copies += pendingFrameWritten - firstScheduledFrame;
+  const std::int64_t copies = frames == 0 ? 1 + leadingFrames : 1;
   for (std::int64_t k = 0; k < copies; ++k) {
     if (!out.writeAll(parts, 4)) {
       endReason = out.error();
@@ -156,6 +156,13 @@ SinkStatus Y4mSink::consume(const Field& field) {
   const bool progressive = st.format.scan == ScanMode::Progressive;
   // Field k belongs to frame k / 2 (interlaced; the first field of each frame has the even number).
   const auto frame = static_cast<std::int64_t>(progressive ? field.fieldNumber : field.fieldNumber / 2);
+  if (!st.consumedAny) {
+    // Counted now, in the numbering the schedule started in (a later move onto another lock
+    // renumbers the fields; a first field already renumbered counts in another one: no fill)
+    st.consumedAny = true;
+    if (st.firstScheduledFrame >= 0 && !field.renumbered)
+      st.leadingFrames = std::max<std::int64_t>(0, frame - st.firstScheduledFrame);
+  }
   if (field.renumbered) {
     // The field clock moved onto another frame lock: the numbers jump, the pictures go on. A frame
     // half made takes this field as its partner under the new number; nothing is repeated.

@@ -212,6 +212,22 @@ TEST(Y4mSink, FramesMissedAtTheStartOfTheScheduleShowTheFirstPicture) {
     std::filesystem::remove(path);
   }
   {
+    // A move onto another lock inside the first frame: its partner field comes as 1003. Nothing
+    // lies before the first frame in either numbering.
+    const auto path = tempPath("start_moved.y4m");
+    Y4mSink sink({path, Y4mChroma::C422});
+    sink.open(f);
+    sink.scheduleStarted(0);
+    sink.consume(makeField(f, 0));
+    Field moved = makeField(f, 1003);
+    moved.renumbered = true;
+    sink.consume(moved);
+    sink.close();
+    EXPECT_EQ(sink.framesWritten(), 1u);
+    EXPECT_EQ(sink.framesRepeated(), 0u);
+    std::filesystem::remove(path);
+  }
+  {
     // A channel joining a frame lock starts its schedule at the others' field: nothing before it.
     const auto path = tempPath("start_joined.y4m");
     Y4mSink sink({path, Y4mChroma::C422});
