@@ -16,6 +16,9 @@
 
 namespace fieldcast::testing {
 
+/// The field period of the tests' runs: 59.94 Hz, rounded to the nanosecond.
+constexpr std::int64_t kNtscFieldPeriodNs = 16'683'333;
+
 class MachineStallWatch {
  public:
   MachineStallWatch() : mThread([this] { mRun = tools::runStallProbe(tools::StallProbeOptions{}, mStop); }) {}
@@ -36,7 +39,9 @@ class MachineStallWatch {
   }
 
   /// The fields of `fieldPeriodNs` the machine's stalls may have cost (stops the probe).
-  int fieldsDueInStalls(std::int64_t fieldPeriodNs) { return tools::fieldsDueInStalls(stop(), fieldPeriodNs); }
+  int fieldsDueInStalls(std::int64_t fieldPeriodNs = kNtscFieldPeriodNs) {
+    return tools::fieldsDueInStalls(stop(), fieldPeriodNs);
+  }
   /// Milliseconds of the time from `fromNs` to `toNs` (CLOCK_MONOTONIC) the machine stood still
   /// (stops the probe).
   double stalledMsBetween(std::int64_t fromNs, std::int64_t toNs) {

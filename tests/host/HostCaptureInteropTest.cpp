@@ -103,7 +103,7 @@ position = [900.0, 500.0, 280.0]
             " --sent-log " + (mDir / "sent.tsv").string() + " --summary " + (mDir / "host.json").string(),
         120);
     const RunResult run = service.get();
-    mMachineFields = stalls.fieldsDueInStalls(16'683'333);
+    mMachineFields = stalls.fieldsDueInStalls();
     ASSERT_EQ(host.exitCode, 0) << host.output;
     ASSERT_EQ(run.exitCode, 0) << run.output;
     mHost = nlohmann::json::parse(std::ifstream(mDir / "host.json"));

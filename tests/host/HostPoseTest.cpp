@@ -112,7 +112,7 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
   std::printf("fields emitted %llu, missed %llu, field wake-up lateness max %.1f ms\n",
               static_cast<unsigned long long>(s["fields_emitted"].get<std::uint64_t>()),
               static_cast<unsigned long long>(missed), s["field_jitter"]["max_ms"].get<double>());
-  const int machine = fieldcast::tools::fieldsDueInStalls(stalls, 16'683'333);
+  const int machine = stallWatch.fieldsDueInStalls();
   EXPECT_LE(missed, 14u + static_cast<unsigned>(machine)) << machine << " fields due while the machine stalled\n"
                                                           << s.dump();
   EXPECT_EQ(s["fields_black"].get<int>(), 0);

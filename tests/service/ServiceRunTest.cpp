@@ -159,12 +159,11 @@ double lumaChange(const std::string& a, const std::string& b) {
 // the fields plus 2 is what a loaded one was seen to stay within.
 // Fields due while the machine itself stood still (MachineStallWatch.h) are allowed on top.
 double missedAllowance(double seconds) { return 0.02 * seconds * 60000.0 / 1001.0 + 2.0; }
-constexpr std::int64_t kFieldPeriodNs = 16'683'333;
 
 TEST_F(ServiceRun, EmitsEveryFieldForTheDuration) {
   fieldcast::testing::MachineStallWatch stalls;
   const RunResult r = run("--config " + config() + " --duration 3");
-  const int machine = stalls.fieldsDueInStalls(kFieldPeriodNs);
+  const int machine = stalls.fieldsDueInStalls();
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json s = summary();
   // Every field of the schedule is accounted for: emitted, or missed when this shared machine
@@ -204,7 +203,7 @@ TEST_F(ServiceRun, EmitsEveryFieldForTheDuration) {
 TEST_F(ServiceRun, WarmsUpBeforeTheFirstFieldAndReportsTheStartUp) {
   fieldcast::testing::MachineStallWatch stalls;
   const RunResult r = run("--config " + config() + " --duration 2");
-  const int machine = stalls.fieldsDueInStalls(kFieldPeriodNs);
+  const int machine = stalls.fieldsDueInStalls();
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json s = summary();
   const nlohmann::json& startup = s.at("startup");
@@ -226,7 +225,7 @@ TEST_F(ServiceRun, TheMeshWarpGetsItsRangeImageAndShowsTheTerrain) {
   // fall back to the quadratic (reason no_range_image).
   fieldcast::testing::MachineStallWatch stalls;
   const RunResult r = run("--config " + config("[warp]\nkind = \"mesh\"\n") + " --duration 2");
-  const int machine = stalls.fieldsDueInStalls(kFieldPeriodNs);
+  const int machine = stalls.fieldsDueInStalls();
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json s = summary();
   EXPECT_GT(s.at("fields_emitted").get<int>(), 100 - machine) << s.dump(2);

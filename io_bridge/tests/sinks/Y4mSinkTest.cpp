@@ -6,8 +6,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 namespace fieldcast::io {
 namespace {
@@ -144,101 +146,80 @@ TEST(Y4mSink, WholeMissedFramesAreRepeatedSoTheFileKeepsTime) {
   std::filesystem::remove(path);
 }
 
+// A Y4M sink (4:2:2) fed `fields` in order, told where the schedule starts and ends when given:
+// its figures and the file's bytes after the header.
+struct ScheduledRun {
+  std::uint64_t written = 0, repeated = 0, incomplete = 0;
+  std::string frames;
+};
+ScheduledRun runSchedule(const StreamFormat& f, const std::string& name, std::optional<std::uint64_t> start,
+                         const std::vector<Field>& fields, std::optional<std::uint64_t> end) {
+  const auto path = tempPath(name + ".y4m");
+  Y4mSink sink({path, Y4mChroma::C422});
+  sink.open(f);
+  if (start) sink.scheduleStarted(*start);
+  for (const Field& field : fields) sink.consume(field);
+  if (end) sink.scheduleEnded(*end);
+  sink.close();
+  ScheduledRun run{sink.framesWritten(), sink.framesRepeated(), sink.incompleteFrames(), readAll(path)};
+  run.frames.erase(0, headerBytes(path));
+  std::filesystem::remove(path);
+  return run;
+}
+
+// Fields first … last − 1.
+std::vector<Field> fieldsFrom(const StreamFormat& f, std::uint64_t first, std::uint64_t last) {
+  std::vector<Field> fields;
+  for (std::uint64_t k = first; k < last; ++k) fields.push_back(makeField(f, k));
+  return fields;
+}
+
 TEST(Y4mSink, FramesMissedAtTheEndOfTheScheduleAreRepeatedToo) {
   const StreamFormat f = testFormat(16, 6);
-  const std::uintmax_t frameBytes = 6 + 16 * 6 * 2;
-  {
-    // Fields 0–3 came, the schedule ended before field 10: frames 2, 3 and 4 never came.
-    const auto path = tempPath("end_gap.y4m");
-    Y4mSink sink({path, Y4mChroma::C422});
-    sink.open(f);
-    for (std::uint64_t k = 0; k < 4; ++k) sink.consume(makeField(f, k));
-    sink.scheduleEnded(10);
-    sink.close();
-    EXPECT_EQ(sink.framesWritten(), 5u);
-    EXPECT_EQ(sink.framesRepeated(), 3u);
-    EXPECT_EQ(std::filesystem::file_size(path), headerBytes(path) + 5 * frameBytes);
-    std::filesystem::remove(path);
-  }
-  {
-    // Field 2 came without its partner and the schedule ended before field 7, inside frame 3:
-    // frame 1 is written with one field, frames 2 and 3 repeat it.
-    const auto path = tempPath("end_half.y4m");
-    Y4mSink sink({path, Y4mChroma::C422});
-    sink.open(f);
-    for (std::uint64_t k = 0; k < 3; ++k) sink.consume(makeField(f, k));
-    sink.scheduleEnded(7);
-    sink.close();
-    EXPECT_EQ(sink.framesWritten(), 4u);
-    EXPECT_EQ(sink.framesRepeated(), 2u);
-    EXPECT_EQ(sink.incompleteFrames(), 1u);
-    EXPECT_EQ(std::filesystem::file_size(path), headerBytes(path) + 4 * frameBytes);
-    std::filesystem::remove(path);
-  }
-  {
-    // Every field came: nothing to repeat.
-    const auto path = tempPath("end_full.y4m");
-    Y4mSink sink({path, Y4mChroma::C422});
-    sink.open(f);
-    for (std::uint64_t k = 0; k < 6; ++k) sink.consume(makeField(f, k));
-    sink.scheduleEnded(6);
-    sink.close();
-    EXPECT_EQ(sink.framesWritten(), 3u);
-    EXPECT_EQ(sink.framesRepeated(), 0u);
-    std::filesystem::remove(path);
-  }
+  const std::size_t frameBytes = 6 + 16 * 6 * 2;
+  // Fields 0–3 came, the schedule ended before field 10: frames 2, 3 and 4 never came.
+  const ScheduledRun gap = runSchedule(f, "end_gap", std::nullopt, fieldsFrom(f, 0, 4), 10);
+  EXPECT_EQ(gap.written, 5u);
+  EXPECT_EQ(gap.repeated, 3u);
+  EXPECT_EQ(gap.frames.size(), 5 * frameBytes);
+  // Field 2 came without its partner and the schedule ended before field 7, inside frame 3:
+  // frame 1 is written with one field, frames 2 and 3 repeat it.
+  const ScheduledRun half = runSchedule(f, "end_half", std::nullopt, fieldsFrom(f, 0, 3), 7);
+  EXPECT_EQ(half.written, 4u);
+  EXPECT_EQ(half.repeated, 2u);
+  EXPECT_EQ(half.incomplete, 1u);
+  EXPECT_EQ(half.frames.size(), 4 * frameBytes);
+  // Every field came: nothing to repeat.
+  const ScheduledRun full = runSchedule(f, "end_full", std::nullopt, fieldsFrom(f, 0, 6), 6);
+  EXPECT_EQ(full.written, 3u);
+  EXPECT_EQ(full.repeated, 0u);
 }
 
 TEST(Y4mSink, FramesMissedAtTheStartOfTheScheduleShowTheFirstPicture) {
   const StreamFormat f = testFormat(16, 6);
-  const std::uintmax_t frameBytes = 6 + 16 * 6 * 2;
-  {
-    // The schedule starts at field 0; the first field made is 5 (frame 2, its second field).
-    const auto path = tempPath("start_gap.y4m");
-    Y4mSink sink({path, Y4mChroma::C422});
-    sink.open(f);
-    sink.scheduleStarted(0);
-    for (std::uint64_t k = 5; k < 8; ++k) sink.consume(makeField(f, k));
-    sink.close();
-    EXPECT_EQ(sink.framesWritten(), 4u);
-    EXPECT_EQ(sink.framesRepeated(), 2u);
-    const std::string bytes = readAll(path);
-    ASSERT_EQ(bytes.size(), headerBytes(path) + 4 * frameBytes);
-    // Frames 0 and 1 are frame 2's picture
-    const std::string first = bytes.substr(headerBytes(path), frameBytes);
-    EXPECT_EQ(bytes.substr(headerBytes(path) + frameBytes, frameBytes), first);
-    EXPECT_EQ(bytes.substr(headerBytes(path) + 2 * frameBytes, frameBytes), first);
-    EXPECT_NE(bytes.substr(headerBytes(path) + 3 * frameBytes, frameBytes), first);
-    std::filesystem::remove(path);
-  }
-  {
-    // A move onto another lock inside the first frame: its partner field comes as 1003. Nothing
-    // lies before the first frame in either numbering.
-    const auto path = tempPath("start_moved.y4m");
-    Y4mSink sink({path, Y4mChroma::C422});
-    sink.open(f);
-    sink.scheduleStarted(0);
-    sink.consume(makeField(f, 0));
-    Field moved = makeField(f, 1003);
-    moved.renumbered = true;
-    sink.consume(moved);
-    sink.close();
-    EXPECT_EQ(sink.framesWritten(), 1u);
-    EXPECT_EQ(sink.framesRepeated(), 0u);
-    std::filesystem::remove(path);
-  }
-  {
-    // A channel joining a frame lock starts its schedule at the others' field: nothing before it.
-    const auto path = tempPath("start_joined.y4m");
-    Y4mSink sink({path, Y4mChroma::C422});
-    sink.open(f);
-    sink.scheduleStarted(1000);
-    for (std::uint64_t k = 1000; k < 1004; ++k) sink.consume(makeField(f, k));
-    sink.close();
-    EXPECT_EQ(sink.framesWritten(), 2u);
-    EXPECT_EQ(sink.framesRepeated(), 0u);
-    std::filesystem::remove(path);
-  }
+  const std::size_t frameBytes = 6 + 16 * 6 * 2;
+  // The schedule starts at field 0; the first field made is 5 (frame 2, its second field).
+  const ScheduledRun gap = runSchedule(f, "start_gap", 0, fieldsFrom(f, 5, 8), std::nullopt);
+  EXPECT_EQ(gap.written, 4u);
+  EXPECT_EQ(gap.repeated, 2u);
+  ASSERT_EQ(gap.frames.size(), 4 * frameBytes);
+  // Frames 0 and 1 are frame 2's picture
+  const std::string first = gap.frames.substr(0, frameBytes);
+  EXPECT_EQ(gap.frames.substr(frameBytes, frameBytes), first);
+  EXPECT_EQ(gap.frames.substr(2 * frameBytes, frameBytes), first);
+  EXPECT_NE(gap.frames.substr(3 * frameBytes, frameBytes), first);
+  // A move onto another lock inside the first frame: its partner field comes as 1003. Nothing
+  // lies before the first frame in either numbering.
+  std::vector<Field> moved = fieldsFrom(f, 0, 1);
+  moved.push_back(makeField(f, 1003));
+  moved.back().renumbered = true;
+  const ScheduledRun move = runSchedule(f, "start_moved", 0, moved, std::nullopt);
+  EXPECT_EQ(move.written, 1u);
+  EXPECT_EQ(move.repeated, 0u);
+  // A channel joining a frame lock starts its schedule at the others' field: nothing before it.
+  const ScheduledRun joined = runSchedule(f, "start_joined", 1000, fieldsFrom(f, 1000, 1004), std::nullopt);
+  EXPECT_EQ(joined.written, 2u);
+  EXPECT_EQ(joined.repeated, 0u);
 }
 
 TEST(Y4mSink, FieldsRenumberedByAMoveOntoAnotherLockFillNothing) {
