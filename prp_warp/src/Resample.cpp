@@ -1,9 +1,10 @@
 // Bilinear resampling kernels. The reference evaluates the map per pixel in double precision;
-// the fast path generates each row's frame coordinates (forward differences for the quadratic)
+// the fast path generates each row's frame coordinates (in lanes for the quadratic, MapRow.h)
 // and samples them in fixed point, in SIMD lanes at the dispatched level (ResampleLanes.cpp;
 // its scalar reference in SamplePixel.h).
 #include <prp_warp/Resample.h>
 
+#include "MapRow.h"
 #include "SamplePixel.h"
 
 #include <algorithm>
@@ -13,38 +14,7 @@
 namespace fieldcast::warp {
 namespace {
 
-constexpr int kLanes = 4;
-
 int channelsOf(PixelFormat f) noexcept { return f == PixelFormat::Rgb8 ? 3 : 1; }
-
-/// Frame x coordinates of pixel centres firstPx + i + ½ of one raster row under a quadratic, stepped by
-/// forward differences: lane j holds pixels j, j+4, j+8, …; each lane advances by its first
-/// difference, which advances by the constant second difference.
-void quadraticRow(const std::array<double, 6>& c, int firstPx, double v, int n, float* out) noexcept {
-  // Along the row the map is a parabola in u: A + B·u + C·u².
-  const double a = c[0] + c[2] * v + c[5] * v * v;
-  const double b = c[1] + c[3] * v;
-  const double cc = c[4];
-  auto at = [&](int i) noexcept {
-    const double u = firstPx + i + 0.5;
-    return a + b * u + cc * u * u;
-  };
-  // Four lanes as one vector (GCC/Clang vector extension: one SSE register). Single precision
-  // is enough because every strip restarts from the exact double values: over a strip of 128
-  // pixels the accumulated error stays below 1e-3 px.
-  typedef float Lanes __attribute__((vector_size(kLanes * sizeof(float))));
-  auto f = [](double x) noexcept { return static_cast<float>(x); };
-  Lanes value = {f(at(0)), f(at(1)), f(at(2)), f(at(3))};
-  Lanes step = {f(at(4) - at(0)), f(at(5) - at(1)), f(at(6) - at(2)), f(at(7) - at(3))};
-  const float ss = f(at(2 * kLanes) - 2.0 * at(kLanes) + at(0));
-  const Lanes stepStep = {ss, ss, ss, ss};
-  for (int i = 0; i < n; i += kLanes) {
-    // Emit four pixels, then climb every lane to its next pixel
-    std::memcpy(out + i, &value, sizeof value);
-    value += step;
-    step += stepStep;
-  }
-}
 
 sampling::Source sourceOf(const Image& src) noexcept {
   return {src.row(0), static_cast<std::int32_t>(src.strideBytes()), src.widthPx(), src.heightPx()};
@@ -54,8 +24,7 @@ sampling::Source sourceOf(const Image& src) noexcept {
 
 void RowScratch::reserve(int maxWidthPx) {
   if (maxWidthPx <= mCapacityPx) return;
-  // Padded to whole lanes: the forward-difference generator writes in blocks of four.
-  const auto n = static_cast<std::size_t>((maxWidthPx + kLanes - 1) / kLanes * kLanes);
+  const auto n = static_cast<std::size_t>(maxWidthPx);
   mX.resize(n);
   mY.resize(n);
   mCapacityPx = maxWidthPx;
@@ -169,8 +138,8 @@ std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, F
   if (!resampleShapesValid(src, parity, rasterHeightPx, dst) || scratch.capacityPx() < dst.widthPx()) return 0;
   return forEachStrip(dst, [&](int first, int n, int r, std::uint8_t* out) noexcept {
     const double v = rasterRow(parity, r) + 0.5;
-    quadraticRow(map.a, first, v, n, scratch.x());
-    quadraticRow(map.b, first, v, n, scratch.y());
+    mapping::quadraticRow(map.a, first, v, n, scratch.x());
+    mapping::quadraticRow(map.b, first, v, n, scratch.y());
     return sampleRow(src, scratch.x(), scratch.y(), n, out);
   });
 }

@@ -73,7 +73,11 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
   int i = 0;
   for (; i + lanes <= n; i += lanes) {
 #if HWY_TARGET == HWY_AVX3
-    if (staged && sampleBlockVbmi(src, xs + i, ys + i, dst + C * i, violations)) continue;
+    if (staged) {
+      // The staged blocks from here on, up to one it refuses: that one is gathered below
+      i += sampleBlocksVbmi(src, xs + i, ys + i, n - i, dst + C * i, violations);
+      if (i + lanes > n) break;
+    }
 #endif
     const auto px = hn::LoadU(df, xs + i), py = hn::LoadU(df, ys + i);
     const auto inside =

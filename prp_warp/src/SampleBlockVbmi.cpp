@@ -103,10 +103,18 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
 
 FIELDCAST_VBMI bool sampleBlockVbmi(const Source& src, const float* xs, const float* ys, std::uint8_t* dst,
                                     std::uint32_t& violations) noexcept {
-  const BlockCoordinates b = coordinatesOf(src, xs, ys);
-  if (!stagedBlock(src, b, dst)) return false;
-  violations += 16u - static_cast<std::uint32_t>(__builtin_popcount(b.inside));
-  return true;
+  return sampleBlocksVbmi(src, xs, ys, 16, dst, violations) == 16;
+}
+
+FIELDCAST_VBMI int sampleBlocksVbmi(const Source& src, const float* xs, const float* ys, int n, std::uint8_t* dst,
+                                    std::uint32_t& violations) noexcept {
+  int i = 0;
+  for (; i + 16 <= n; i += 16) {
+    const BlockCoordinates b = coordinatesOf(src, xs + i, ys + i);
+    if (!stagedBlock(src, b, dst + 3 * i)) break;
+    violations += 16u - static_cast<std::uint32_t>(__builtin_popcount(b.inside));
+  }
+  return i;
 }
 
 }  // namespace fieldcast::warp::sampling

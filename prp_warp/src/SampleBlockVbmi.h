@@ -21,4 +21,10 @@ namespace fieldcast::warp::sampling {
 bool sampleBlockVbmi(const Source& src, const float* xs, const float* ys, std::uint8_t* dst,
                      std::uint32_t& violations) noexcept;
 
+/// sampleBlockVbmi over the whole blocks of n samples, one after another, until a block does not
+/// fit: returns the samples done (a multiple of 16; the refused block starts there). One call
+/// for a row's run of blocks keeps the constants in registers and the blocks' work overlapping.
+int sampleBlocksVbmi(const Source& src, const float* xs, const float* ys, int n, std::uint8_t* dst,
+                     std::uint32_t& violations) noexcept;
+
 }  // namespace fieldcast::warp::sampling

@@ -29,7 +29,7 @@ class HoldWarp final : public Warp {
 
 /// Which resampling kernel a QuadraticWarp uses.
 enum class ResampleKernel : std::uint8_t {
-  Fast,       ///< forward differences + fixed-point bilinear (production)
+  Fast,       ///< the map in lanes + fixed-point bilinear (production)
   Reference,  ///< per-pixel evaluation, double precision (the test oracle)
 };
 

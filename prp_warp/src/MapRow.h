@@ -1,0 +1,40 @@
+#pragma once
+// One coordinate of a raster row under a quadratic map, pixel by pixel: the scalar reference of
+// the vector kernel (MapRowLanes.cpp), which must give the same floats.
+
+#include <array>
+
+namespace fieldcast::warp::mapping {
+
+/// Along a raster row a quadratic map is a parabola in the pixel's position. For pixel i of a run
+/// (centre u = i + ½ from the run's start) it is a + u·(b + u·c), in single precision: the
+/// coefficients are worked out per run in double about its first pixel, so u stays small and the
+/// error below 1e-3 px (one rounding of a, a few of terms under 200 px).
+inline float parabolaAt(float a, float b, float c, int i) noexcept {
+  const float u = static_cast<float>(i) + 0.5f;
+  return a + u * (b + u * c);
+}
+
+/// parabolaAt for pixels first … n − 1 of a run into out[first …].
+inline void parabolaRowScalar(float a, float b, float c, int first, int n, float* out) noexcept {
+  for (int i = first; i < n; ++i) out[i] = parabolaAt(a, b, c, i);
+}
+
+/// parabolaRowScalar for pixels 0 … n − 1 in SIMD lanes at the dispatched level: the same floats
+/// (the same operations in the same order, none fused: the build turns contraction off).
+void parabolaRowLanes(float a, float b, float c, int n, float* out) noexcept;
+
+/// One frame coordinate (x or y: that map's coefficients `c`, QuadraticMap's order) of the pixel
+/// centres firstPx + i + ½, i < n, of raster row v (its centre): along the row the map is a
+/// parabola A + B·U + C·U² in the raster's U, about the run's first pixel (U = firstPx + u)
+/// a + b·u + c·u², worked out in double and evaluated in lanes (parabolaRowLanes).
+inline void quadraticRow(const std::array<double, 6>& c, int firstPx, double v, int n, float* out) noexcept {
+  const double a = c[0] + c[2] * v + c[5] * v * v;
+  const double b = c[1] + c[3] * v;
+  const double cc = c[4];
+  const double f = firstPx;
+  parabolaRowLanes(static_cast<float>(a + f * (b + f * cc)), static_cast<float>(b + 2.0 * cc * f),
+                   static_cast<float>(cc), n, out);
+}
+
+}  // namespace fieldcast::warp::mapping
