@@ -189,8 +189,8 @@ TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte)
 
 TEST(SimdLevels, TheQuadraticsRowsAreTheScalarFormsFloats) {
   // Coefficients as a field's map has them (offset, slope, curvature), and extremes of each
-  const float coefficients[][3] = {{31.7f, 1.013f, 2.9e-5f},  {2071.3f, -0.987f, -4.4e-5f}, {-40.0f, 1.3f, 5e-4f},
-                                   {0.0f, 0.0f, 0.0f},        {1e6f, 123.5f, -0.75f},      {-3e-7f, 1e-9f, 7.0f},
+  const float coefficients[][3] = {{31.7f, 1.013f, 2.9e-5f},   {2071.3f, -0.987f, -4.4e-5f}, {-40.0f, 1.3f, 5e-4f},
+                                   {0.0f, 0.0f, 0.0f},         {1e6f, 123.5f, -0.75f},       {-3e-7f, 1e-9f, 7.0f},
                                    {5.5f, std::nanf(""), 0.0f}};
   atEveryLevel([&] {
     std::vector<int> widths{128, 720, 1920};
@@ -225,8 +225,8 @@ TEST(SimdLevels, TheQuadraticsRowsAreWithinAThousandthOfAPixelOfTheMap) {
           const double u = first + i + 0.5;
           const double x = ax[0] + ax[1] * u + ax[2] * v + ax[3] * u * v + ax[4] * u * u + ax[5] * v * v;
           const double y = ay[0] + ay[1] * u + ay[2] * v + ay[3] * u * v + ay[4] * u * u + ay[5] * v * v;
-          worst = std::max({worst, std::abs(xs[static_cast<std::size_t>(i)] - x),
-                            std::abs(ys[static_cast<std::size_t>(i)] - y)});
+          worst = std::max(
+              {worst, std::abs(xs[static_cast<std::size_t>(i)] - x), std::abs(ys[static_cast<std::size_t>(i)] - y)});
         }
       }
     }
