@@ -8,8 +8,10 @@ namespace fieldcast::warp::mapping {
 
 /// Along a raster row a quadratic map is a parabola in the pixel's position. For pixel i of a run
 /// (centre u = i + ½ from the run's start) it is a + u·(b + u·c), in single precision: the
-/// coefficients are worked out per run in double about its first pixel, so u stays small and the
-/// error below 1e-3 px (one rounding of a, a few of terms under 200 px).
+/// coefficients are worked out per run in double about its first pixel, so u stays small — the
+/// kernels' runs are strips of at most 128 pixels (Resample.cpp) — and the error below 1e-3 px:
+/// one rounding of a, a few of terms no larger than the strip's span in the frame (128 px times
+/// the map's scale).
 inline float parabolaAt(float a, float b, float c, int i) noexcept {
   const float u = static_cast<float>(i) + 0.5f;
   return a + u * (b + u * c);

@@ -101,11 +101,6 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
 
 }  // namespace
 
-FIELDCAST_VBMI bool sampleBlockVbmi(const Source& src, const float* xs, const float* ys, std::uint8_t* dst,
-                                    std::uint32_t& violations) noexcept {
-  return sampleBlocksVbmi(src, xs, ys, 16, dst, violations) == 16;
-}
-
 FIELDCAST_VBMI int sampleBlocksVbmi(const Source& src, const float* xs, const float* ys, int n, std::uint8_t* dst,
                                     std::uint32_t& violations) noexcept {
   int i = 0;

@@ -13,17 +13,14 @@
 
 namespace fieldcast::warp::sampling {
 
-/// Samples the 16 pixels at frame coordinates xs, ys into dst (48 bytes) with samplePixel<3>'s
-/// bytes, and adds their margin violations to `violations`. False, having written nothing, when
-/// their neighbours do not fit the staged rows (more than 20 pixels across; more than two rows:
-/// a map turned by more than about 4° has some such blocks, by more than about 7.5° only such;
-/// or a load past the frame's last byte): the caller then gathers them. Call only where fieldcast::simdVbmiEnabled().
-bool sampleBlockVbmi(const Source& src, const float* xs, const float* ys, std::uint8_t* dst,
-                     std::uint32_t& violations) noexcept;
-
-/// sampleBlockVbmi over the whole blocks of n samples, one after another, until a block does not
-/// fit: returns the samples done (a multiple of 16; the refused block starts there). One call
-/// for a row's run of blocks keeps the constants in registers and the blocks' work overlapping.
+/// Samples the whole blocks of 16 of the n pixels at frame coordinates xs, ys into dst (48 bytes a
+/// block), one block after another, with samplePixel<3>'s bytes, adding their margin violations
+/// to `violations`, until a block's neighbours do not fit the staged rows (more than 20 pixels
+/// across; more than two rows: a map turned by more than about 4° has some such blocks, by more
+/// than about 7.5° only such; or a load past the frame's last byte). Returns the samples done, a
+/// multiple of 16: the refused block starts there, nothing of it written; the caller gathers it.
+/// One call for a row's run of blocks keeps the constants in registers and the blocks' work
+/// overlapping. Call only where fieldcast::simdVbmiEnabled().
 int sampleBlocksVbmi(const Source& src, const float* xs, const float* ys, int n, std::uint8_t* dst,
                      std::uint32_t& violations) noexcept;
 

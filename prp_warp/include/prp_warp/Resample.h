@@ -48,8 +48,9 @@ std::uint32_t resampleQuadraticReference(const Image& src, const QuadraticMap& m
                                          int rasterHeightPx, Image& dst) noexcept;
 
 /// The fast kernel: the quadratic evaluated along each run of a row in single precision in SIMD
-/// lanes (the same floats at every level), then fixed-point (8-bit) bilinear sampling. Matches the reference within
-/// one grey level. Returns the margin violations. RT-safe (scratch must be wide enough).
+/// lanes (the same floats at every level), then fixed-point (8-bit) bilinear sampling. Matches
+/// the reference within one grey level. Returns the margin violations. RT-safe (scratch must be
+/// wide enough).
 std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, FieldParity parity, int rasterHeightPx,
                                     Image& dst, RowScratch& scratch) noexcept;
 
