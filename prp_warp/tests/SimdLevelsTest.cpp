@@ -7,6 +7,7 @@
 #include "SampleBlockVbmi.h"
 
 #include <prp_warp/Resample.h>
+#include <prp_warp/WarpMaps.h>
 
 #include <fieldcast/SimdLevel.h>
 
@@ -212,22 +213,21 @@ TEST(SimdLevels, TheQuadraticsRowsAreWithinAThousandthOfAPixelOfTheMap) {
   // A 1080i field's map into a 2112 x 1188 frame (10 % margins): turned by 3°, zoomed by 2 %,
   // curved as a fast low pass makes it; every row's runs of 128 pixels, as the kernel asks them
   const double c = 1.02 * std::cos(0.052), s = 1.02 * std::sin(0.052);
-  const std::array<double, 6> ax{96.0 + 28.0, c, -s, 2.1e-6, 3.7e-5, -1.9e-5};
-  const std::array<double, 6> ay{54.0 - 41.0, s, c, -1.3e-6, 2.2e-5, 4.1e-5};
+  QuadraticMap map;
+  map.a = {96.0 + 28.0, c, -s, 2.1e-6, 3.7e-5, -1.9e-5};
+  map.b = {54.0 - 41.0, s, c, -1.3e-6, 2.2e-5, 4.1e-5};
   atEveryLevel([&] {
     double worst = 0.0;
     std::vector<float> xs(128), ys(128);
     for (int row = 0; row < 1080; row += 7) {
       const double v = row + 0.5;
       for (int first = 0; first < 1920; first += 128) {
-        mapping::quadraticRow(ax, first, v, 128, xs.data());
-        mapping::quadraticRow(ay, first, v, 128, ys.data());
+        mapping::quadraticRow(map.a, first, v, 128, xs.data());
+        mapping::quadraticRow(map.b, first, v, 128, ys.data());
         for (int i = 0; i < 128; ++i) {
-          const double u = first + i + 0.5;
-          const double x = ax[0] + ax[1] * u + ax[2] * v + ax[3] * u * v + ax[4] * u * u + ax[5] * v * v;
-          const double y = ay[0] + ay[1] * u + ay[2] * v + ay[3] * u * v + ay[4] * u * u + ay[5] * v * v;
-          worst = std::max(
-              {worst, std::abs(xs[static_cast<std::size_t>(i)] - x), std::abs(ys[static_cast<std::size_t>(i)] - y)});
+          const glm::dvec2 p = map({first + i + 0.5, v});
+          const auto k = static_cast<std::size_t>(i);
+          worst = std::max({worst, std::abs(xs[k] - p.x), std::abs(ys[k] - p.y)});
         }
       }
     }
