@@ -122,7 +122,7 @@ std::vector<RateResult> evaluateFlight(const EvaluatedFlight& flight, core::Rend
     const Pose pose = flight.poseAt(tick.displayTime);
     fieldPoses.push_back(pose);
     TruthField t;
-    t.frame = renderer.render(core::ViewRequest{pose, tick.displayTime, display, tick.fieldNumber});
+    t.frame = renderer.render(core::ViewRequest{pose, tick.displayTime, display, tick.fieldNumber, {}});
     t.pixels.resize(spec.rasterWidthPx, fieldRowCount(tick.parity, spec.rasterHeightPx), t.frame.image.format());
     const warp::OutputGeometry g = warp::OutputGeometry::of(t.frame, spec.rasterWidthPx, spec.rasterHeightPx);
     warp::resampleHomography(t.frame.image, warp::rotationHomography(t.frame, pose, g), tick.parity,
@@ -183,7 +183,7 @@ std::vector<RateResult> evaluateFlight(const EvaluatedFlight& flight, core::Rend
       if (j != currentIndex) {
         const TimePoint start = firstFrameStart + Nanoseconds{j * periodNs};
         current =
-            renderer.render(core::ViewRequest{flight.poseAt(start), start, display, static_cast<std::uint64_t>(j)});
+            renderer.render(core::ViewRequest{flight.poseAt(start), start, display, static_cast<std::uint64_t>(j), {}});
         currentIndex = j;
       }
       const double ageMs = toSeconds(tick.displayTime - current.poseTime) * 1e3;
