@@ -4,8 +4,9 @@
 // (".../level:avx2"); the others at the best one (FIELDCAST_SIMD's only when they run before
 // the per-level ones, which put "auto" back when they end).
 // Sizes: an NTSC field (720 × 243 of a 720 × 486 raster) and a 1080i field (1920 × 540).
-// The frame is the analytic ground-plane scene (10 % margins, RGB8) rendered once; the field pose
-// is 80 ms later with 3° of roll, the kind of map the PRP fits every field.
+// The frame is the analytic ground-plane scene (10 % margins, RGB8; the ...Grey cases the same in
+// Grey8) rendered once; the field pose is 80 ms later with 3° of roll, the kind of map the PRP
+// fits every field.
 #include "WarpSetup.h"
 
 #include <motion/PosePredictor.h>
@@ -35,13 +36,14 @@ void label(benchmark::State& state, const Setup& s) {
                          benchmark::Counter::kIsRate);
 }
 
-void BM_FastKernel(benchmark::State& state, const std::string& level) {
+void BM_FastKernel(benchmark::State& state, const std::string& level, bool grey) {
   const AtLevel at(level);
   const Setup& s = setup(static_cast<int>(state.range(0)));
-  Image out(s.rasterW, fieldRowCount(FieldParity::Bottom, s.rasterH), PixelFormat::Rgb8);
+  const Image& frame = grey ? s.greyFrame.image : s.frame.image;
+  Image out(s.rasterW, fieldRowCount(FieldParity::Bottom, s.rasterH), frame.format());
   RowScratch scratch(s.rasterW);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(resampleQuadraticFast(s.frame.image, s.map, FieldParity::Bottom, s.rasterH, out, scratch));
+    benchmark::DoNotOptimize(resampleQuadraticFast(frame, s.map, FieldParity::Bottom, s.rasterH, out, scratch));
     benchmark::ClobberMemory();
   }
   label(state, s);
@@ -132,13 +134,14 @@ BENCHMARK(BM_Warp)
     ->Unit(benchmark::kMicrosecond);
 
 /// The whole per-field step of the service: pose, fit, warp, AGC, flicker filter (once per
-/// frame), conversion to UYVY. Arguments: 0 = NTSC, 1 = 1080i; then 0 = every field from the same
-/// frame (the filter's cost left out), 1 = a new frame every field (a render rate at the field
-/// rate: the filter's cost in every field).
-void BM_FieldWarperUyvy(benchmark::State& state, const std::string& level) {
+/// frame), conversion to UYVY (BM_FieldWarperUyvy), or a grey frame to grey fields
+/// (BM_FieldWarperGrey). Arguments: 0 = NTSC, 1 = 1080i; then 0 = every field from the same frame
+/// (the filter's cost left out), 1 = a new frame every field (a render rate at the field rate: the
+/// filter's cost in every field).
+void BM_FieldWarper(benchmark::State& state, const std::string& level, bool grey) {
   const AtLevel at(level);
   const Setup& s = setup(static_cast<int>(state.range(0)));
-  FieldStep step(s, state.range(1) != 0);
+  FieldStep step(s, state.range(1) != 0, grey);
   for (auto _ : state) benchmark::DoNotOptimize(step.run());
   label(state, s);
 }
@@ -171,7 +174,11 @@ BENCHMARK(BM_MeanLumaReference)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 /// The per-level benchmarks, one per level this machine runs.
 void registerAtEveryLevel() {
   for (const std::string& level : simdLevels()) {
-    benchmark::RegisterBenchmark(("BM_FastKernel/level:" + level).c_str(), BM_FastKernel, level)
+    benchmark::RegisterBenchmark(("BM_FastKernel/level:" + level).c_str(), BM_FastKernel, level, false)
+        ->Arg(0)
+        ->Arg(1)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_FastKernelGrey/level:" + level).c_str(), BM_FastKernel, level, true)
         ->Arg(0)
         ->Arg(1)
         ->Unit(benchmark::kMicrosecond);
@@ -179,7 +186,10 @@ void registerAtEveryLevel() {
         ->Arg(0)
         ->Arg(1)
         ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark(("BM_FieldWarperUyvy/level:" + level).c_str(), BM_FieldWarperUyvy, level)
+    benchmark::RegisterBenchmark(("BM_FieldWarperUyvy/level:" + level).c_str(), BM_FieldWarper, level, false)
+        ->ArgsProduct({{0, 1}, {0, 1}})
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_FieldWarperGrey/level:" + level).c_str(), BM_FieldWarper, level, true)
         ->ArgsProduct({{0, 1}, {0, 1}})
         ->Unit(benchmark::kMicrosecond);
   }

@@ -1,8 +1,8 @@
 #pragma once
 // The warp benchmarks' cases, shared by fieldcast_bench_warp and fieldcast_bench_table: the frame
 // and field pose of each raster, the service's per-field step, and cv::remap doing the same warp.
-// The frame is the analytic ground-plane scene (10 % margins, RGB8) rendered once; the field pose
-// is 80 ms later with 3° of roll, the kind of map the PRP fits every field.
+// The frame is the analytic ground-plane scene (10 % margins, RGB8, and the same in grey) rendered
+// once; the field pose is 80 ms later with 3° of roll, the kind of map the PRP fits every field.
 #include "AnalyticScene.h"
 
 #include <motion/PosePredictor.h>
@@ -22,6 +22,7 @@ namespace fieldcast::warp {
 
 struct Setup {
   Frame frame;
+  Frame greyFrame;  ///< the same view rendered in grey (Grey8)
   Pose fieldPose;
   int rasterW = 0, rasterH = 0;
   QuadraticMap map;
@@ -38,6 +39,8 @@ inline const Setup& setup(int which) {
     const Pose framePose{{0.0, 0.0, 300.0}, radians(20.0), radians(-15.0), 0.0};
     s->frame = test::renderFrame(framePose, s->rasterW, s->rasterH, MarginPx{s->rasterW / 10, s->rasterH / 10},
                                  radians(60.0), PixelFormat::Rgb8, 1, true);
+    s->greyFrame = test::renderFrame(framePose, s->rasterW, s->rasterH, MarginPx{s->rasterW / 10, s->rasterH / 10},
+                                     radians(60.0), PixelFormat::Grey8, 1, true);
     s->fieldPose = framePose;
     s->fieldPose.positionM += glm::dvec3{3.0, 8.0, 1.0};  // 80 ms at ~100 m/s
     s->fieldPose.headingRad += radians(1.0);
@@ -58,13 +61,17 @@ struct AtLevel {
 };
 
 /// The whole per-field step of the service: pose, fit, warp, AGC, flicker filter (once per
-/// frame), conversion to UYVY; with `newFrames` a new frame every field (a render rate at the
-/// field rate: the filter's cost in every field), else every field from the same frame.
+/// frame), conversion to UYVY (or, `grey`, from the grey frame to grey fields); with `newFrames` a
+/// new frame every field (a render rate at the field rate: the filter's cost in every field), else
+/// every field from the same frame.
 class FieldStep {
  public:
-  FieldStep(const Setup& s, bool newFrames)
-      : mFrames{s.frame, s.frame}, mNewFrames(newFrames), mWarper(config(s)), mField(mWarper.makeField()) {
-    mFrames[1].frameNumber = s.frame.frameNumber + 1;
+  FieldStep(const Setup& s, bool newFrames, bool grey = false)
+      : mFrames{grey ? s.greyFrame : s.frame, grey ? s.greyFrame : s.frame},
+        mNewFrames(newFrames),
+        mWarper(config(s, grey)),
+        mField(mWarper.makeField()) {
+    mFrames[1].frameNumber = mFrames[0].frameNumber + 1;
     mPoses.push(TimePoint{}, s.frame.pose);  // the field loop's pose source: its cost stays in the figure
     mPoses.push(TimePoint{Nanoseconds{80'000'000}}, s.fieldPose);
   }
@@ -78,8 +85,9 @@ class FieldStep {
   }
 
  private:
-  static FieldWarperConfig config(const Setup& s) {
+  static FieldWarperConfig config(const Setup& s, bool grey) {
     FieldWarperConfig cfg;
+    if (grey) cfg.outputFormat = PixelFormat::Grey8;
     cfg.rasterWidthPx = s.rasterW;
     cfg.rasterHeightPx = s.rasterH;
     cfg.maxFrameWidthPx = s.frame.image.widthPx();

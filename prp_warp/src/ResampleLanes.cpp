@@ -3,7 +3,7 @@
 // to 1/256 px, clamped (NaN to 0) and checked against the margins; each row's two neighbours read
 // by one gather (64-bit for RGB, 32-bit for grey); the x blend of an RGB channel one 16-bit
 // multiply-add, the rest in 32-bit integers. The same bytes as SamplePixel.h's scalar reference.
-// At level avx512vbmi an RGB block is first offered to the staged sampling (SampleBlockVbmi.h),
+// At level avx512vbmi a block is first offered to the staged sampling (SampleBlockVbmi.h),
 // which reads the frame's rows whole instead of gathering; the gathers take the blocks it refuses.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "ResampleLanes.cpp"
@@ -68,14 +68,14 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
 #if HWY_TARGET == HWY_AVX3
   // At level avx512vbmi: the frame's bytes staged in registers instead of gathered where they fit
   // (SampleBlockVbmi.h)
-  const bool staged = C == 3 && simdVbmiEnabled();
+  const bool staged = simdVbmiEnabled();
 #endif
   int i = 0;
   for (; i + lanes <= n; i += lanes) {
 #if HWY_TARGET == HWY_AVX3
     if (staged) {
       // The staged blocks from here on, up to one it refuses: that one is gathered below
-      i += sampleBlocksVbmi(src, xs + i, ys + i, n - i, dst + C * i, violations);
+      i += sampleBlocksVbmi(src, C, xs + i, ys + i, n - i, dst + C * i, violations);
       if (i + lanes > n) break;
     }
 #endif

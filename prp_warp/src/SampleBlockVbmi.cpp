@@ -4,6 +4,10 @@
 
 #include <immintrin.h>
 
+// GCC 12's AVX-512 intrinsics start some results from an undefined register, and its flow
+// analysis then warns that the (unread) value may be uninitialized
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
 namespace fieldcast::warp::sampling {
 
 #define FIELDCAST_VBMI __attribute__((target("avx512f,avx512bw,avx512vbmi")))
@@ -40,9 +44,12 @@ FIELDCAST_VBMI inline BlockCoordinates coordinatesOf(const Source& src, const fl
   return b;
 }
 
-// The staged block; false, having written nothing, when its neighbours do not fit the staged rows.
+// The staged block of C channels (3: RGB, 1: grey); false, having written nothing, when its
+// neighbours do not fit the staged rows.
+template <int C>
 FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates& b, std::uint8_t* dst) noexcept {
-  constexpr int kMaxSpanPx = 19;  // x0 − xmin: the right neighbour's last byte is then byte 62
+  // x0 − xmin at most this: the right neighbour's last byte is then byte 62 (RGB) or 63 (grey)
+  constexpr int kMaxSpanPx = C == 3 ? 19 : 62;
   // The block's first neighbour: a field's map runs one way along a row, so the least x0 and y0
   // are those of its first or its last lane (checked below: every lane must lie within the span)
   const int x0First = _mm_cvtsi128_si32(_mm512_castsi512_si128(b.x0));
@@ -59,8 +66,8 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   const __mmask16 onFirstRow = _mm512_cmpeq_epi32_mask(dy, _mm512_setzero_si512());
   const bool threeRows = onFirstRow != 0xFFFF;  // some lanes' upper row is the second
   const std::int64_t stride = src.strideBytes;
-  const std::int64_t first = static_cast<std::int64_t>(ymin) * stride + std::int64_t{xmin} * 3;
-  const std::int64_t end = static_cast<std::int64_t>(src.heightPx - 1) * stride + std::int64_t{src.widthPx} * 3;
+  const std::int64_t first = static_cast<std::int64_t>(ymin) * stride + std::int64_t{xmin} * C;
+  const std::int64_t end = static_cast<std::int64_t>(src.heightPx - 1) * stride + std::int64_t{src.widthPx} * C;
   if (first + (threeRows ? 2 : 1) * stride + 64 > end) return false;
   const std::uint8_t* p = src.base + first;
   const __m512i row0 = _mm512_loadu_si512(p), row1 = _mm512_loadu_si512(p + stride);
@@ -69,14 +76,14 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   // Lane k's bytes 0 and 2 index its left and right neighbour's channel in a staged row; the byte
   // permute leaves bytes 1 and 3 zero, so each is a 16-bit (left, right) pair for the multiply-add
   // with the weights (256 − fx, fx)
-  const __m512i left = _mm512_add_epi32(dx, _mm512_slli_epi32(dx, 1));  // 3 · (x0 − xmin)
-  const __m512i pairIndex = _mm512_or_si512(left, _mm512_slli_epi32(_mm512_add_epi32(left, _mm512_set1_epi32(3)), 16));
+  const __m512i left = C == 3 ? _mm512_add_epi32(dx, _mm512_slli_epi32(dx, 1)) : dx;  // C · (x0 − xmin)
+  const __m512i pairIndex = _mm512_or_si512(left, _mm512_slli_epi32(_mm512_add_epi32(left, _mm512_set1_epi32(C)), 16));
   constexpr __mmask64 kBytes0And2 = 0x5555555555555555ULL;
   const __m512i weightsX =
       _mm512_or_si512(_mm512_sub_epi32(_mm512_set1_epi32(kOne), b.fx), _mm512_slli_epi32(b.fx, 16));
   const __m512i round = _mm512_set1_epi32(1 << (2 * kFracBits - 1));
-  __m512i rgb = _mm512_setzero_si512();
-  for (int c = 0; c < 3; ++c) {
+  __m512i samples = _mm512_setzero_si512();  // channel c of lane k in its byte c
+  for (int c = 0; c < C; ++c) {
     const __m512i index = _mm512_add_epi32(pairIndex, _mm512_set1_epi32(c * 0x10001));
     const __m512i on0 = _mm512_madd_epi16(_mm512_maskz_permutexvar_epi8(kBytes0And2, index, row0), weightsX);
     const __m512i on1 = _mm512_madd_epi16(_mm512_maskz_permutexvar_epi8(kBytes0And2, index, row1), weightsX);
@@ -87,29 +94,41 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
     // upper · (256 − fy) + lower · fy, rounded
     const __m512i value =
         _mm512_add_epi32(_mm512_slli_epi32(upper, kFracBits), _mm512_mullo_epi32(_mm512_sub_epi32(lower, upper), b.fy));
-    rgb = _mm512_or_si512(rgb,
-                          _mm512_slli_epi32(_mm512_srli_epi32(_mm512_add_epi32(value, round), 2 * kFracBits), 8 * c));
+    samples = _mm512_or_si512(
+        samples, _mm512_slli_epi32(_mm512_srli_epi32(_mm512_add_epi32(value, round), 2 * kFracBits), 8 * c));
   }
-  // [r g b 0] per lane → 48 bytes r g b r g b …
-  alignas(64) static constexpr std::uint8_t kPack[64] = {0,  1,  2,  4,  5,  6,  8,  9,  10, 12, 13, 14, 16, 17, 18, 20,
-                                                         21, 22, 24, 25, 26, 28, 29, 30, 32, 33, 34, 36, 37, 38, 40, 41,
-                                                         42, 44, 45, 46, 48, 49, 50, 52, 53, 54, 56, 57, 58, 60, 61, 62,
-                                                         0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0};
-  _mm512_mask_storeu_epi8(dst, (__mmask64{1} << 48) - 1, _mm512_permutexvar_epi8(_mm512_load_si512(kPack), rgb));
+  if constexpr (C == 1) {
+    // Each lane's low byte: 16 bytes
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(dst), _mm512_cvtepi32_epi8(samples));
+  } else {
+    // [r g b 0] per lane → 48 bytes r g b r g b …
+    alignas(64) static constexpr std::uint8_t kPack[64] = {
+        0,  1,  2,  4,  5,  6,  8,  9,  10, 12, 13, 14, 16, 17, 18, 20, 21, 22, 24, 25, 26, 28,
+        29, 30, 32, 33, 34, 36, 37, 38, 40, 41, 42, 44, 45, 46, 48, 49, 50, 52, 53, 54, 56, 57,
+        58, 60, 61, 62, 0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0};
+    _mm512_mask_storeu_epi8(dst, (__mmask64{1} << 48) - 1, _mm512_permutexvar_epi8(_mm512_load_si512(kPack), samples));
+  }
   return true;
+}
+
+template <int C>
+FIELDCAST_VBMI int sampleBlocks(const Source& src, const float* xs, const float* ys, int n, std::uint8_t* dst,
+                                std::uint32_t& violations) noexcept {
+  int i = 0;
+  for (; i + 16 <= n; i += 16) {
+    const BlockCoordinates b = coordinatesOf(src, xs + i, ys + i);
+    if (!stagedBlock<C>(src, b, dst + C * i)) break;
+    violations += 16u - static_cast<std::uint32_t>(__builtin_popcount(b.inside));
+  }
+  return i;
 }
 
 }  // namespace
 
-FIELDCAST_VBMI int sampleBlocksVbmi(const Source& src, const float* xs, const float* ys, int n, std::uint8_t* dst,
-                                    std::uint32_t& violations) noexcept {
-  int i = 0;
-  for (; i + 16 <= n; i += 16) {
-    const BlockCoordinates b = coordinatesOf(src, xs + i, ys + i);
-    if (!stagedBlock(src, b, dst + 3 * i)) break;
-    violations += 16u - static_cast<std::uint32_t>(__builtin_popcount(b.inside));
-  }
-  return i;
+FIELDCAST_VBMI int sampleBlocksVbmi(const Source& src, int channels, const float* xs, const float* ys, int n,
+                                    std::uint8_t* dst, std::uint32_t& violations) noexcept {
+  return channels == 3 ? sampleBlocks<3>(src, xs, ys, n, dst, violations)
+                       : sampleBlocks<1>(src, xs, ys, n, dst, violations);
 }
 
 }  // namespace fieldcast::warp::sampling

@@ -108,7 +108,8 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
       {"turned 3 degrees", 3.7, 40.2, 3.0, 1.0},
       {"turned -6 degrees", 5.1, 120.9, -6.0, 0.97},
       {"turned 10 degrees (three rows: gathered)", 2.3, 20.4, 10.0, 1.0},
-      {"zoomed out 1.3 (too wide: gathered)", 0.6, 60.1, 1.0, 1.3},
+      {"zoomed out 1.3 (too wide for RGB: gathered)", 0.6, 60.1, 1.0, 1.3},
+      {"zoomed out 4.5 (too wide for grey too)", 0.6, 60.1, 1.0, 4.5},
       {"zoomed in", 50.2, 70.7, 2.0, 0.6},
       {"mirrored", 355.4, 90.3, 2.0, -1.0},
       {"on the last rows", 1.4, 248.6, 0.5, 1.0},
@@ -116,77 +117,98 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
       {"above the first row", -3.0, -0.8, 1.5, 1.0},
       {"with a NaN", 10.0, 30.0, 2.0, 1.0, 37},
   };
-  const Image src = noiseImage(360, 250, PixelFormat::Rgb8, 77u);
+  const Image rgb = noiseImage(360, 250, PixelFormat::Rgb8, 77u), grey = noiseImage(360, 250, PixelFormat::Grey8, 78u);
   atEveryLevel([&] {
     for (const RowMap& m : maps) {
-      for (int n : {16, 64, 70}) {
-        std::vector<float> xs(static_cast<std::size_t>(n)), ys(xs.size());
-        const double c = std::cos(m.turnDeg * M_PI / 180.0), sn = std::sin(m.turnDeg * M_PI / 180.0);
-        for (int i = 0; i < n; ++i) {
-          xs[static_cast<std::size_t>(i)] = static_cast<float>(m.x0 + m.scale * c * i);
-          ys[static_cast<std::size_t>(i)] = static_cast<float>(m.y0 + std::abs(m.scale) * sn * i);
+      for (const Image* src : {&rgb, &grey}) {
+        const int channels = src == &rgb ? 3 : 1;
+        for (int n : {16, 64, 70}) {
+          std::vector<float> xs(static_cast<std::size_t>(n)), ys(xs.size());
+          const double c = std::cos(m.turnDeg * M_PI / 180.0), sn = std::sin(m.turnDeg * M_PI / 180.0);
+          for (int i = 0; i < n; ++i) {
+            xs[static_cast<std::size_t>(i)] = static_cast<float>(m.x0 + m.scale * c * i);
+            ys[static_cast<std::size_t>(i)] = static_cast<float>(m.y0 + std::abs(m.scale) * sn * i);
+          }
+          if (m.nanAt >= 0 && m.nanAt < n)
+            xs[static_cast<std::size_t>(m.nanAt)] = std::numeric_limits<float>::quiet_NaN();
+          std::vector<std::uint8_t> fast(static_cast<std::size_t>(n * channels) + 1, 0xA5), ref = fast;
+          const std::uint32_t vFast = sampleRow(*src, xs.data(), ys.data(), n, fast.data());
+          const std::uint32_t vRef = sampleRowReference(*src, xs.data(), ys.data(), n, ref.data());
+          ASSERT_EQ(fast, ref) << m.what << ", " << n << " pixels, " << channels << " channels";
+          ASSERT_EQ(vFast, vRef) << m.what << ", " << n << " pixels, " << channels << " channels";
         }
-        if (m.nanAt >= 0 && m.nanAt < n)
-          xs[static_cast<std::size_t>(m.nanAt)] = std::numeric_limits<float>::quiet_NaN();
-        std::vector<std::uint8_t> fast(static_cast<std::size_t>(n * 3) + 1, 0xA5), ref = fast;
-        const std::uint32_t vFast = sampleRow(src, xs.data(), ys.data(), n, fast.data());
-        const std::uint32_t vRef = sampleRowReference(src, xs.data(), ys.data(), n, ref.data());
-        ASSERT_EQ(fast, ref) << m.what << ", " << n << " pixels";
-        ASSERT_EQ(vFast, vRef) << m.what << ", " << n << " pixels";
       }
     }
   });
 }
 
-// The staged block itself (avx512vbmi): taken for a field's blocks, two rows or three, and up to
-// the frame's last bytes, which are followed by a page that may not be read; refused one pixel
-// further on (its load would reach into that page), where the gathers take over.
+// The staged block itself (avx512vbmi), RGB and grey: taken for a field's blocks, two rows or
+// three, and up to the frame's last bytes, which are followed by a page that may not be read;
+// refused one pixel further on (its load would reach into that page), where the gathers take over.
 TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte) {
   if (!simdVbmiEnabled()) GTEST_SKIP() << "this CPU has no AVX-512 VBMI (level avx512vbmi)";
-  constexpr int kWidth = 64, kHeight = 8, kStride = kWidth * 3 + 1;  // a padded row
   const long page = ::sysconf(_SC_PAGESIZE);
-  const std::size_t frameBytes = static_cast<std::size_t>((kHeight - 1) * kStride + kWidth * 3);
-  const std::size_t pages = (frameBytes + static_cast<std::size_t>(page) - 1) / static_cast<std::size_t>(page);
-  auto* area = static_cast<std::uint8_t*>(::mmap(nullptr, (pages + 1) * static_cast<std::size_t>(page),
-                                                 PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
-  ASSERT_NE(area, MAP_FAILED);
-  std::uint8_t* guard = area + pages * static_cast<std::size_t>(page);
-  ASSERT_EQ(::mprotect(guard, static_cast<std::size_t>(page), PROT_NONE), 0);
-  std::uint8_t* base = guard - frameBytes;  // the frame's last byte is the guard page's neighbour
-  std::mt19937 rng(5);
-  for (std::uint8_t* b = base; b < guard; ++b) *b = static_cast<std::uint8_t>(rng());
-  const sampling::Source src{base, kStride, kWidth, kHeight};
-
-  // 16 samples from (x, y) on, one frame pixel apart, rising by `rise` pixels per sample
-  const auto block = [&](float x, float y, float rise, bool staged) {
+  // A frame `width` pixels wide of `channels`, 8 rows, padded rows, its last byte the guard page's
+  // neighbour; `blocks` gets the frame
+  const auto withFrame = [&](int channels, int width, const auto& blocks) {
+    const int height = 8, stride = width * channels + 1;
+    const std::size_t frameBytes = static_cast<std::size_t>((height - 1) * stride + width * channels);
+    const std::size_t pages = (frameBytes + static_cast<std::size_t>(page) - 1) / static_cast<std::size_t>(page);
+    auto* area = static_cast<std::uint8_t*>(::mmap(nullptr, (pages + 1) * static_cast<std::size_t>(page),
+                                                   PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
+    ASSERT_NE(area, MAP_FAILED);
+    std::uint8_t* guard = area + pages * static_cast<std::size_t>(page);
+    ASSERT_EQ(::mprotect(guard, static_cast<std::size_t>(page), PROT_NONE), 0);
+    std::uint8_t* base = guard - frameBytes;
+    std::mt19937 rng(5);
+    for (std::uint8_t* b = base; b < guard; ++b) *b = static_cast<std::uint8_t>(rng());
+    blocks(sampling::Source{base, stride, width, height});
+    ASSERT_EQ(::munmap(area, (pages + 1) * static_cast<std::size_t>(page)), 0);
+  };
+  // 16 samples from (x, y) on, `step` frame pixels apart, rising by `rise` pixels per sample
+  const auto block = [&](const sampling::Source& src, int channels, float x, float y, float rise, bool staged,
+                         float step = 1.0f) {
     float xs[16], ys[16];
     for (int i = 0; i < 16; ++i) {
-      xs[i] = x + static_cast<float>(i);
+      xs[i] = x + step * static_cast<float>(i);
       ys[i] = y + rise * static_cast<float>(i);
     }
-    std::uint8_t fast[48], ref[48];
+    const auto bytes = static_cast<std::size_t>(16 * channels);
+    std::vector<std::uint8_t> fast(bytes), ref(bytes), row(bytes);
     std::uint32_t violations = 0;
-    EXPECT_EQ(sampling::sampleBlocksVbmi(src, xs, ys, 16, fast, violations) == 16, staged)
-        << "block at " << x << ", " << y << " rising " << rise;
-    const std::uint32_t refViolations = sampling::sampleRowScalar<3>(src, xs, ys, 16, ref);
+    EXPECT_EQ(sampling::sampleBlocksVbmi(src, channels, xs, ys, 16, fast.data(), violations) == 16, staged)
+        << channels << " channels, block at " << x << ", " << y << " rising " << rise;
+    const std::uint32_t refViolations = channels == 3 ? sampling::sampleRowScalar<3>(src, xs, ys, 16, ref.data())
+                                                      : sampling::sampleRowScalar<1>(src, xs, ys, 16, ref.data());
     if (staged) {
-      EXPECT_EQ(std::vector<std::uint8_t>(fast, fast + 48), std::vector<std::uint8_t>(ref, ref + 48));
+      EXPECT_EQ(fast, ref) << channels << " channels, block at " << x << ", " << y;
       EXPECT_EQ(violations, refViolations);
     }
     // and the row as the kernel samples it at this level, staged or gathered
-    std::uint8_t row[48];
     forceSimdLevel("avx512vbmi");
-    EXPECT_EQ(sampling::sampleRowLanes(src, 3, xs, ys, 16, row), refViolations);
-    EXPECT_EQ(std::vector<std::uint8_t>(row, row + 48), std::vector<std::uint8_t>(ref, ref + 48));
+    EXPECT_EQ(sampling::sampleRowLanes(src, channels, xs, ys, 16, row.data()), refViolations);
+    EXPECT_EQ(row, ref);
     forceSimdLevel("auto");
   };
-  block(3.3f, 2.6f, 0.0f, true);    // two rows
-  block(10.7f, 2.2f, 0.05f, true);  // three rows: the upper row changes within the block
-  // On the last two rows: a load from x0 = 42 on row 6 ends two bytes before the frame's end
-  block(42.6f, 6.7f, 0.0f, true);
-  block(43.6f, 6.7f, 0.0f, false);  // one pixel on it would reach into the guard page
-  block(3.3f, 2.6f, 0.2f, false);   // turned too far: four rows
-  ASSERT_EQ(::munmap(area, (pages + 1) * static_cast<std::size_t>(page)), 0);
+  withFrame(3, 64, [&](const sampling::Source& src) {
+    block(src, 3, 3.3f, 2.6f, 0.0f, true);    // two rows
+    block(src, 3, 10.7f, 2.2f, 0.05f, true);  // three rows: the upper row changes within the block
+    // On the last two rows: a load from x0 = 42 on row 6 ends two bytes before the frame's end
+    block(src, 3, 42.6f, 6.7f, 0.0f, true);
+    block(src, 3, 43.6f, 6.7f, 0.0f, false);       // one pixel on it would reach into the guard page
+    block(src, 3, 3.3f, 2.6f, 0.2f, false);        // turned too far: four rows
+    block(src, 3, 3.3f, 2.6f, 0.0f, false, 1.3f);  // zoomed out: 20 pixels across
+  });
+  withFrame(1, 100, [&](const sampling::Source& src) {
+    block(src, 1, 3.3f, 2.6f, 0.0f, true);
+    block(src, 1, 10.7f, 2.2f, 0.05f, true);
+    block(src, 1, 3.3f, 2.6f, 0.0f, true, 4.0f);   // zoomed out: 61 pixels across, still one load
+    block(src, 1, 3.3f, 2.6f, 0.0f, false, 4.2f);  // 64: more than a load holds
+    // On the last two rows: a load from x0 = 36 on row 6 ends at the frame's last byte
+    block(src, 1, 36.6f, 6.7f, 0.0f, true);
+    block(src, 1, 37.6f, 6.7f, 0.0f, false);  // one pixel on, its last byte would be the guard page's
+    block(src, 1, 3.3f, 2.6f, 0.2f, false);   // turned too far: four rows
+  });
 }
 
 TEST(SimdLevels, TheQuadraticsRowsAreTheScalarFormsFloats) {
