@@ -112,14 +112,19 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
 }
 
 template <int C>
-FIELDCAST_VBMI int sampleBlocks(const Source& src, const float* xs, const float* ys, int n, std::uint8_t* dst,
+FIELDCAST_VBMI int sampleBlocks(const Source& source, const float* xs, const float* ys, int n, std::uint8_t* dst,
                                 std::uint32_t& violations) noexcept {
+  // Locals: the stores of samples (bytes) may alias anything, so a count or the frame's sizes
+  // read through a reference would be read again, and its constants remade, every block
+  const Source src = source;
+  std::uint32_t outside = 0;
   int i = 0;
   for (; i + 16 <= n; i += 16) {
     const BlockCoordinates b = coordinatesOf(src, xs + i, ys + i);
     if (!stagedBlock<C>(src, b, dst + C * i)) break;
-    violations += 16u - static_cast<std::uint32_t>(__builtin_popcount(b.inside));
+    outside += 16u - static_cast<std::uint32_t>(__builtin_popcount(b.inside));
   }
+  violations += outside;
   return i;
 }
 
