@@ -146,6 +146,16 @@ void BM_FieldWarper(benchmark::State& state, const std::string& level, bool grey
   label(state, s);
 }
 
+/// The NTSC field step (UYVY, a new frame every field) in a banked view: the field rolled by the
+/// argument's degrees, so the map turns the frame by as much (3 is the cases above).
+void BM_FieldWarperBanked(benchmark::State& state, const std::string& level) {
+  const AtLevel at(level);
+  const Setup& s = setup(0, static_cast<double>(state.range(0)));
+  FieldStep step(s, true);
+  for (auto _ : state) benchmark::DoNotOptimize(step.run());
+  label(state, s);
+}
+
 /// The AGC's measure of a warped field (every other pixel of every other row, as FieldWarper
 /// takes it): in lanes at one level, and the scalar reference.
 Image warpedField(const Setup& s) {
@@ -191,6 +201,12 @@ void registerAtEveryLevel() {
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark(("BM_FieldWarperGrey/level:" + level).c_str(), BM_FieldWarper, level, true)
         ->ArgsProduct({{0, 1}, {0, 1}})
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_FieldWarperBanked/level:" + level).c_str(), BM_FieldWarperBanked, level)
+        ->Arg(3)
+        ->Arg(6)
+        ->Arg(10)
+        ->Arg(30)
         ->Unit(benchmark::kMicrosecond);
   }
 }

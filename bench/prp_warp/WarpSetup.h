@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 
 namespace fieldcast::warp {
 
@@ -28,10 +29,11 @@ struct Setup {
   QuadraticMap map;
 };
 
-/// Raster sizes by number: 0 = NTSC 720 × 486, 1 = 1080i 1920 × 1080. Made once each.
-inline const Setup& setup(int which) {
-  static std::map<int, std::unique_ptr<Setup>> cache;
-  auto& s = cache[which];
+/// Raster sizes by number: 0 = NTSC 720 × 486, 1 = 1080i 1920 × 1080; the field's roll (a banked
+/// view: the map turns the frame by it). Made once each.
+inline const Setup& setup(int which, double rollDeg = 3.0) {
+  static std::map<std::pair<int, double>, std::unique_ptr<Setup>> cache;
+  auto& s = cache[{which, rollDeg}];
   if (!s) {
     s = std::make_unique<Setup>();
     s->rasterW = which == 0 ? 720 : 1920;
@@ -44,7 +46,7 @@ inline const Setup& setup(int which) {
     s->fieldPose = framePose;
     s->fieldPose.positionM += glm::dvec3{3.0, 8.0, 1.0};  // 80 ms at ~100 m/s
     s->fieldPose.headingRad += radians(1.0);
-    s->fieldPose.rollRad = radians(3.0);
+    s->fieldPose.rollRad = radians(rollDeg);
     const QuadraticFit fit =
         fitFieldQuadratic(s->frame, s->fieldPose, OutputGeometry::of(s->frame, s->rasterW, s->rasterH));
     s->map = fit.quadratic;

@@ -68,7 +68,7 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
 #if HWY_TARGET == HWY_AVX3
   // At level avx512vbmi: the frame's bytes staged in registers instead of gathered where they fit
   // (SampleBlockVbmi.h)
-  const bool staged = simdVbmiEnabled();
+  const bool staged = simdVbmiEnabled() && stagedBlocksLikelyFit(C, xs, ys, n);
 #endif
   int i = 0;
   for (; i + lanes <= n; i += lanes) {

@@ -25,4 +25,18 @@ namespace fieldcast::warp::sampling {
 int sampleBlocksVbmi(const Source& src, int channels, const float* xs, const float* ys, int n, std::uint8_t* dst,
                      std::uint32_t& violations) noexcept;
 
+/// Whether a run of n samples along a field's row (a straight line in the frame, near enough) is
+/// worth offering to sampleBlocksVbmi: its 16-sample blocks rise by at most 1.5 frame rows (at 1
+/// half of them fit two rows, at 1.5 a half) and span no more pixels than a block may. A refused
+/// block costs its coordinates twice, so in a banked view (the field's map turns the frame by the
+/// roll: 10° rises 2.8 rows a block) offering every block made the field slower than gathering it.
+/// Short runs (under 32) are left to their blocks; NaN ends say no.
+inline bool stagedBlocksLikelyFit(int channels, const float* xs, const float* ys, int n) noexcept {
+  if (n < 32) return true;
+  const float perBlock = 16.0f / static_cast<float>(n - 1);
+  const float rise = (ys[n - 1] - ys[0]) * perBlock, across = (xs[n - 1] - xs[0]) * perBlock;
+  const float widest = channels == 3 ? 19.0f : 62.0f;
+  return rise <= 1.5f && rise >= -1.5f && across <= widest && across >= -widest;
+}
+
 }  // namespace fieldcast::warp::sampling

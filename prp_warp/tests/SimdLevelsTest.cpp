@@ -211,6 +211,34 @@ TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte)
   });
 }
 
+// Which runs of a field's rows are offered to the staged sampling at all: those whose blocks
+// mostly fit it. A banked view's rows (turned by the roll) are gathered straight away.
+TEST(SimdLevels, OnlyRowsWhoseBlocksMostlyFitAreOfferedToTheStagedSampling) {
+  const auto run = [](double turnDeg, double scale, int n = 128) {
+    std::vector<float> xs(static_cast<std::size_t>(n)), ys(xs.size());
+    for (int i = 0; i < n; ++i) {
+      xs[static_cast<std::size_t>(i)] = static_cast<float>(10.0 + scale * std::cos(turnDeg * M_PI / 180.0) * i);
+      ys[static_cast<std::size_t>(i)] = static_cast<float>(40.0 + scale * std::sin(turnDeg * M_PI / 180.0) * i);
+    }
+    return std::pair{xs, ys};
+  };
+  const auto offered = [](int channels, const std::pair<std::vector<float>, std::vector<float>>& r) {
+    return sampling::stagedBlocksLikelyFit(channels, r.first.data(), r.second.data(), static_cast<int>(r.first.size()));
+  };
+  EXPECT_TRUE(offered(3, run(0.0, 1.0)));
+  EXPECT_TRUE(offered(3, run(3.0, 1.0)));     // 0.8 rows a block
+  EXPECT_TRUE(offered(3, run(-5.0, 1.0)));    // 1.4
+  EXPECT_FALSE(offered(3, run(6.0, 1.0)));    // 1.7: most blocks on three rows
+  EXPECT_FALSE(offered(3, run(-30.0, 1.0)));  // a banked turn
+  EXPECT_FALSE(offered(3, run(180.0, 1.3)));  // mirrored and zoomed out: 21 RGB pixels a block
+  EXPECT_TRUE(offered(1, run(180.0, 1.3)));   // grey blocks may span 63
+  EXPECT_FALSE(offered(1, run(0.0, 4.2)));
+  EXPECT_TRUE(offered(3, run(30.0, 1.0, 31)));  // a short run: left to its blocks
+  auto withNan = run(0.0, 1.0);
+  withNan.second.back() = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(offered(3, withNan));
+}
+
 TEST(SimdLevels, TheQuadraticsRowsAreTheScalarFormsFloats) {
   // Coefficients as a field's map has them (offset, slope, curvature), and extremes of each
   const float coefficients[][3] = {{31.7f, 1.013f, 2.9e-5f},   {2071.3f, -0.987f, -4.4e-5f}, {-40.0f, 1.3f, 5e-4f},
