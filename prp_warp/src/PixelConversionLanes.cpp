@@ -1,12 +1,16 @@
 // Gain and R'G'B' → UYVY 4:2:2 of a row in SIMD lanes, one pixel per 32-bit lane, compiled for
 // every level Highway dispatches to. Each lane computes its pixel's Y, Cb and Cr as the scalar
 // form does; a pair's chroma sums its two lanes (even lanes keep Cb, odd lanes Cr), and each lane
-// stores its two output bytes [C, Y]. The same bytes as PixelConversion.h's scalar reference.
+// stores its two output bytes [C, Y]. The same bytes as PixelConversion.h's scalar reference. At
+// level avx512vbmi the row's blocks of 16 take PixelConversionVbmi.h's path first.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "PixelConversionLanes.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
 #include "PixelConversion.h"
+#include "PixelConversionVbmi.h"
+
+#include <fieldcast/SimdLevel.h>
 
 #include <hwy/highway.h>
 
@@ -17,6 +21,10 @@ namespace hn = hwy::HWY_NAMESPACE;
 void RgbToUyvyRow(const std::uint8_t* HWY_RESTRICT in, int widthPx, std::int32_t gainQ16,
                   std::uint8_t* HWY_RESTRICT out) {
   int x = 0;
+#if HWY_TARGET == HWY_AVX3
+  // At level avx512vbmi: byte permutes and 16-bit multiply-adds (PixelConversionVbmi.h)
+  if (simdVbmiEnabled()) x = rgbToUyvyBlocksVbmi(in, widthPx, gainQ16, out);
+#endif
 #if HWY_TARGET != HWY_SCALAR  // pairs need two lanes: one lane is the scalar form below
   const hn::ScalableTag<std::int32_t> di;
   const hn::Rebind<std::uint8_t, decltype(di)> d8;
