@@ -63,8 +63,7 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   if ((_mm512_cmpgt_epu32_mask(dx, _mm512_set1_epi32(kMaxSpanPx)) |
        _mm512_cmpgt_epu32_mask(dy, _mm512_set1_epi32(1))) != 0)
     return false;
-  const __mmask16 onFirstRow = _mm512_cmpeq_epi32_mask(dy, _mm512_setzero_si512());
-  const bool threeRows = onFirstRow != 0xFFFF;  // some lanes' upper row is the second
+  const bool threeRows = _mm512_test_epi32_mask(dy, dy) != 0;  // some lanes' upper row is the second
   const std::int64_t stride = src.strideBytes;
   const std::int64_t first = static_cast<std::int64_t>(ymin) * stride + std::int64_t{xmin} * C;
   const std::int64_t end = static_cast<std::int64_t>(src.heightPx - 1) * stride + std::int64_t{src.widthPx} * C;
@@ -73,11 +72,14 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   const __m512i row0 = _mm512_loadu_si512(p), row1 = _mm512_loadu_si512(p + stride);
   const __m512i row2 = threeRows ? _mm512_loadu_si512(p + 2 * stride) : row1;
 
-  // Lane k's bytes 0 and 2 index its left and right neighbour's channel in a staged row; the byte
-  // permute leaves bytes 1 and 3 zero, so each is a 16-bit (left, right) pair for the multiply-add
-  // with the weights (256 − fx, fx)
+  // Lane k's bytes 0 and 2 index its left and right neighbour's channel in a pair of staged rows
+  // (bit 6 picks the second: its upper row is row 1 where dy is 1); the two-register byte permute
+  // leaves bytes 1 and 3 zero, so each is a 16-bit (left, right) pair for the multiply-add with the
+  // weights (256 − fx, fx). Upper rows come from rows 0 and 1, lower rows from rows 1 and 2.
   const __m512i left = C == 3 ? _mm512_add_epi32(dx, _mm512_slli_epi32(dx, 1)) : dx;  // C · (x0 − xmin)
-  const __m512i pairIndex = _mm512_or_si512(left, _mm512_slli_epi32(_mm512_add_epi32(left, _mm512_set1_epi32(C)), 16));
+  const __m512i pairs = _mm512_or_si512(left, _mm512_slli_epi32(_mm512_add_epi32(left, _mm512_set1_epi32(C)), 16));
+  const __m512i pairIndex = _mm512_mask_add_epi32(pairs, _mm512_test_epi32_mask(dy, dy), pairs,
+                                                  _mm512_set1_epi32(0x00400040));  // bit 6 of bytes 0 and 2
   constexpr __mmask64 kBytes0And2 = 0x5555555555555555ULL;
   const __m512i weightsX =
       _mm512_or_si512(_mm512_sub_epi32(_mm512_set1_epi32(kOne), b.fx), _mm512_slli_epi32(b.fx, 16));
@@ -85,12 +87,8 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   __m512i samples = _mm512_setzero_si512();  // channel c of lane k in its byte c
   for (int c = 0; c < C; ++c) {
     const __m512i index = _mm512_add_epi32(pairIndex, _mm512_set1_epi32(c * 0x10001));
-    const __m512i on0 = _mm512_madd_epi16(_mm512_maskz_permutexvar_epi8(kBytes0And2, index, row0), weightsX);
-    const __m512i on1 = _mm512_madd_epi16(_mm512_maskz_permutexvar_epi8(kBytes0And2, index, row1), weightsX);
-    const __m512i on2 =
-        threeRows ? _mm512_madd_epi16(_mm512_maskz_permutexvar_epi8(kBytes0And2, index, row2), weightsX) : on1;
-    const __m512i upper = _mm512_mask_blend_epi32(onFirstRow, on1, on0);
-    const __m512i lower = _mm512_mask_blend_epi32(onFirstRow, on2, on1);
+    const __m512i upper = _mm512_madd_epi16(_mm512_maskz_permutex2var_epi8(kBytes0And2, row0, index, row1), weightsX);
+    const __m512i lower = _mm512_madd_epi16(_mm512_maskz_permutex2var_epi8(kBytes0And2, row1, index, row2), weightsX);
     // upper · (256 − fy) + lower · fy, rounded
     const __m512i value =
         _mm512_add_epi32(_mm512_slli_epi32(upper, kFracBits), _mm512_mullo_epi32(_mm512_sub_epi32(lower, upper), b.fy));
