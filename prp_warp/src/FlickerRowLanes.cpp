@@ -1,5 +1,6 @@
-// The flicker filter's row in SIMD lanes: bytes widened to 16-bit lanes, (a + 2b + c + 2) >> 2,
-// narrowed back; compiled for every level Highway dispatches to. The same bytes as FlickerRow.h.
+// The flicker filter's row in SIMD lanes: (a + 2b + c + 2) >> 2 as two rounded means of bytes, in
+// byte lanes (no widening); compiled for every level Highway dispatches to. The same bytes as
+// FlickerRow.h.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "FlickerRowLanes.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -14,17 +15,17 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 void FilterRow(const std::uint8_t* HWY_RESTRICT above, const std::uint8_t* HWY_RESTRICT here,
                const std::uint8_t* HWY_RESTRICT below, int n, std::uint8_t* HWY_RESTRICT out) {
-  const hn::ScalableTag<std::uint16_t> d16;
-  const hn::Rebind<std::uint8_t, decltype(d16)> d8;
-  const int lanes = static_cast<int>(hn::Lanes(d16));
-  const auto two = hn::Set(d16, 2);
+  const hn::ScalableTag<std::uint8_t> d8;
+  const int lanes = static_cast<int>(hn::Lanes(d8));
+  const auto one = hn::Set(d8, 1);
   int i = 0;
   for (; i + lanes <= n; i += lanes) {
-    const auto a = hn::PromoteTo(d16, hn::LoadU(d8, above + i));
-    const auto b = hn::PromoteTo(d16, hn::LoadU(d8, here + i));
-    const auto c = hn::PromoteTo(d16, hn::LoadU(d8, below + i));
-    const auto sum = hn::Add(hn::Add(a, c), hn::Add(hn::ShiftLeft<1>(b), two));
-    hn::StoreU(hn::DemoteTo(d8, hn::BitCast(hn::RebindToSigned<decltype(d16)>(), hn::ShiftRight<2>(sum))), d8, out + i);
+    const auto a = hn::LoadU(d8, above + i), b = hn::LoadU(d8, here + i), c = hn::LoadU(d8, below + i);
+    // h = floor((a + c) / 2): the rounded-up mean less the bit it rounded up. Then
+    // (a + 2b + c + 2) >> 2 = (h + b + 1) >> 1, the rounded-up mean of h and b: with a + c = 2h + l,
+    // the l/2 it drops moves (h + b + 1) / 2 by a quarter at most, never past an integer.
+    const auto h = hn::Sub(hn::AverageRound(a, c), hn::And(hn::Xor(a, c), one));
+    hn::StoreU(hn::AverageRound(h, b), d8, out + i);
   }
   filterRowScalar(above + i, here + i, below + i, n - i, out + i);
 }

@@ -2,6 +2,7 @@
 // reference: the same bytes and margin violations (the map's rows: the same floats, and their
 // error against the map).
 #include <prp_warp/PostProcess.h>
+#include "FlickerRow.h"
 #include "MapRow.h"
 #include "NoiseImage.h"
 #include "SampleBlockVbmi.h"
@@ -333,6 +334,24 @@ TEST(SimdLevels, FlickerFilterGivesTheReferencesBytes) {
         ASSERT_TRUE(flickerFilterReference(src, ref));
         ASSERT_EQ(fast, ref) << w << "x" << h;
       }
+    }
+  });
+}
+
+// The lanes' filter takes two rounded means of bytes instead of the reference's sum: every one of
+// the 2^24 (above, here, below) triples, at every level.
+TEST(SimdLevels, FlickerFilterRowIsTheReferencesForEveryThreeBytes) {
+  std::vector<std::uint8_t> above(65536), below(65536), here(65536), fast(65536), ref(65536);
+  for (int k = 0; k < 65536; ++k) {
+    above[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(k & 0xFF);
+    below[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(k >> 8);
+  }
+  atEveryLevel([&] {
+    for (int b = 0; b < 256; ++b) {
+      std::fill(here.begin(), here.end(), static_cast<std::uint8_t>(b));
+      flicker::filterRowLanes(above.data(), here.data(), below.data(), 65536, fast.data());
+      flicker::filterRowScalar(above.data(), here.data(), below.data(), 65536, ref.data());
+      ASSERT_EQ(fast, ref) << "here " << b;
     }
   });
 }
