@@ -4,6 +4,9 @@
 
 #include <immintrin.h>
 
+#include <array>
+#include <cstddef>
+
 // GCC 12's AVX-512 intrinsics start some results from an undefined register, and its flow
 // analysis then warns that the (unread) value may be uninitialized
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -43,6 +46,21 @@ FIELDCAST_VBMI inline BlockCoordinates coordinatesOf(const Source& src, const fl
   b.fy = _mm512_sub_epi32(iy, _mm512_slli_epi32(b.y0, kFracBits));
   return b;
 }
+
+// Byte permutes packing byte 2 of each lane of three channel registers as r g b r g b …: red and
+// green from the first pair of registers (bit 6 picks the second), then blue put in.
+constexpr std::array<std::uint8_t, 64> packIndex(bool blue) {
+  std::array<std::uint8_t, 64> index{};
+  for (int k = 0; k < 16; ++k) {
+    const auto at = static_cast<std::size_t>(3 * k);
+    index[at] = static_cast<std::uint8_t>(blue ? at : 4 * k + 2);
+    index[at + 1] = static_cast<std::uint8_t>(blue ? at + 1 : 64 + 4 * k + 2);
+    index[at + 2] = static_cast<std::uint8_t>(blue ? 64 + 4 * k + 2 : 0);
+  }
+  return index;
+}
+alignas(64) constexpr std::array<std::uint8_t, 64> kRedGreen = packIndex(false);
+alignas(64) constexpr std::array<std::uint8_t, 64> kAndBlue = packIndex(true);
 
 // The staged block of C channels (3: RGB, 1: grey); false, having written nothing, when its
 // neighbours do not fit the staged rows.
@@ -84,7 +102,7 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   const __m512i weightsX =
       _mm512_or_si512(_mm512_sub_epi32(_mm512_set1_epi32(kOne), b.fx), _mm512_slli_epi32(b.fx, 16));
   const __m512i round = _mm512_set1_epi32(1 << (2 * kFracBits - 1));
-  __m512i samples = _mm512_setzero_si512();  // channel c of lane k in its byte c
+  __m512i rounded[C];  // channel c of lane k: (value + ½) · 2^16, its sample in byte 2
   for (int c = 0; c < C; ++c) {
     const __m512i index = _mm512_add_epi32(pairIndex, _mm512_set1_epi32(c * 0x10001));
     const __m512i upper = _mm512_madd_epi16(_mm512_maskz_permutex2var_epi8(kBytes0And2, row0, index, row1), weightsX);
@@ -92,19 +110,18 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
     // upper · (256 − fy) + lower · fy, rounded
     const __m512i value =
         _mm512_add_epi32(_mm512_slli_epi32(upper, kFracBits), _mm512_mullo_epi32(_mm512_sub_epi32(lower, upper), b.fy));
-    samples = _mm512_or_si512(
-        samples, _mm512_slli_epi32(_mm512_srli_epi32(_mm512_add_epi32(value, round), 2 * kFracBits), 8 * c));
+    rounded[c] = _mm512_add_epi32(value, round);
   }
   if constexpr (C == 1) {
-    // Each lane's low byte: 16 bytes
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(dst), _mm512_cvtepi32_epi8(samples));
+    // Each lane's byte 2: 16 bytes
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(dst), _mm512_cvtepi32_epi8(_mm512_srli_epi32(rounded[0], 16)));
   } else {
-    // [r g b 0] per lane → 48 bytes r g b r g b …
-    alignas(64) static constexpr std::uint8_t kPack[64] = {
-        0,  1,  2,  4,  5,  6,  8,  9,  10, 12, 13, 14, 16, 17, 18, 20, 21, 22, 24, 25, 26, 28,
-        29, 30, 32, 33, 34, 36, 37, 38, 40, 41, 42, 44, 45, 46, 48, 49, 50, 52, 53, 54, 56, 57,
-        58, 60, 61, 62, 0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0,  0};
-    _mm512_mask_storeu_epi8(dst, (__mmask64{1} << 48) - 1, _mm512_permutexvar_epi8(_mm512_load_si512(kPack), samples));
+    // Byte 2 of each lane of the three channels → 48 bytes r g b r g b …: red and green by one
+    // two-register permute, blue put in by another
+    _mm512_mask_storeu_epi8(
+        dst, (__mmask64{1} << 48) - 1,
+        _mm512_permutex2var_epi8(_mm512_permutex2var_epi8(rounded[0], _mm512_load_si512(kRedGreen.data()), rounded[1]),
+                                 _mm512_load_si512(kAndBlue.data()), rounded[2]));
   }
   return true;
 }
