@@ -73,12 +73,15 @@ FIELDCAST_VBMI int rgbToUyvyBlocksVbmi(const std::uint8_t* in, int widthPx, std:
   constexpr __mmask64 kBlockBytes = (__mmask64{1} << 48) - 1;
   // toVideoRange's coefficients, as (first, second) pairs for the layouts above
   const __m512i yRB = _mm512_set1_epi32(pairOf(16829, 6416)), yGG = _mm512_set1_epi32(pairOf(16520, 16519));
-  const __m512i cbRG = _mm512_set1_epi32(pairOf(-9714, -19070)), cbRB = _mm512_set1_epi32(pairOf(0, 28784));
-  const __m512i crRG = _mm512_set1_epi32(pairOf(28784, -24103)), crRB = _mm512_set1_epi32(pairOf(0, -4681));
-  const __m512i yBias = _mm512_set1_epi32((16 << 16) + (1 << 15));  // the offset and the rounding
-  const __m512i cBias = _mm512_set1_epi32(128 << 16);
-  const __m512i pairRound = _mm512_set1_epi32(1 << 16);
-  constexpr __mmask16 kCbLanes = 0x5555;  // even lanes: a pair's Cb; odd lanes its Cr
+  // A pair's chroma is linear in its two pixels' channel sums: even lanes take Cb's coefficients,
+  // odd lanes Cr's
+  constexpr __mmask16 kCbLanes = 0x5555;
+  const __m512i cRG = _mm512_mask_blend_epi32(kCbLanes, _mm512_set1_epi32(pairOf(28784, -24103)),
+                                              _mm512_set1_epi32(pairOf(-9714, -19070)));
+  const __m512i cRB =
+      _mm512_mask_blend_epi32(kCbLanes, _mm512_set1_epi32(pairOf(0, -4681)), _mm512_set1_epi32(pairOf(0, 28784)));
+  const __m512i yBias = _mm512_set1_epi32((16 << 16) + (1 << 15));       // the offset and the rounding
+  const __m512i cBias = _mm512_set1_epi32((2 * 128 << 16) + (1 << 16));  // both pixels' offsets and the rounding
   int x = 0;
   for (; x + 16 <= widthPx; x += 16) {
     __m512i rgb = _mm512_maskz_loadu_epi8(kBlockBytes, in + 3 * x);
@@ -92,15 +95,13 @@ FIELDCAST_VBMI int rgbToUyvyBlocksVbmi(const std::uint8_t* in, int widthPx, std:
     const __m512i pGG = _mm512_maskz_permutexvar_epi8(kBytes0And2, gg, rgb);
     const __m512i y =
         _mm512_add_epi32(_mm512_add_epi32(_mm512_madd_epi16(pRB, yRB), _mm512_madd_epi16(pGG, yGG)), yBias);
-    const __m512i cb =
-        _mm512_add_epi32(_mm512_add_epi32(_mm512_madd_epi16(pRG, cbRG), _mm512_madd_epi16(pRB, cbRB)), cBias);
-    const __m512i cr =
-        _mm512_add_epi32(_mm512_add_epi32(_mm512_madd_epi16(pRG, crRG), _mm512_madd_epi16(pRB, crRB)), cBias);
-    // A pair's chroma: its two lanes summed (0xB1 swaps the lanes of each pair)
+    // Each pair's channel sums in both its lanes (_MM_PERM_CDAB swaps the lanes of each pair; a
+    // 16-bit half's sum, at most 510, stays in its half)
+    const __m512i sRG = _mm512_add_epi32(pRG, _mm512_shuffle_epi32(pRG, _MM_PERM_CDAB));
+    const __m512i sRB = _mm512_add_epi32(pRB, _mm512_shuffle_epi32(pRB, _MM_PERM_CDAB));
     const __m512i chroma =
-        _mm512_mask_blend_epi32(kCbLanes, _mm512_add_epi32(cr, _mm512_shuffle_epi32(cr, _MM_PERM_CDAB)),
-                                _mm512_add_epi32(cb, _mm512_shuffle_epi32(cb, _MM_PERM_CDAB)));
-    const __m512i c = _mm512_srli_epi32(_mm512_add_epi32(chroma, pairRound), 17);
+        _mm512_add_epi32(_mm512_add_epi32(_mm512_madd_epi16(sRG, cRG), _mm512_madd_epi16(sRB, cRB)), cBias);
+    const __m512i c = _mm512_srli_epi32(chroma, 17);
     const __m512i luma = _mm512_srli_epi32(y, 16);
     // Little-endian 16-bit [C, Y]: byte 2x is the chroma, 2x + 1 the luma
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + 2 * x),
