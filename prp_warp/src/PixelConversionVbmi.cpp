@@ -4,17 +4,13 @@
 
 #include "PixelConversion.h"
 
+#include "VbmiTarget.h"
+
 #include <immintrin.h>
 
 #include <array>
 
-// GCC 12's AVX-512 intrinsics start some results from an undefined register, and its flow
-// analysis then warns that the (unread) value may be uninitialized
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-
 namespace fieldcast::warp::conversion {
-
-#define FIELDCAST_VBMI __attribute__((target("avx512f,avx512bw,avx512vbmi")))
 
 namespace {
 
@@ -37,7 +33,7 @@ const GainTable& gainTable(std::int32_t gainQ16) noexcept {
 
 // Byte permutes laying pixel k's channels (bytes 3k, 3k + 1, 3k + 2 of the block) into lane k's
 // bytes 0 and 2 (bytes 1 and 3 are zeroed by the mask): (R, B), (R, G), (G, G).
-constexpr std::array<std::uint8_t, 64> pairIndex(int first, int second) {
+constexpr std::array<std::uint8_t, 64> channelPairIndex(int first, int second) {
   std::array<std::uint8_t, 64> index{};
   for (int k = 0; k < 16; ++k) {
     index[static_cast<std::size_t>(4 * k)] = static_cast<std::uint8_t>(3 * k + first);
@@ -45,9 +41,9 @@ constexpr std::array<std::uint8_t, 64> pairIndex(int first, int second) {
   }
   return index;
 }
-alignas(64) constexpr std::array<std::uint8_t, 64> kRB = pairIndex(0, 2);
-alignas(64) constexpr std::array<std::uint8_t, 64> kRG = pairIndex(0, 1);
-alignas(64) constexpr std::array<std::uint8_t, 64> kGG = pairIndex(1, 1);
+alignas(64) constexpr std::array<std::uint8_t, 64> kRB = channelPairIndex(0, 2);
+alignas(64) constexpr std::array<std::uint8_t, 64> kRG = channelPairIndex(0, 1);
+alignas(64) constexpr std::array<std::uint8_t, 64> kGG = channelPairIndex(1, 1);
 
 // Two 16-bit coefficients as one 32-bit lane: `first` multiplies the pair's first channel.
 constexpr int pairOf(int first, int second) {
@@ -69,7 +65,6 @@ FIELDCAST_VBMI int rgbToUyvyBlocksVbmi(const std::uint8_t* in, int widthPx, std:
   }
   const __m512i rb = _mm512_load_si512(kRB.data()), rg = _mm512_load_si512(kRG.data()),
                 gg = _mm512_load_si512(kGG.data());
-  constexpr __mmask64 kBytes0And2 = 0x5555555555555555ULL;
   constexpr __mmask64 kBlockBytes = (__mmask64{1} << 48) - 1;
   // toVideoRange's coefficients, as (first, second) pairs for the layouts above
   const __m512i yRB = _mm512_set1_epi32(pairOf(16829, 6416)), yGG = _mm512_set1_epi32(pairOf(16520, 16519));

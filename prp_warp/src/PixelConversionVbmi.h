@@ -1,8 +1,8 @@
 #pragma once
 // R'G'B' → UYVY 4:2:2 with gain, sixteen pixels at a time, in AVX-512 VBMI: the conversion's fast
 // path on CPUs that have it (level avx512vbmi). The gain is one byte lookup (two 128-entry byte
-// permutes); one byte permute lays each pixel's channels out as the 16-bit pairs (R, B), (R, G) and
-// (G, G), so Y takes two 16-bit multiply-adds (the coefficient of G, 33039, does not fit 16 bits:
+// permutes); three byte permutes lay each pixel's channels out as the 16-bit pairs (R, B), (R, G)
+// and (G, G), so Y takes two 16-bit multiply-adds (the coefficient of G, 33039, does not fit 16 bits:
 // G · 16520 + G · 16519), and a pair's Cb or Cr two more on the pair's channel sums, where the
 // lanes' form takes nine 32-bit multiplies. The same bytes as PixelConversion.h's scalar reference.
 

@@ -43,9 +43,11 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
 #if HWY_TARGET == HWY_AVX3
   // At level avx512vbmi: the frame's bytes staged in registers instead of gathered where they fit
   // (SampleBlockVbmi.h). A run whose blocks all fit ends here, before the gathers' constants are
-  // made (a field has six runs a row: making them took a tenth of the sampling's time).
+  // made (a field has six runs a row: returning here took the NTSC kernel from 300 to 287 µs).
   const bool staged = simdVbmiEnabled() && stagedBlocksLikelyFit(C, xs, ys, n);
-  bool offerNext = staged;  // offer the loop's next block to the staged sampling
+  // Whether the loop's next block is offered to the staged sampling first: not the one it just
+  // refused, every one after a gathered block
+  bool offerNext = staged;
   if (staged) {
     i = sampleBlocksVbmi(src, C, xs, ys, n, dst, violations);
     if (i + 16 > n) return violations + sampleRowScalar<C>(src, xs + i, ys + i, n - i, dst + C * i);

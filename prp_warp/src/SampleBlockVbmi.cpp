@@ -2,18 +2,14 @@
 // called only when the CPU has it).
 #include "SampleBlockVbmi.h"
 
+#include "VbmiTarget.h"
+
 #include <immintrin.h>
 
 #include <array>
 #include <cstddef>
 
-// GCC 12's AVX-512 intrinsics start some results from an undefined register, and its flow
-// analysis then warns that the (unread) value may be uninitialized
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-
 namespace fieldcast::warp::sampling {
-
-#define FIELDCAST_VBMI __attribute__((target("avx512f,avx512bw,avx512vbmi")))
 
 namespace {
 
@@ -81,7 +77,8 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   if ((_mm512_cmpgt_epu32_mask(dx, _mm512_set1_epi32(kMaxSpanPx)) |
        _mm512_cmpgt_epu32_mask(dy, _mm512_set1_epi32(1))) != 0)
     return false;
-  const bool threeRows = _mm512_test_epi32_mask(dy, dy) != 0;  // some lanes' upper row is the second
+  const __mmask16 onSecondRow = _mm512_test_epi32_mask(dy, dy);  // lanes whose upper row is the second
+  const bool threeRows = onSecondRow != 0;
   const std::int64_t stride = src.strideBytes;
   const std::int64_t first = static_cast<std::int64_t>(ymin) * stride + std::int64_t{xmin} * C;
   const std::int64_t end = static_cast<std::int64_t>(src.heightPx - 1) * stride + std::int64_t{src.widthPx} * C;
@@ -96,13 +93,12 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   // weights (256 − fx, fx). Upper rows come from rows 0 and 1, lower rows from rows 1 and 2.
   const __m512i left = C == 3 ? _mm512_add_epi32(dx, _mm512_slli_epi32(dx, 1)) : dx;  // C · (x0 − xmin)
   const __m512i pairs = _mm512_or_si512(left, _mm512_slli_epi32(_mm512_add_epi32(left, _mm512_set1_epi32(C)), 16));
-  const __m512i pairIndex = _mm512_mask_add_epi32(pairs, _mm512_test_epi32_mask(dy, dy), pairs,
+  const __m512i pairIndex = _mm512_mask_add_epi32(pairs, onSecondRow, pairs,
                                                   _mm512_set1_epi32(0x00400040));  // bit 6 of bytes 0 and 2
-  constexpr __mmask64 kBytes0And2 = 0x5555555555555555ULL;
   const __m512i weightsX =
       _mm512_or_si512(_mm512_sub_epi32(_mm512_set1_epi32(kOne), b.fx), _mm512_slli_epi32(b.fx, 16));
   const __m512i round = _mm512_set1_epi32(1 << (2 * kFracBits - 1));
-  __m512i rounded[C];  // channel c of lane k: (value + ½) · 2^16, its sample in byte 2
+  __m512i rounded[C];  // channel c of lane k: (sample + ½) · 2^16, the sample in byte 2
   for (int c = 0; c < C; ++c) {
     const __m512i index = _mm512_add_epi32(pairIndex, _mm512_set1_epi32(c * 0x10001));
     const __m512i upper = _mm512_madd_epi16(_mm512_maskz_permutex2var_epi8(kBytes0And2, row0, index, row1), weightsX);

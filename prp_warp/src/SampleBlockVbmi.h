@@ -1,11 +1,12 @@
 #pragma once
 // Sixteen bilinear samples, RGB or grey, with the frame's bytes staged in registers instead of
-// gathered: the AVX-512 kernel's fast path on CPUs with AVX-512 VBMI (a byte permute across a
-// whole register). A field's map turns and scales the frame little, so the sixteen samples of a
-// block lie within a run of at most twenty RGB frame pixels (sixty-three grey ones) on at most two
-// neighbouring frame rows: three 64-byte loads hold every byte they read, and one byte permute per
-// channel and row lays each lane's left and right neighbour side by side for the same 16-bit
-// multiply-add as the gathers'. The same bytes as SamplePixel.h's scalar reference.
+// gathered: the AVX-512 kernel's fast path on CPUs with AVX-512 VBMI (byte permutes across whole
+// registers). A field's map turns and scales the frame little, so the sixteen samples of a block
+// lie within a run of at most twenty RGB frame pixels (sixty-three grey ones) on at most two
+// neighbouring frame rows: three 64-byte loads hold every byte they read, and one two-register
+// byte permute per channel and neighbour row (upper, lower) lays each lane's left and right
+// neighbour side by side for the same 16-bit multiply-add as the gathers'. The same bytes as
+// SamplePixel.h's scalar reference.
 
 #include "SamplePixel.h"
 
@@ -26,8 +27,9 @@ int sampleBlocksVbmi(const Source& src, int channels, const float* xs, const flo
                      std::uint32_t& violations) noexcept;
 
 /// Whether a run of n samples along a field's row (a straight line in the frame, near enough) is
-/// worth offering to sampleBlocksVbmi: its 16-sample blocks rise by at most 1.5 frame rows (at 1
-/// half of them fit two rows, at 1.5 a half) and span no more pixels than a block may. A refused
+/// worth offering to sampleBlocksVbmi: its 16-sample blocks rise by at most 1.5 frame rows (a block
+/// rising r spans r·15/16 rows: all fit two rows up to r ≈ 1.07, 59 % at 1.5, none past 2.1) and
+/// span no more pixels than a block may. A refused
 /// block costs its coordinates twice, so in a banked view (the field's map turns the frame by the
 /// roll: 10° rises 2.8 rows a block) offering every block made the field slower than gathering it.
 /// Short runs (under 32) are left to their blocks; NaN ends say no.

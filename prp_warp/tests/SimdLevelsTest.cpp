@@ -107,6 +107,7 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
   const RowMap maps[] = {
       {"level", 3.2, 40.6, 0.0, 1.0},
       {"turned 3 degrees", 3.7, 40.2, 3.0, 1.0},
+      {"turned 4.5 degrees (offered; some blocks on three rows: gathered)", 3.1, 50.3, 4.5, 1.0},
       {"turned -6 degrees", 5.1, 120.9, -6.0, 0.97},
       {"turned 10 degrees (three rows: gathered)", 2.3, 20.4, 10.0, 1.0},
       {"zoomed out 1.3 (too wide for RGB: gathered)", 0.6, 60.1, 1.0, 1.3},
@@ -293,7 +294,7 @@ TEST(SimdLevels, ConversionToUyvyWithGainGivesTheReferencesBytes) {
     for (const int w : {2, 4, 6, 30, 34, 720}) {
       const Image src = noiseImage(w, 3, PixelFormat::Rgb8, static_cast<unsigned>(w));
       for (const std::int32_t gain :
-           {65536, 32768, 4 * 65536, 65536 + 3277, static_cast<std::int32_t>(rng() % 262144u)}) {
+           {65536, 32768, 4 * 65536, 65536 + 3277, 0, 128 << 16, 32768, static_cast<std::int32_t>(rng() % 262144u)}) {
         Image fast(w, 3, PixelFormat::Uyvy422), ref(w, 3, PixelFormat::Uyvy422);
         ASSERT_TRUE(convertPixels(src, fast, gain));
         ASSERT_TRUE(convertPixelsReference(src, ref, gain));

@@ -28,15 +28,19 @@ class SeqLock {
     std::array<std::uint64_t, kWords> words{};
     // The value's bytes as they are: an empty std::optional's payload or padding may be
     // indeterminate, and GCC warns that they are copied; load() copies them back unread.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
     std::memcpy(words.data(), &value, sizeof(T));
     const std::uint64_t seq = mSequence.load(std::memory_order_relaxed);
     mSequence.store(seq + 1, std::memory_order_relaxed);  // odd: a write is in progress
     std::atomic_thread_fence(std::memory_order_release);
     for (std::size_t i = 0; i < kWords; ++i) mWords[i].store(words[i], std::memory_order_relaxed);
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
     mSequence.store(seq + 2, std::memory_order_release);
   }
 
