@@ -3,6 +3,8 @@
 // (PixelConversionLanes.cpp), which must produce the same bytes.
 
 #include <algorithm>
+#include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace fieldcast::warp::conversion {
@@ -18,6 +20,11 @@ inline std::int32_t validGain(std::int32_t gainQ16) noexcept { return std::clamp
 /// An 8-bit value times a gain in 1/65536 (within [0, kMaxGain]), rounded half up, clipped at 255.
 inline int applyGain(int value, std::int32_t gainQ16) noexcept {
   return std::min((value * gainQ16 + (1 << 15)) >> 16, 255);
+}
+
+/// Every 8-bit value under a gain, as a table: entry v is applyGain(v, gainQ16).
+inline void fillGainTable(std::int32_t gainQ16, std::array<std::uint8_t, 256>& table) noexcept {
+  for (int v = 0; v < 256; ++v) table[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(applyGain(v, gainQ16));
 }
 
 /// BT.601 video-range Y'CbCr of an R'G'B' triple, in 1/2^16 fixed point.

@@ -24,8 +24,7 @@ struct GainTable {
 const GainTable& gainTable(std::int32_t gainQ16) noexcept {
   thread_local GainTable table;
   if (table.gainQ16 != gainQ16) {
-    for (int i = 0; i < 256; ++i)
-      table.bytes[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(applyGain(i, gainQ16));
+    fillGainTable(gainQ16, table.bytes);
     table.gainQ16 = gainQ16;
   }
   return table;

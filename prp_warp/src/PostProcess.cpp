@@ -42,7 +42,7 @@ void AutoGain::reset() noexcept {
 
 void AutoGain::rebuildTable() noexcept {
   mGainQ16 = static_cast<std::int32_t>(std::lround(std::clamp(mGain, 0.0, 128.0) * conversion::kUnityGain));
-  for (int i = 0; i < 256; ++i) mTable[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(applyGain(i, mGainQ16));
+  conversion::fillGainTable(mGainQ16, mTable);
   mTableGain = mGain;
 }
 

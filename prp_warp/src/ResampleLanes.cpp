@@ -50,7 +50,7 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
   bool offerNext = staged;
   if (staged) {
     i = sampleBlocksVbmi(src, C, xs, ys, n, dst, violations);
-    if (i + 16 > n) return violations + sampleRowScalar<C>(src, xs + i, ys + i, n - i, dst + C * i);
+    if (i + kStagedBlockPx > n) return violations + sampleRowScalar<C>(src, xs + i, ys + i, n - i, dst + C * i);
     offerNext = false;  // block i was refused: it is gathered below
   }
 #endif

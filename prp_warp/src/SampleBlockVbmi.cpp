@@ -130,10 +130,10 @@ FIELDCAST_VBMI int sampleBlocks(const Source& source, const float* xs, const flo
   const Source src = source;
   std::uint32_t outside = 0;
   int i = 0;
-  for (; i + 16 <= n; i += 16) {
+  for (; i + kStagedBlockPx <= n; i += kStagedBlockPx) {
     const BlockCoordinates b = coordinatesOf(src, xs + i, ys + i);
     if (!stagedBlock<C>(src, b, dst + C * i)) break;
-    outside += 16u - static_cast<std::uint32_t>(__builtin_popcount(b.inside));
+    outside += kStagedBlockPx - static_cast<std::uint32_t>(__builtin_popcount(b.inside));
   }
   violations += outside;
   return i;

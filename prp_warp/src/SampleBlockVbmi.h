@@ -14,6 +14,9 @@
 
 namespace fieldcast::warp::sampling {
 
+/// The samples of a staged block.
+constexpr int kStagedBlockPx = 16;
+
 /// Samples the whole blocks of 16 of the n pixels at frame coordinates xs, ys into dst (16 ×
 /// `channels` bytes a block; channels 3 or 1), one block after another, with samplePixel's bytes,
 /// adding their margin violations to `violations`, until a block's neighbours do not fit the
@@ -35,7 +38,7 @@ int sampleBlocksVbmi(const Source& src, int channels, const float* xs, const flo
 /// Short runs (under 32) are left to their blocks; NaN ends say no.
 inline bool stagedBlocksLikelyFit(int channels, const float* xs, const float* ys, int n) noexcept {
   if (n < 32) return true;
-  const float perBlock = 16.0f / static_cast<float>(n - 1);
+  const float perBlock = static_cast<float>(kStagedBlockPx) / static_cast<float>(n - 1);
   const float rise = (ys[n - 1] - ys[0]) * perBlock, across = (xs[n - 1] - xs[0]) * perBlock;
   const float widest = channels == 3 ? 19.0f : 62.0f;
   return rise <= 1.5f && rise >= -1.5f && across <= widest && across >= -widest;
