@@ -54,8 +54,8 @@ Channel::Channel(const ChannelSettings& settings, core::TileCache& terrain, cons
   warper.rasterWidthPx = settings.output.widthPx;
   warper.rasterHeightPx = settings.output.heightPx;
   warper.outputFormat = settings.output.pixelFormat;
-  // The flicker filter's buffer holds the largest frame of the configured window (a host's View
-  // Definition may ask for a larger one: its frames then go unfiltered rather than allocate)
+  // The render loop gives each frame its flicker-filtered copy; the warper's own buffer, for a
+  // frame that comes without one, holds the largest frame of the configured window
   const core::FrameLayout largest = largestFrame(settings.view.display, settings.render.settings.marginFraction);
   warper.maxFrameWidthPx = largest.frame.widthPx;
   warper.maxFrameHeightPx = largest.frame.heightPx;
@@ -94,6 +94,7 @@ void Channel::renderMain() noexcept {
     pacing.sun = mSun;
     pacing.entities = mEntities;
     pacing.display = &mDisplay;
+    pacing.flickerFilter = mWarper->config().flickerFilter;
     RenderLoop loop(renderer, mMotion, mSettings.view.display, mFrames, mMetrics, pacing, &mTerrain, &mTerrainSwitch);
     spdlog::info("render: {} worker threads, {}x{} display, margin {:.0f}%", renderer.threads(),
                  mSettings.view.display.widthPx, mSettings.view.display.heightPx, render.settings.marginFraction * 100);

@@ -1,5 +1,7 @@
 #include "RenderLoop.h"
 
+#include <prp_warp/PostProcess.h>
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -79,6 +81,8 @@ void RenderLoop::finish(InFlight& frame) {
 }
 
 void RenderLoop::publish(Frame&& frame, const core::RenderStats& stats) {
+  // Once per frame here, beside the workers, rather than in the field thread's next field
+  if (mPacing.flickerFilter) warp::makeFlickerFiltered(frame);
   const TimePoint submitted = frame.renderStart;
   const TimePoint completed = frame.renderEnd;
   const Nanoseconds took = completed - submitted;

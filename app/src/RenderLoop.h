@@ -39,6 +39,9 @@ struct RenderPacing {
   const SeqLock<Intrinsics>* display = nullptr;
   /// When set: the moving entities, posed for each frame's instant and drawn into it.
   const SceneEntities* entities = nullptr;
+  /// Each frame gets its flicker-filtered copy (warp::makeFlickerFiltered) before it is handed
+  /// over: for a field warper that filters, which then has nothing to filter on the field thread.
+  bool flickerFilter = false;
 };
 
 /// A database switch (Channel::switchTerrain): the render loop renders each frame from `wanted`

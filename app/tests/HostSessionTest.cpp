@@ -738,6 +738,36 @@ TEST_F(HostSessionTest, TheRenderLoopRendersTheNewFrustum) {
   EXPECT_NEAR(frame.intrinsics.cyPx - frame.margin.y, narrow.cyPx, 1e-9);
 }
 
+// With the flicker filter on, the render loop hands each frame over with its flicker-filtered copy
+// (the field warper samples it instead of filtering on the field thread): the copy of the frame's
+// own pixels, the camera moving from frame to frame. Off, frames recycled from those carry none.
+TEST_F(HostSessionTest, TheRenderLoopHandsFramesOverWithTheirFlickerFilteredCopy) {
+  const Intrinsics display = Intrinsics::fromHorizontalFov(64, 48, radians(60.0));
+  cigi::RateControl rates;
+  rates.entityId = 0;
+  rates.frame = cigi::RateFrame::World;
+  rates.xRateMps = 200.0f;
+  cigi::EntityControl ownship = entityAt(0, {500.0, 500.0, 700.0});
+  ownship.pitchDeg = -30.0f;
+  send({ownship, rates}, 1.0);
+  core::Renderer renderer(sTerrain->view(), core::RenderSettings{}, 1);
+  warp::FrameHandover frames;
+  RenderPacing pacing;
+  pacing.flickerFilter = true;
+  renderFrames(renderer, pacing, display, frames, 6);
+  ASSERT_TRUE(frames.update());
+  const Frame& frame = frames.front();
+  Image expected(frame.image.widthPx(), frame.image.heightPx(), frame.image.format());
+  ASSERT_TRUE(warp::flickerFilterReference(frame.image, expected));
+  EXPECT_EQ(frame.flickerFiltered, expected);
+  EXPECT_NE(frame.flickerFiltered, frame.image);  // the terrain's detail, smoothed
+
+  pacing.flickerFilter = false;
+  renderFrames(renderer, pacing, display, frames, 6);
+  ASSERT_TRUE(frames.update());
+  EXPECT_TRUE(frames.front().flickerFiltered.empty());
+}
+
 // ---- Entities other than the ownship ------------------------------------------------------------
 
 TEST_F(HostSessionTest, HostEntitiesArePublishedWithTheirRatesAndExtrapolated) {

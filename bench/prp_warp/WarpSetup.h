@@ -62,10 +62,11 @@ struct AtLevel {
   AtLevel& operator=(const AtLevel&) = delete;
 };
 
-/// The whole per-field step of the service: pose, fit, warp, AGC, flicker filter (once per
-/// frame), conversion to UYVY (or, `grey`, from the grey frame to grey fields); with `newFrames` a
-/// new frame every field (a render rate at the field rate: the filter's cost in every field), else
-/// every field from the same frame.
+/// The whole per-field step of the service: pose, fit, warp, AGC, the flicker-filtered frame
+/// sampled, conversion to UYVY (or, `grey`, from the grey frame to grey fields); with `newFrames` a
+/// new frame every field (a render rate at the field rate: its lines not yet in cache), else every
+/// field from the same frame. The frames come with their flicker-filtered copies, as the service's
+/// render loop hands them over (makeFlickerFiltered: its cost is the producer's, BM_FlickerFilterFrame).
 class FieldStep {
  public:
   FieldStep(const Setup& s, bool newFrames, bool grey = false)
@@ -74,6 +75,7 @@ class FieldStep {
         mWarper(config(s, grey)),
         mField(mWarper.makeField()) {
     mFrames[1].frameNumber = mFrames[0].frameNumber + 1;
+    for (Frame& f : mFrames) makeFlickerFiltered(f);
     mPoses.push(TimePoint{}, s.frame.pose);  // the field loop's pose source: its cost stays in the figure
     mPoses.push(TimePoint{Nanoseconds{80'000'000}}, s.fieldPose);
   }

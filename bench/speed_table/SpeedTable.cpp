@@ -15,7 +15,8 @@
 // generated into the cache folder on first use.
 //
 // Then the field warp on one core at every SIMD level this CPU runs, NTSC and 1080i fields: the
-// service's whole field step (pose, fit, warp, AGC, flicker filter, UYVY; a new frame every field)
+// service's whole field step (pose, fit, warp of the flicker-filtered frame, AGC, UYVY; a new frame every field,
+// with its flicker-filtered copy as the render loop hands it over)
 // against cv::remap doing the same warp with its map built per field (RGB, OpenCV on one thread),
 // alternated the same way (WarpSetup.h: the cases of fieldcast_bench_warp).
 #include "BenchPoses.h"
@@ -133,8 +134,9 @@ double meanSeconds(int calls, const auto& fn) {
 void printWarpTable(int rounds) {
   cv::setNumThreads(1);  // one core each
   std::printf(
-      "\nThe field warp, one core: the service's field step (pose, fit, warp, AGC, flicker filter, UYVY; "
-      "a new frame every field) against cv::remap with its map built per field (RGB), %d alternated "
+      "\nThe field warp, one core: the service's field step (pose, fit, warp of the flicker-filtered frame, AGC, "
+      "UYVY; a new frame every field, with the filtered copy the render loop makes) against cv::remap with its map "
+      "built per field (RGB), %d alternated "
       "rounds of 50 fields, medians.\n\n",
       rounds);
   std::printf("| field | SIMD level | field step ms | cv::remap ms | cv::remap / field step |\n");

@@ -106,6 +106,14 @@ bool flickerFilter(const Image& src, Image& dst) noexcept { return filterRows(sr
 
 bool flickerFilterReference(const Image& src, Image& dst) noexcept { return filterRows(src, dst, false); }
 
+bool makeFlickerFiltered(Frame& frame) {
+  const Image& image = frame.image;
+  frame.flickerFiltered.resize(0, 0, image.format());
+  if (image.empty() || image.format() == PixelFormat::Uyvy422) return false;
+  frame.flickerFiltered.resize(image.widthPx(), image.heightPx(), image.format());
+  return flickerFilter(image, frame.flickerFiltered);
+}
+
 namespace {
 
 /// convertPixels' rows; `lanes` picks the vector kernel where there is one.

@@ -116,6 +116,42 @@ TEST(FieldWarper, FieldCarriesItsSpecAndSource) {
   EXPECT_EQ(field.marginViolations, 0u);
 }
 
+// A frame that comes with its flicker-filtered copy (made by its producer: makeFlickerFiltered)
+// is sampled from that copy, and the field is the one the warper makes filtering the frame itself;
+// a copy of other pixels shows in the field (it is the copy that is sampled); a copy of another
+// shape is not the frame's, and the warper filters the frame itself.
+TEST(FieldWarper, SamplesTheFlickerFilteredCopyTheFrameComesWith) {
+  FieldWarperConfig cfg;
+  cfg.rasterWidthPx = kW;
+  cfg.rasterHeightPx = kH;
+  cfg.flickerFilter = true;
+  cfg.maxFrameWidthPx = scene().image.widthPx();
+  cfg.maxFrameHeightPx = scene().image.heightPx();
+  const auto fieldOf = [&](const Frame& frame) {
+    FieldWarper warper(cfg);  // a new warper each time: nothing kept from another frame
+    Field field = warper.makeField();
+    EXPECT_EQ(warper.produce(frame, frame.pose, FieldSpec{0, TimePoint{}, FieldParity::Top}, field), FieldStatus::Ok);
+    return field.image;
+  };
+  const Image filteredHere = fieldOf(scene());
+  Frame withCopy = scene();
+  ASSERT_TRUE(makeFlickerFiltered(withCopy));
+  EXPECT_EQ(fieldOf(withCopy), filteredHere);
+
+  Frame inverted = scene();
+  for (std::uint8_t& b : inverted.image.bytes()) b = static_cast<std::uint8_t>(255 - b);
+  const Image invertedField = fieldOf(inverted);
+  EXPECT_NE(invertedField, filteredHere);
+  ASSERT_TRUE(makeFlickerFiltered(inverted));
+  Frame foreign = scene();
+  foreign.flickerFiltered = inverted.flickerFiltered;
+  EXPECT_EQ(fieldOf(foreign), invertedField);
+
+  Frame wrongShape = scene();
+  wrongShape.flickerFiltered = Image(8, 8, wrongShape.image.format());
+  EXPECT_EQ(fieldOf(wrongShape), filteredHere);
+}
+
 TEST(FieldWarper, AFieldBeyondTheFramesReachShowsThePreviousPictureAgain) {
   FieldWarperConfig cfg;
   cfg.rasterWidthPx = kW;

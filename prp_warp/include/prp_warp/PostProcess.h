@@ -4,6 +4,7 @@
 // pixel format. Scaling to the output raster is folded into the warp's map (OutputGeometry.h),
 // which saves a second resample and its blur.
 
+#include <fieldcast/Frame.h>
 #include <fieldcast/Image.h>
 #include <fieldcast/Time.h>
 
@@ -65,6 +66,12 @@ bool flickerFilter(const Image& src, Image& dst) noexcept;
 
 /// flickerFilter in plain C++ only: the judge of its SIMD forms, which give the same bytes.
 bool flickerFilterReference(const Image& src, Image& dst) noexcept;
+
+/// Makes `frame.flickerFiltered` from its image (flickerFilter), for the frame's producer: a field
+/// warper that filters then samples it, and the per-frame filter is off the field thread.
+/// Allocates the first time (and when the frame grows). Returns false for a format it cannot
+/// filter (UYVY, empty), the copy then left empty.
+bool makeFlickerFiltered(Frame& frame);
 
 /// Converts `src` (Grey8 or Rgb8) into `dst` of the same size in dst's format: Grey8 (BT.601
 /// luma, full range), Rgb8, or UYVY 4:2:2 (BT.601 video range: Y 16..235, Cb/Cr 16..240, chroma

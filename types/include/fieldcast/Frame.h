@@ -40,7 +40,11 @@ struct MarginPx {
 /// One rendered frame. The display window occupies frame pixels
 /// [margin.x, margin.x + displayWidth) × [margin.y, margin.y + displayHeight).
 struct Frame {
-  Image image;                ///< frame pixels, Rgb8 or Grey8, margins included
+  Image image;  ///< frame pixels, Rgb8 or Grey8, margins included
+  /// `image` through the interlace flicker filter, made once by the frame's producer for a field
+  /// warper that filters (it then samples this instead of filtering on the field thread); empty
+  /// when not made. Its buffer is kept when a frame is recycled.
+  Image flickerFiltered;
   std::vector<float> rangeM;  ///< per-pixel range along the ray (metres, +inf = sky); empty when not rendered
   Pose pose;                  ///< the pose the frame was rendered for (the IG renders without roll)
   TimePoint poseTime{};       ///< the instant that pose belongs to
