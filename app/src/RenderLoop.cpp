@@ -81,8 +81,12 @@ void RenderLoop::finish(InFlight& frame) {
 }
 
 void RenderLoop::publish(Frame&& frame, const core::RenderStats& stats) {
-  // Once per frame here, beside the workers, rather than in the field thread's next field
-  if (mPacing.flickerFilter) warp::makeFlickerFiltered(frame);
+  if (mPacing.flickerFilter) {
+    // Once per frame here, beside the workers, rather than in the field thread's next field. The
+    // frame is complete with its copy: the render time and the expected latency include it.
+    warp::makeFlickerFiltered(frame);
+    frame.renderEnd = MonotonicClock::now();
+  }
   const TimePoint submitted = frame.renderStart;
   const TimePoint completed = frame.renderEnd;
   const Nanoseconds took = completed - submitted;

@@ -740,7 +740,8 @@ TEST_F(HostSessionTest, TheRenderLoopRendersTheNewFrustum) {
 
 // With the flicker filter on, the render loop hands each frame over with its flicker-filtered copy
 // (the field warper samples it instead of filtering on the field thread): the copy of the frame's
-// own pixels, the camera moving from frame to frame. Off, frames recycled from those carry none.
+// own pixels, the camera moving from frame to frame. Off, frames recycled from those carry none
+// (Renderer.ARecycledFramesFlickerFilteredCopyIsNotItsOwn checks the recycling itself).
 TEST_F(HostSessionTest, TheRenderLoopHandsFramesOverWithTheirFlickerFilteredCopy) {
   const Intrinsics display = Intrinsics::fromHorizontalFov(64, 48, radians(60.0));
   cigi::RateControl rates;
@@ -759,13 +760,14 @@ TEST_F(HostSessionTest, TheRenderLoopHandsFramesOverWithTheirFlickerFilteredCopy
   const Frame& frame = frames.front();
   Image expected(frame.image.widthPx(), frame.image.heightPx(), frame.image.format());
   ASSERT_TRUE(warp::flickerFilterReference(frame.image, expected));
+  EXPECT_TRUE(frame.hasFlickerFiltered);
   EXPECT_EQ(frame.flickerFiltered, expected);
   EXPECT_NE(frame.flickerFiltered, frame.image);  // the terrain's detail, smoothed
 
   pacing.flickerFilter = false;
   renderFrames(renderer, pacing, display, frames, 6);
   ASSERT_TRUE(frames.update());
-  EXPECT_TRUE(frames.front().flickerFiltered.empty());
+  EXPECT_FALSE(frames.front().hasFlickerFiltered);
 }
 
 // ---- Entities other than the ownship ------------------------------------------------------------

@@ -165,7 +165,11 @@ void BM_FlickerFilterFrame(benchmark::State& state, const std::string& level) {
     benchmark::DoNotOptimize(makeFlickerFiltered(frame));
     benchmark::ClobberMemory();
   }
-  label(state, setup(static_cast<int>(state.range(0))));
+  const Image& image = frame.image;
+  state.SetLabel(std::to_string(image.widthPx()) + "x" + std::to_string(image.heightPx()) + " frame");
+  state.counters["Mpx/s"] = benchmark::Counter(
+      static_cast<double>(image.widthPx()) * image.heightPx() * static_cast<double>(state.iterations()) / 1e6,
+      benchmark::Counter::kIsRate);
 }
 
 /// The AGC's measure of a warped field (every other pixel of every other row, as FieldWarper

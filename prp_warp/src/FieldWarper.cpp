@@ -53,8 +53,8 @@ const Image& FieldWarper::flickerFiltered(const Frame& frame) noexcept {
   if (!mConfig.flickerFilter) return frame.image;
   // Made by the frame's producer (makeFlickerFiltered): nothing to do here
   const Image& made = frame.flickerFiltered;
-  if (made.widthPx() == frame.image.widthPx() && made.heightPx() == frame.image.heightPx() &&
-      made.format() == frame.image.format() && !made.empty())
+  if (frame.hasFlickerFiltered && made.widthPx() == frame.image.widthPx() &&
+      made.heightPx() == frame.image.heightPx() && made.format() == frame.image.format())
     return made;
   if (mHaveFiltered && mFilteredFrameNumber == frame.frameNumber && mFilteredPoseTime == frame.poseTime &&
       mFiltered.widthPx() == frame.image.widthPx() && mFiltered.heightPx() == frame.image.heightPx() &&

@@ -107,11 +107,15 @@ bool flickerFilter(const Image& src, Image& dst) noexcept { return filterRows(sr
 bool flickerFilterReference(const Image& src, Image& dst) noexcept { return filterRows(src, dst, false); }
 
 bool makeFlickerFiltered(Frame& frame) {
+  frame.hasFlickerFiltered = false;
   const Image& image = frame.image;
-  frame.flickerFiltered.resize(0, 0, image.format());
   if (image.empty() || image.format() == PixelFormat::Uyvy422) return false;
-  frame.flickerFiltered.resize(image.widthPx(), image.heightPx(), image.format());
-  return flickerFilter(image, frame.flickerFiltered);
+  Image& copy = frame.flickerFiltered;
+  // Resized (and so cleared) only when the frame's shape changed: the filter writes every byte
+  if (copy.widthPx() != image.widthPx() || copy.heightPx() != image.heightPx() || copy.format() != image.format())
+    copy.resize(image.widthPx(), image.heightPx(), image.format());
+  frame.hasFlickerFiltered = flickerFilter(image, copy);
+  return frame.hasFlickerFiltered;
 }
 
 namespace {

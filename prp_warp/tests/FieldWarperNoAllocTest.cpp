@@ -34,6 +34,17 @@ constexpr int kW = 160, kH = 120;  // test::obliqueFrame()'s display window
 
 const Frame& scene() { return test::obliqueFrame(); }
 
+// scene() with its flicker-filtered copy, as a producer hands it over (made once, outside the
+// counted calls)
+const Frame& sceneWithCopy() {
+  static const Frame frame = [] {
+    Frame f = scene();
+    makeFlickerFiltered(f);
+    return f;
+  }();
+  return frame;
+}
+
 class ProduceWithoutAllocating : public ::testing::TestWithParam<WarpKind> {};
 
 TEST_P(ProduceWithoutAllocating, EveryParityAndFormat) {
@@ -57,6 +68,7 @@ TEST_P(ProduceWithoutAllocating, EveryParityAndFormat) {
     later.rollRad = 0.05;
     poses.push(TimePoint{Nanoseconds{100'000'000}}, later);
 
+    const Frame& withCopy = sceneWithCopy();  // made before the count
     const long before = gAllocations.load();
     FieldStatus statuses[6];
     for (int k = 0; k < 6; ++k) {
@@ -64,16 +76,20 @@ TEST_P(ProduceWithoutAllocating, EveryParityAndFormat) {
                            k % 2 ? FieldParity::Bottom : FieldParity::Top};
       statuses[k] = warper.produce(scene(), poses.poseAt(spec.displayTime), spec, field);
     }
-    const FieldSpec prog{6, TimePoint{Nanoseconds{200'000'000}}, FieldParity::Progressive};
+    // A frame with its producer's flicker-filtered copy
+    const FieldSpec fromCopy{6, TimePoint{Nanoseconds{190'000'000}}, FieldParity::Top};
+    const FieldStatus copyStatus = warper.produce(withCopy, poses.poseAt(fromCopy.displayTime), fromCopy, field);
+    const FieldSpec prog{7, TimePoint{Nanoseconds{200'000'000}}, FieldParity::Progressive};
     const FieldStatus progStatus = warper.produce(scene(), poses.poseAt(prog.displayTime), prog, field);
     const long allocations = gAllocations.load() - before;
 
     EXPECT_EQ(allocations, 0) << toString(GetParam()) << " " << toString(format);
     for (FieldStatus s : statuses) EXPECT_EQ(s, FieldStatus::Ok);
     EXPECT_EQ(progStatus, FieldStatus::Ok);
+    EXPECT_EQ(copyStatus, FieldStatus::Ok);
     EXPECT_EQ(field.image.heightPx(), 2 * kH + 1);
     EXPECT_EQ(field.image.format(), format);
-    EXPECT_EQ(warper.counters().fields.load(), 7u);
+    EXPECT_EQ(warper.counters().fields.load(), 8u);
   }
 }
 
@@ -118,8 +134,8 @@ TEST(FieldWarper, FieldCarriesItsSpecAndSource) {
 
 // A frame that comes with its flicker-filtered copy (made by its producer: makeFlickerFiltered)
 // is sampled from that copy, and the field is the one the warper makes filtering the frame itself;
-// a copy of other pixels shows in the field (it is the copy that is sampled); a copy of another
-// shape is not the frame's, and the warper filters the frame itself.
+// a copy of other pixels shows in the field (it is the copy that is sampled); a copy not marked
+// made, or of another shape, is not the frame's, and the warper filters the frame itself.
 TEST(FieldWarper, SamplesTheFlickerFilteredCopyTheFrameComesWith) {
   FieldWarperConfig cfg;
   cfg.rasterWidthPx = kW;
@@ -145,10 +161,14 @@ TEST(FieldWarper, SamplesTheFlickerFilteredCopyTheFrameComesWith) {
   ASSERT_TRUE(makeFlickerFiltered(inverted));
   Frame foreign = scene();
   foreign.flickerFiltered = inverted.flickerFiltered;
+  foreign.hasFlickerFiltered = true;
   EXPECT_EQ(fieldOf(foreign), invertedField);
+  foreign.hasFlickerFiltered = false;  // as a recycled frame's: the copy is another picture's
+  EXPECT_EQ(fieldOf(foreign), filteredHere);
 
   Frame wrongShape = scene();
   wrongShape.flickerFiltered = Image(8, 8, wrongShape.image.format());
+  wrongShape.hasFlickerFiltered = true;
   EXPECT_EQ(fieldOf(wrongShape), filteredHere);
 }
 

@@ -139,15 +139,18 @@ TEST(FlickerFilter, SmoothsOneLineDetailVertically) {
 }
 
 // The producer's copy (makeFlickerFiltered) has the frame's shape and the filter's bytes, each
-// time from the frame's own image; a UYVY frame cannot be filtered and gets none.
+// time from the frame's own image (a smaller frame after a larger one, and another picture of
+// the same shape, whose copy is not resized); a UYVY frame cannot
+// be filtered and gets none.
 TEST(FlickerFilter, AFramesCopyIsItsImageFiltered) {
   Frame frame;
-  for (const auto [w, h, seed] : {std::tuple{40, 30, 1u}, std::tuple{24, 18, 2u}}) {
+  for (const auto [w, h, seed] : {std::tuple{40, 30, 1u}, std::tuple{24, 18, 2u}, std::tuple{24, 18, 3u}}) {
     frame.image = Image(w, h, PixelFormat::Rgb8);
     std::uint32_t state = seed;
     for (std::uint8_t& b : frame.image.bytes())
       b = static_cast<std::uint8_t>((state = state * 1664525u + 1013904223u) >> 24);
     ASSERT_TRUE(makeFlickerFiltered(frame));
+    EXPECT_TRUE(frame.hasFlickerFiltered);
     Image expected(w, h, PixelFormat::Rgb8);
     ASSERT_TRUE(flickerFilterReference(frame.image, expected));
     EXPECT_EQ(frame.flickerFiltered, expected);
@@ -155,7 +158,7 @@ TEST(FlickerFilter, AFramesCopyIsItsImageFiltered) {
   }
   frame.image = Image(8, 4, PixelFormat::Uyvy422);
   EXPECT_FALSE(makeFlickerFiltered(frame));
-  EXPECT_TRUE(frame.flickerFiltered.empty());
+  EXPECT_FALSE(frame.hasFlickerFiltered);
 }
 
 }  // namespace

@@ -28,7 +28,7 @@ inline Frame frameShell(const ViewRequest& request, const RenderSettings& settin
   frame.frameNumber = request.frameNumber;
   frame.image.resize(layout.frame.widthPx, layout.frame.heightPx,
                      settings.colourMode == FrameColour::Grey ? PixelFormat::Grey8 : PixelFormat::Rgb8);
-  frame.flickerFiltered.resize(0, 0, frame.image.format());  // of the frame before; keeps its buffer
+  frame.hasFlickerFiltered = false;  // the copy is the frame before's (its buffer is kept)
   frame.rangeM.clear();
   if (withRange) {
     frame.rangeM.assign(

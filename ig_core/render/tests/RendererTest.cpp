@@ -77,6 +77,18 @@ TEST(Renderer, FrameCarriesPoseTimesMarginsAndNineControlPoints) {
   }
 }
 
+// A frame rendered into a recycled one's buffers does not carry that frame's flicker-filtered copy
+// as its own (the field warper would sample the old picture).
+TEST(Renderer, ARecycledFramesFlickerFilteredCopyIsNotItsOwn) {
+  const TerrainView& view = hills().view();
+  Renderer renderer(view, RenderSettings{}, 1);
+  Frame old = renderer.render(someView(view, 45, -65, 150));
+  old.flickerFiltered = old.image;
+  old.hasFlickerFiltered = true;
+  const Frame next = renderer.render(someView(view, 90, -30, 150), nullptr, std::move(old));
+  EXPECT_FALSE(next.hasFlickerFiltered);
+}
+
 TEST(Renderer, ControlPointsThatSeeTheSkyRecordTheirDirection) {
   const TerrainView& view = hills().view();
   Renderer renderer(view, RenderSettings{}, 1);

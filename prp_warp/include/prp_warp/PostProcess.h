@@ -67,10 +67,10 @@ bool flickerFilter(const Image& src, Image& dst) noexcept;
 /// flickerFilter in plain C++ only: the judge of its SIMD forms, which give the same bytes.
 bool flickerFilterReference(const Image& src, Image& dst) noexcept;
 
-/// Makes `frame.flickerFiltered` from its image (flickerFilter), for the frame's producer: a field
-/// warper that filters then samples it, and the per-frame filter is off the field thread.
-/// Allocates the first time (and when the frame grows). Returns false for a format it cannot
-/// filter (UYVY, empty), the copy then left empty.
+/// Makes `frame.flickerFiltered` from its image (flickerFilter) and sets hasFlickerFiltered, for
+/// the frame's producer: a field warper that filters then samples it, and the per-frame filter is
+/// off the field thread. Allocates the first time (and when the frame grows). Returns false, with
+/// hasFlickerFiltered cleared, for an image it cannot filter (UYVY, empty).
 bool makeFlickerFiltered(Frame& frame);
 
 /// Converts `src` (Grey8 or Rgb8) into `dst` of the same size in dst's format: Grey8 (BT.601

@@ -42,9 +42,12 @@ struct MarginPx {
 struct Frame {
   Image image;  ///< frame pixels, Rgb8 or Grey8, margins included
   /// `image` through the interlace flicker filter, made once by the frame's producer for a field
-  /// warper that filters (it then samples this instead of filtering on the field thread); empty
-  /// when not made. Its buffer is kept when a frame is recycled.
+  /// warper that filters (it then samples this instead of filtering on the field thread). Its
+  /// buffer is kept when a frame is recycled; what it holds counts only with hasFlickerFiltered.
   Image flickerFiltered;
+  /// flickerFiltered was made from this `image` (warp::makeFlickerFiltered). Whatever changes
+  /// `image` afterwards, or reuses the frame for another picture, must clear it.
+  bool hasFlickerFiltered = false;
   std::vector<float> rangeM;  ///< per-pixel range along the ray (metres, +inf = sky); empty when not rendered
   Pose pose;                  ///< the pose the frame was rendered for (the IG renders without roll)
   TimePoint poseTime{};       ///< the instant that pose belongs to
