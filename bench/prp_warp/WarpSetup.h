@@ -65,9 +65,9 @@ struct AtLevel {
 /// The whole per-field step of the service: pose, fit, warp, AGC, the flicker-filtered frame
 /// sampled, conversion to UYVY (or, `grey`, from the grey frame to grey fields); with `newFrames` a
 /// new frame every field (a render rate at the field rate: two frames alternate, so each field
-/// samples a copy the field before did not read), else every field from the same frame. The frames come with their
-/// flicker-filtered copies, as the service's render loop hands them over (makeFlickerFiltered: its cost is the
-/// producer's, BM_FlickerFilterFrame).
+/// samples a copy the field before did not read), else every field from the same frame. The
+/// frames come with their flicker-filtered copies, as the service's render loop hands them over
+/// (makeFlickerFiltered: its cost is the producer's, BM_FlickerFilterFrame).
 class FieldStep {
  public:
   FieldStep(const Setup& s, bool newFrames, bool grey = false)

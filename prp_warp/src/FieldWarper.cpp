@@ -53,12 +53,9 @@ const Image& FieldWarper::flickerFiltered(const Frame& frame) noexcept {
   if (!mConfig.flickerFilter) return frame.image;
   // Made by the frame's producer (makeFlickerFiltered): nothing to do here
   const Image& made = frame.flickerFiltered;
-  if (frame.hasFlickerFiltered && made.widthPx() == frame.image.widthPx() &&
-      made.heightPx() == frame.image.heightPx() && made.format() == frame.image.format())
-    return made;
+  if (frame.hasFlickerFiltered && made.sameShape(frame.image)) return made;
   if (mHaveFiltered && mFilteredFrameNumber == frame.frameNumber && mFilteredPoseTime == frame.poseTime &&
-      mFiltered.widthPx() == frame.image.widthPx() && mFiltered.heightPx() == frame.image.heightPx() &&
-      mFiltered.format() == frame.image.format())
+      mFiltered.sameShape(frame.image))
     return mFiltered;
   // A frame larger than the reserved buffer is warped unfiltered rather than allocating
   const std::size_t reserved =

@@ -82,9 +82,7 @@ bool AutoGain::update(const Image& field, Nanoseconds elapsed) noexcept {
 namespace {
 
 bool filterRows(const Image& src, Image& dst, bool lanes) noexcept {
-  if (src.format() == PixelFormat::Uyvy422 || dst.format() != src.format() || dst.widthPx() != src.widthPx() ||
-      dst.heightPx() != src.heightPx() || src.empty())
-    return false;
+  if (src.format() == PixelFormat::Uyvy422 || !dst.sameShape(src) || src.empty()) return false;
   const int h = src.heightPx();
   const auto n = static_cast<int>(src.strideBytes());
   for (int y = 0; y < h; ++y) {
@@ -112,8 +110,7 @@ bool makeFlickerFiltered(Frame& frame) {
   if (image.empty() || image.format() == PixelFormat::Uyvy422) return false;
   Image& copy = frame.flickerFiltered;
   // Resized (and so cleared) only when the frame's shape changed: the filter writes every byte
-  if (copy.widthPx() != image.widthPx() || copy.heightPx() != image.heightPx() || copy.format() != image.format())
-    copy.resize(image.widthPx(), image.heightPx(), image.format());
+  if (!copy.sameShape(image)) copy.resize(image.widthPx(), image.heightPx(), image.format());
   frame.hasFlickerFiltered = flickerFilter(image, copy);
   return frame.hasFlickerFiltered;
 }

@@ -20,8 +20,7 @@ WarpResult Warp::warp(const Frame& frame, const Image& pixels, const Pose& field
   const Image& img = frame.image;
   const bool frameOk = !img.empty() && img.widthPx() == frame.intrinsics.widthPx &&
                        img.heightPx() == frame.intrinsics.heightPx && frame.displayWidthPx() > 0 &&
-                       frame.displayHeightPx() > 0 && pixels.widthPx() == img.widthPx() &&
-                       pixels.heightPx() == img.heightPx() && pixels.format() == img.format() &&
+                       frame.displayHeightPx() > 0 && pixels.sameShape(img) &&
                        (img.format() == PixelFormat::Grey8 || img.format() == PixelFormat::Rgb8) &&
                        img.widthPx() >= 2 && img.heightPx() >= 2;
   if (!frameOk) return {WarpStatus::BadFrame, 0, false};

@@ -65,6 +65,10 @@ class Image {
   int heightPx() const noexcept { return mHeightPx; }
   PixelFormat format() const noexcept { return mFormat; }
   bool empty() const noexcept { return mBytes.empty(); }
+  /// Same width, height and pixel format as `other` (the pixels aside).
+  bool sameShape(const Image& other) const noexcept {
+    return mWidthPx == other.mWidthPx && mHeightPx == other.mHeightPx && mFormat == other.mFormat;
+  }
   /// Bytes per row (tightly packed).
   std::size_t strideBytes() const noexcept { return rowBytes(mFormat, mWidthPx); }
 
