@@ -2,6 +2,7 @@
 // Shenkar: "A real-time photo-realistic visual flythrough", 1996) done exactly for tilted columns.
 #include "PlaneMarch.h"
 
+#include "CrossingFill.h"
 #include "RayMarch.h"
 #include "SpanFill.h"
 #include "TileWindows.h"
@@ -23,168 +24,8 @@ using ray_march::floorToInt;
 using ray_march::heightAt;
 using ray_march::levelIndex;
 using ray_march::pow2;
-using ray_march::segmentLight;
 
 namespace {
-
-// Blends the next level's colour (bilinear) into crossing x's, by `blend`. Out of line: half the
-// crossings that are coloured need it, and it reads four texels.
-[[gnu::noinline]] void blendNextLevel(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                                      Crossing& x, double blend) noexcept {
-  const int l = x.level;
-  const double p = pow2(l);
-  const double mMaj = (x.i + 0.5 + (x.onMinorLine ? x.phi : 0.0)) * p - 0.5;
-  const double mMin = (x.j + 0.5 + (x.onMinorLine ? 0.0 : x.phi)) * p - 0.5;
-  const double ux = levelIndex(c.xMajor ? mMaj : mMin, l + 1);
-  const double uy = levelIndex(c.xMajor ? mMin : mMaj, l + 1);
-  const int x0 = floorToInt(ux);
-  const int y0 = floorToInt(uy);
-  const auto fx = static_cast<float>(ux - x0);
-  const auto fy = static_cast<float>(uy - y0);
-  const int up = l + 1;
-  std::uint32_t q00, q10, q01, q11;
-  const int mask = f.tileMask;
-  if ((x0 & mask) != mask && (y0 & mask) != mask && windowFor(f, t, w, up, x0, y0)) {
-    // The 2×2 block lies in one tile: four loads.
-    const auto lv = static_cast<std::size_t>(up);
-    const std::uint32_t* p00 = w.tile[lv]->colourRgba + (((y0 - w.y0[lv]) << f.tileShift) + (x0 - w.x0[lv]));
-    const std::ptrdiff_t row = std::ptrdiff_t{1} << f.tileShift;
-    q00 = p00[0];
-    q10 = p00[1];
-    q01 = p00[row];
-    q11 = p00[row + 1];
-  } else {
-    q00 = windowColour(f, t, w, up, x0, y0);
-    q10 = windowColour(f, t, w, up, x0 + 1, y0);
-    q01 = windowColour(f, t, w, up, x0, y0 + 1);
-    q11 = windowColour(f, t, w, up, x0 + 1, y0 + 1);
-  }
-  const Rgb lo = mix(unpackRgb(q00), unpackRgb(q10), fx);
-  const Rgb hi = mix(unpackRgb(q01), unpackRgb(q11), fx);
-  x.colour = mix(x.colour, mix(lo, hi, fy), static_cast<float>(blend));
-}
-
-// Scales a crossing's colour by the frame's sun (TerrainLight.h) where it lies on its segment.
-// Called only for a relit frame.
-void relightCrossing(const CasterFrame& f, CasterThread& t, const ColumnPlane& c, Crossing& x) noexcept {
-  const int vx = c.xMajor ? x.i : x.j;
-  const int vy = c.xMajor ? x.j : x.i;
-  const bool alongX = c.xMajor == x.onMinorLine;  // the segment's second voxel lies east, else north
-  x.colour.v *= segmentLight(f, t, x.level, vx, vy, alongX, static_cast<float>(x.phi));
-}
-
-// A crossing's stick (StickShading.h): the one of its segment's two voxels that colours it (a
-// minor-line crossing's segment runs along the major axis). Looked up once per crossing: every fill
-// of a terrain with sticks asks it of both its crossings, most of them have none, and a crossing
-// bounds two fills.
-inline const StickVoxel& crossingStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                                       Crossing& x) noexcept {
-  if (x.haveStick) return x.stick;
-  const int vx = c.xMajor ? x.i : x.j;
-  const int vy = c.xMajor ? x.j : x.i;
-  const bool alongX = c.xMajor == x.onMinorLine;  // the segment's second voxel lies east, else north
-  x.stick = colouringStick(windowStick(f, t, w, x.level, vx, vy),
-                           windowStick(f, t, w, x.level, alongX ? vx + 1 : vx, alongX ? vy : vy + 1));
-  x.haveStick = true;
-  return x.stick;
-}
-
-// On a terrain with sticks, where either crossing lies on a stick: fills the sub-rows between
-// them with the stick's texels — the far crossing's stick, else the near one's — into the sink (one
-// sub-row per pixel or several). Out of line: placed away from the terrain fill's code. (The test
-// whether a fill meets a stick at all stays inline in the march of a terrain with sticks: called
-// for it, the furnished built-in terrain's frames were 10–25% slower.)
-[[gnu::noinline]] void fillOnStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                                   const StickVoxel& near, const StickVoxel& far, const Crossing& from,
-                                   const Crossing& to, const CrossingSpan& span, const ColumnFill& column,
-                                   ColumnSink& sink, double vStop, int& qInOut, double& vqInOut) noexcept {
-  const StickVoxel& s = far.id != 0 ? far : near;
-  // A complex stick may be seen through (at level 0: its coarser texels are opaque); its pixels'
-  // secondary rays need the column
-  const Intrinsics& k = f.geo->intrinsics();
-  const SeeThroughColumn through{&f, &t, k.cxPx + c.xc * k.fxPx, &w};
-  const bool complex = f.seeThrough && f.sticks->entry(s.id).kind == StickKind::Complex;
-  const StickSpan stick{f.sticks->texels(s.id, s.level), stickTexelCoordinate(s, from.heightQ, f.stickUnitsPerQ),
-                        stickTexelCoordinate(s, to.heightQ, f.stickUnitsPerQ), f.shading.light().flat(),
-                        complex ? &through : nullptr};
-  if (sink.s != 1) {
-    const PixelShader shading = column.shading;
-    forEachSpanRow(
-        span, column, shading, vStop, qInOut, vqInOut,
-        [&](int q, const SpanPixel& p) { sink.emit(q, p.colour, p.rangeM); }, StickSpanPixel{stick});
-  } else if (column.shading.grey) {
-    fillStickSpan<true>(span, column, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, vStop, qInOut,
-                        vqInOut, stick);
-  } else {
-    fillStickSpan<false>(span, column, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, vStop, qInOut,
-                         vqInOut, stick);
-  }
-}
-
-// Crossing x's colour from its segment's two voxels' colours c0, c1: linear between them, blended
-// with the next level, relit for the frame's sun.
-__attribute__((always_inline)) inline void colourCrossing(const CasterFrame& f, CasterThread& t, TileWindows& w,
-                                                          const ColumnPlane& c, Crossing& x, std::uint32_t c0,
-                                                          std::uint32_t c1) noexcept {
-  const int l = x.level;
-  x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
-  x.haveColour = true;
-  if (f.blend && l + 1 < f.levels) {
-    const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
-    if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
-  }
-  if (f.shading.light().relit()) relightCrossing(f, t, c, x);
-}
-
-// Colour of a crossing on a grid line of the minor axis (Crossing::onMinorLine): linear along that
-// line between voxels (i, j) and (i + 1, j), blended with the next level as crossingColour does.
-[[gnu::noinline]] void minorLineColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                                       Crossing& x) noexcept {
-  const int l = x.level;
-  const int vx = c.xMajor ? x.i : x.j;
-  const int vy = c.xMajor ? x.j : x.i;
-  const std::uint32_t c0 = windowColour(f, t, w, l, vx, vy);
-  const std::uint32_t c1 = c.xMajor ? windowColour(f, t, w, l, vx + 1, vy) : windowColour(f, t, w, l, vx, vy + 1);
-  colourCrossing(f, t, w, c, x, c0, c1);
-}
-
-// Colour of a crossing: linear along the grid line at its level (minorLineColour on a minor line),
-// blended with the next level.
-// Inline: it is asked for twice per fill, and as a call its set-up cost as much as its work.
-__attribute__((always_inline)) inline const Rgb& crossingColour(const CasterFrame& f, CasterThread& t, TileWindows& w,
-                                                                const ColumnPlane& c, Crossing& x) noexcept {
-  if (x.haveColour) return x.colour;
-  if (x.onMinorLine) {
-    minorLineColour(f, t, w, c, x);
-    return x.colour;
-  }
-  const int l = x.level;
-  std::uint32_t c0, c1;
-  const int vx = c.xMajor ? x.i : x.j;
-  const int vy = c.xMajor ? x.j : x.i;
-  if ((x.j & f.tileMask) != f.tileMask && windowFor(f, t, w, l, vx, vy)) {
-    // Both voxels of the segment lie in one tile: two loads.
-    const auto lv = static_cast<std::size_t>(l);
-    const std::uint32_t* p0 = w.tile[lv]->colourRgba + (((vy - w.y0[lv]) << f.tileShift) + (vx - w.x0[lv]));
-    c0 = p0[0];
-    c1 = p0[c.xMajor ? std::ptrdiff_t{1} << f.tileShift : 1];
-  } else {
-    c0 = windowColour(f, t, w, l, vx, vy);
-    c1 = c.xMajor ? windowColour(f, t, w, l, vx, vy + 1) : windowColour(f, t, w, l, vx + 1, vy);
-  }
-  colourCrossing(f, t, w, c, x, c0, c1);
-  return x.colour;
-}
-
-// Fills the sub-rows of a supersampled column (several per pixel) between two crossings, as
-// fillSpanReference does for one per pixel; the sink averages them into pixels.
-__attribute__((always_inline)) inline void fillSpanSubRows(const CrossingSpan span, const ColumnFill& column,
-                                                           ColumnSink& sink, double vStop, int& qInOut,
-                                                           double& vqInOut) noexcept {
-  const PixelShader shading = column.shading;
-  forEachSpanRow(span, column, shading, vStop, qInOut, vqInOut,
-                 [&](int q, const SpanPixel& p) { sink.emit(q, p.colour, p.rangeM); });
-}
 
 // Where a voxel spans at least this many pixels, a fill between two crossings of the major axis is
 // split at the crossings of the minor axis's grid lines between them. Every column then samples
@@ -486,38 +327,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   // Fills the sub-rows from the next one up to `to`'s row, which see the terrain between the
   // crossings `from` and `to`, interpolated perspective-correctly; true when the column is full.
   const auto fillBetween = [&](Crossing & from, Crossing & to) __attribute__((always_inline))->bool {
-    // (Only a crossing that fills rows is projected to its row and coloured.)
-    const double fromInvDepth = 1.0 / from.depth;
-    const double toInvDepth = 1.0 / to.depth;
-    const double fromV = k.cyPx - k.fyPx * from.yc * fromInvDepth;
-    const double toV = k.cyPx - k.fyPx * to.yc * toInvDepth;
-    CrossingSpan span{static_cast<float>(fromV),
-                      static_cast<float>(1.0 / (toV - fromV)),
-                      static_cast<float>(fromInvDepth),
-                      static_cast<float>(toInvDepth),
-                      Rgb{},
-                      Rgb{}};  // the colours of terrain (not of a stick), once it is known which
     const int qFirst = q;
-    const StickVoxel* near = nullptr;
-    const StickVoxel* far = nullptr;
-    if constexpr (kSticks) {
-      near = &crossingStick(f, t, window, c, from);
-      far = &crossingStick(f, t, window, c, to);
-    }
-    if (kSticks && (near->id != 0 || far->id != 0)) {
-      // A stick's side or top, filled with its texels: the crossings' terrain colours are not needed
-      fillOnStick(f, t, window, c, *near, *far, from, to, span, fill, sink, toV, q, vq);
-    } else {
-      span.c0 = crossingColour(f, t, window, c, from);
-      span.c1 = crossingColour(f, t, window, c, to);
-      if (sink.s != 1) {
-        fillSpanSubRows(span, fill, sink, toV, q, vq);
-      } else if (fill.shading.grey) {
-        fillSpan<true>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, toV, q, vq);
-      } else {
-        fillSpan<false>(span, fill, ColumnPixels{sink.pixels, sink.ranges, sink.bytesPerPixel}, toV, q, vq);
-      }
-    }
+    fillCrossings<kSticks>(f, t, window, c, sink, fill, from, to, q, vq);
     rowSlope = (k.cyPx - vq) * invFy;
     if (grazingLod) {
       stretch = stretchOfRow(q);
