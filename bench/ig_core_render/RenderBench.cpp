@@ -116,6 +116,7 @@ void BM_Render(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(2));
   RenderSettings settings;
   settings.maxAnisotropy = static_cast<double>(state.range(3));  // the grazing-angle rule, 0 = off
+  settings.laneMarch = state.range(4) != 0;                        // neighbouring columns in step
   state.SetLabel(std::string(kPoses[static_cast<std::size_t>(pose)].name));
   const double refNs = referenceNsPerPixel(pose, size);  // the reference with the rule off
   Renderer renderer(terrain().view(), settings, threads);
@@ -357,12 +358,14 @@ void registerAll() {
   for (int size = 0; size < 2; ++size) {
     for (int anisotropy : {0, 2}) {
       for (int threads : {1, 2}) {
-        for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
-          benchmark::RegisterBenchmark("render", BM_Render)
-              ->Args({pose, size, threads, anisotropy})
-              ->ArgNames({"pose", "size", "threads", "anisotropy"})
-              ->Unit(benchmark::kMillisecond)
-              ->UseRealTime();
+        for (int lanes : {0, 1}) {
+          for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
+            benchmark::RegisterBenchmark("render", BM_Render)
+                ->Args({pose, size, threads, anisotropy, lanes})
+                ->ArgNames({"pose", "size", "threads", "anisotropy", "lanes"})
+                ->Unit(benchmark::kMillisecond)
+                ->UseRealTime();
+          }
         }
       }
     }

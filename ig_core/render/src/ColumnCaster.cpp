@@ -3,6 +3,7 @@
 // march (RayMarch.h), the rest by the column-plane march (PlaneMarch.h), the columns of a staging
 // block in step, and the rows the plane march leaves by the per-ray march again.
 #include "ColumnCaster.h"
+#include "LaneMarch.h"
 #include "PlaneMarch.h"
 #include "RayMarch.h"
 #include "SeeThrough.h"
@@ -12,6 +13,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <span>
 
 namespace fieldcast::core {
 
@@ -55,6 +57,7 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
       tileMask(v.geometry().tileSizeVox() - 1),
       supersample(std::clamp(settings.verticalSupersample, 1, 4)),
       blend(settings.blendLevels),
+      laneMarch(settings.laneMarch),
       sticks(v.sticks()),
       image(img),
       rangeM(range) {
@@ -197,6 +200,21 @@ class ColumnCast {
       mDepth = finiteOrZero(mMarch.crossings[mMarch.prev].depth);
       return;
     }
+    castRowsLeft(f, t, q);
+  }
+
+  const ColumnPlane& plane() const noexcept { return mPlane; }
+  // The column for a lane march (LaneMarch.h), which does its plane march in step with others.
+  LaneColumn laneColumn() noexcept { return {&mSink, &mPlane, mQ, mPrevHit, mHit.at.level, {}}; }
+  // After its lane march: the rows it left.
+  void finishLane(const CasterFrame& f, CasterThread& t, const LaneColumn& lane) noexcept {
+    mStopped = lane.stopped;
+    castRowsLeft(f, t, lane.q);
+  }
+
+ private:
+  // The rows from q down that the plane march left (none when q < 0); the column is then done.
+  void castRowsLeft(const CasterFrame& f, CasterThread& t, int q) noexcept {
     mQ = -1;
     if (q < 0) return;
     // Above all the terrain, the rows left see the sky. Otherwise (the march left the grid, or
@@ -211,7 +229,6 @@ class ColumnCast {
     castRowsPerRay(f, t, mSink, mUc, q, false, mHavePrev, mPrevHit, mHit, mLine, &mStopped);
   }
 
- private:
   ColumnSink mSink;
   double mUc;
   int mQ = -1;  // the sub-row the march started from (it resumes from its state); −1 once done
@@ -281,6 +298,31 @@ void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept
                                                                            t.columnRanges.data() + c);
       column.castBottomRays(f, t);
       if (!column.done()) nearest = std::min(nearest, column.depth());
+    }
+    if (f.laneMarch) {
+      // In lane blocks of kLaneColumns: the columns of a block that share the first one's major
+      // axis and direction march in step (LaneMarch.h); any other goes on to the depth bands below
+      nearest = std::numeric_limits<double>::infinity();
+      for (int g = 0; g < b1 - b0; g += kLaneColumns) {
+        std::array<LaneColumn, kLaneColumns> lanes;
+        std::array<ColumnCast*, kLaneColumns> laneOf{};
+        int count = 0;
+        const ColumnPlane* first = nullptr;
+        for (int u = g; u < std::min(g + kLaneColumns, b1 - b0); ++u) {
+          std::optional<ColumnCast>& column = block[static_cast<std::size_t>(u)];
+          if (!column || column->done()) continue;
+          if (first == nullptr) first = &column->plane();
+          if (column->plane().xMajor != first->xMajor || column->plane().sx != first->sx) {
+            nearest = std::min(nearest, column->depth());
+            continue;
+          }
+          lanes[static_cast<std::size_t>(count)] = column->laneColumn();
+          laneOf[static_cast<std::size_t>(count++)] = &*column;
+        }
+        marchLanes(f, t, std::span(lanes.data(), static_cast<std::size_t>(count)), window);
+        for (int n = 0; n < count; ++n)
+          laneOf[static_cast<std::size_t>(n)]->finishLane(f, t, lanes[static_cast<std::size_t>(n)]);
+      }
     }
     while (nearest < std::numeric_limits<double>::infinity()) {
       const double pause = nearest * std::max(f.marchBand, 1.0);  // ≥ nearest: the nearest column moves on

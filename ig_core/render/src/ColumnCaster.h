@@ -61,6 +61,8 @@ struct CasterFrame {
   /// castColumns; below 1 acts as 1). Any value gives the same image; tests set it near 1 to pause
   /// at almost every crossing, and to infinity to march each column to its end.
   double marchBand = 1.5;
+  /// Neighbouring columns' plane marches in step (RenderSettings::laneMarch, LaneMarch.h).
+  bool laneMarch = false;
   const StickTable* sticks;     ///< the terrain's sticks, or null when it has none
   bool seeThrough = false;      ///< some of them are complex: a ray may go on as a secondary ray
   double stickUnitsPerQ = 0.0;  ///< stick voxels (level 0) per height quantum

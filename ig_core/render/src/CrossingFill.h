@@ -5,6 +5,7 @@
 // ig_core.
 
 #include "PlaneMarch.h"
+#include "RayMarch.h"
 #include "SpanFill.h"
 #include "TileWindows.h"
 
@@ -105,6 +106,58 @@ __attribute__((always_inline)) inline void fillSpanSubRows(const CrossingSpan sp
   const PixelShader shading = column.shading;
   forEachSpanRow(span, column, shading, vStop, qInOut, vqInOut,
                  [&](int q, const SpanPixel& p) { sink.emit(q, p.colour, p.rangeM); });
+}
+
+/// A grid line of a march's major axis at its level, and the column plane's terms on it
+/// (PlaneMarch.cpp's solve: g = gA·minor + nZ·h + base along the line; camera yc, zc likewise from
+/// yLine, zLine; each grows by its step per line).
+struct MarchLine {
+  int level, i, sx;
+  double gA, nZ, base, baseStep, yLine, yStep, zLine, zStep, yMinor, zMinor, upZ, fwdZ, stretch;
+};
+
+/// The crossings of the minor axis's grid lines that lie strictly between crossing `from` on line
+/// i − sx and `to` on line i (both of the line's level), in order from `from`, at most two, into
+/// `out`; returns how many. On minor line m the terrain is linear along the major axis between
+/// voxels (i − sx, m) and (i, m), and the plane's g changes along it by baseStep + nZ·Δh: a
+/// crossing where g changes sign. height(level, major, minor) reads the grid; `steps` counts the
+/// reads.
+template <typename Height>
+__attribute__((always_inline)) inline int solveMinorLines(const MarchLine& line, Height&& height, const Crossing& from,
+                                                          const Crossing& to, Crossing* out,
+                                                          std::uint64_t& steps) noexcept {
+  const double a = from.j + from.phi;
+  const double b = to.j + to.phi;
+  const int step = b > a ? 1 : -1;
+  int m = b > a ? ray_march::floorToInt(a) + 1 : ray_march::ceilToInt(a) - 1;
+  int found = 0;
+  const int i = line.i, sx = line.sx;
+  const double baseFrom = line.base - line.baseStep, yFrom = line.yLine - line.yStep, zFrom = line.zLine - line.zStep;
+  for (int n = 0; n < 2 && (m - b) * step < 0.0; ++n, m += step) {
+    const double h0 = height(line.level, i - sx, m);
+    const double h1 = height(line.level, i, m);
+    const double g0 = line.gA * m + line.nZ * h0 + baseFrom;
+    const double g1 = g0 + line.baseStep + line.nZ * (h1 - h0);
+    steps += 2;
+    if ((g0 > 0.0) == (g1 > 0.0)) continue;  // the column's terrain passes this line beyond the two
+    const double psi = g0 / (g0 - g1);       // fraction from line i − sx toward line i
+    const double h = h0 + psi * (h1 - h0);
+    const double zc = zFrom + psi * line.zStep + m * line.zMinor + h * line.fwdZ;
+    if (!(zc > 1e-6)) continue;
+    Crossing& x = out[found++];
+    x.yc = yFrom + psi * line.yStep + m * line.yMinor + h * line.upZ;
+    x.depth = zc;
+    x.lodDepth = zc * line.stretch;
+    x.level = line.level;
+    x.i = sx > 0 ? i - 1 : i;
+    x.phi = sx > 0 ? psi : 1.0 - psi;
+    x.j = m;
+    x.onMinorLine = true;
+    x.haveColour = false;
+    x.heightQ = h;
+    x.haveStick = false;
+  }
+  return found;
 }
 
 /// Fills the sub-rows of a column from q (its centre vq) up to crossing `to`'s row, which see what

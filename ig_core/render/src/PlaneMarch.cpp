@@ -27,15 +27,6 @@ using ray_march::pow2;
 
 namespace {
 
-// Where a voxel spans at least this many pixels, a fill between two crossings of the major axis is
-// split at the crossings of the minor axis's grid lines between them. Every column then samples
-// the terrain on the grid lines of both axes, so the image does not change where the columns' major
-// axis does (looking along a grid diagonal). Farther away a fill covers a few pixels and the extra
-// crossings would cost more than they show: splitting every fill made the bench's frames 1.2–2×
-// slower. At 8 pixels the horizon view costs 15% more, at 4 pixels 20%; at 16 the seam shows
-// again (RENDERER.md, "Both axes' grid lines near the camera").
-constexpr double kMinorLinesVoxelPx = 8.0;
-
 // Where the ray of the next sub-row ended its march (marchPlaneAxis's advanceRowRay), and why.
 struct RowRayEnd {
   enum Why {
@@ -337,43 +328,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     t.rays += static_cast<std::uint64_t>(qFirst - q);
     return q < 0;
   };
-  // The crossings of the minor axis's grid lines that lie strictly between crossing `from` on line
-  // i − sx and `to` on line i (both of the current level), in order from `from`, at most two. On
-  // minor line m the terrain is linear along the major axis between voxels (i − sx, m) and (i, m),
-  // and the plane's g changes along it by baseStep + nZ·Δh: a crossing where g changes sign.
-  const auto solveMinorLines = [&](const Crossing& from, const Crossing& to, Crossing* out) -> int {
-    const double a = from.j + from.phi;
-    const double b = to.j + to.phi;
-    const int step = b > a ? 1 : -1;
-    int m = b > a ? floorToInt(a) + 1 : ceilToInt(a) - 1;
-    int found = 0;
-    const double baseFrom = base - baseStep, yFrom = yLine - yStep, zFrom = zLine - zStep;
-    for (int n = 0; n < 2 && (m - b) * step < 0.0; ++n, m += step) {
-      const double h0 = height(level, i - sx, m);
-      const double h1 = height(level, i, m);
-      const double g0 = gA * m + nZ * h0 + baseFrom;
-      const double g1 = g0 + baseStep + nZ * (h1 - h0);
-      steps += 2;
-      if ((g0 > 0.0) == (g1 > 0.0)) continue;  // the column's terrain passes this line beyond the two
-      const double psi = g0 / (g0 - g1);       // fraction from line i − sx toward line i
-      const double h = h0 + psi * (h1 - h0);
-      const double zc = zFrom + psi * zStep + m * zMinor + h * fwdZ;
-      if (!(zc > 1e-6)) continue;
-      Crossing& x = out[found++];
-      x.yc = yFrom + psi * yStep + m * yMinor + h * upZ;
-      x.depth = zc;
-      x.lodDepth = zc * stretch;
-      x.level = level;
-      x.i = sx > 0 ? i - 1 : i;
-      x.phi = sx > 0 ? psi : 1.0 - psi;
-      x.j = m;
-      x.onMinorLine = true;
-      x.haveColour = false;
-      x.heightQ = h;
-      x.haveStick = false;
-    }
-    return found;
-  };
   // The crossings of minor lines between two of the major axis (solveMinorLines): here, not in the
   // loop, where zeroing them before every fill was 6% of a furnished frame's march
   Crossing onMinor[2];
@@ -492,7 +446,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       // up where a voxel spans many rows (DiagonalSeam test).
       int minorCrossings = 0;
       if (cur.depth < minorLinesDepth && prev.level == level && prev.i == i - sx) {
-        minorCrossings = solveMinorLines(prev, cur, onMinor);
+        const MarchLine line{level, i,      sx,     gA,     nZ,     base,   baseStep, yLine,
+                             yStep, zLine,  zStep,  yMinor, zMinor, upZ,    fwdZ,     stretch};
+        minorCrossings = solveMinorLines(line, height, prev, cur, onMinor, steps);
       }
       Crossing* from = &prev;
       for (int m = 0; m < minorCrossings; ++m) {

@@ -24,6 +24,7 @@ struct SweepPose {
   double fovDeg = 60.0;
   int supersample = 1;
   double maxAnisotropy = 0.0;
+  bool laneMarch = false;
 };
 
 // A pose anywhere over the terrain or up to 10% of its size beyond its sides.
@@ -69,6 +70,7 @@ struct SweepView {
     s.rangeImage = true;
     s.verticalSupersample = p.supersample;
     s.maxAnisotropy = p.maxAnisotropy;
+    s.laneMarch = p.laneMarch;
     return s;
   }
   Frame blankFrame() const {
@@ -115,13 +117,14 @@ SweepResult castBoth(const TerrainView& view, const SweepPose& p) {
 // plane march stopped early (steep terrain 0.988, 0.7% of its pixels lost); and the row ray
 // stopping every other line for a level switch that had not happened (steep terrain, 1.1 heights
 // per pixel more than twice the ray-by-ray march's in one pose).
-void sweep(const TerrainView& view, unsigned seed, double minAgreement) {
+void sweep(const TerrainView& view, unsigned seed, double minAgreement, bool laneMarch = false) {
   std::mt19937 rng(seed);
   int pixels = 0, same = 0, lost = 0;
   std::uint64_t planeSteps = 0, perRaySteps = 0;
   double worstExcess = -1e9;  // max over poses of (plane heights − 2 × ray-by-ray heights) per pixel
   for (int n = 0; n < 150; ++n) {
-    const SweepPose p = randomPose(view, rng);
+    SweepPose p = randomPose(view, rng);
+    p.laneMarch = laneMarch;
     const SweepResult r = castBoth(view, p);
     pixels += r.agreement.pixels;
     same += r.agreement.same;
@@ -167,6 +170,19 @@ TEST(PlaneMarchSweep, AgreesWithRayByRayOnSteepTerrain) {
   // column plane's terrain more than once.
   static const std::unique_ptr<MemoryTerrain> steep = makeSyntheticTerrain({SyntheticKind::Hills, 500, 0.4, 5, 7});
   sweep(steep->view(), 3, 0.99);
+}
+
+// The lane march (neighbouring columns in step, LaneMarch.h) over the same poses.
+TEST(PlaneMarchSweep, LaneMarchAgreesWithRayByRayOverTheHills) { sweep(hills().view(), 1, 0.999, true); }
+
+TEST(PlaneMarchSweep, LaneMarchAgreesWithRayByRayWithPartialTiles) {
+  static const std::unique_ptr<MemoryTerrain> partial = makeSyntheticTerrain({SyntheticKind::Hills, 500, 2.0, 6, 5});
+  sweep(partial->view(), 2, 0.999, true);
+}
+
+TEST(PlaneMarchSweep, LaneMarchAgreesWithRayByRayOnSteepTerrain) {
+  static const std::unique_ptr<MemoryTerrain> steep = makeSyntheticTerrain({SyntheticKind::Hills, 500, 0.4, 5, 7});
+  sweep(steep->view(), 3, 0.99, true);
 }
 
 // The columns of a staging block march in step, pausing at the end of each depth band

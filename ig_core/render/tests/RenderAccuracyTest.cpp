@@ -48,10 +48,11 @@ struct Agreement {
 };
 
 void sweepAgainstTheReference(const TerrainView& view, double maxAnisotropy, const Agreement& bound = {},
-                              const std::vector<EntityInstance>& entities = {}) {
+                              const std::vector<EntityInstance>& entities = {}, bool laneMarch = false) {
   RenderSettings settings;
   settings.rangeImage = true;
   settings.maxAnisotropy = maxAnisotropy;
+  settings.laneMarch = laneMarch;
   Renderer renderer(view, settings, 2);
   const ReferenceRenderer reference(view);
   int total = 0;
@@ -158,6 +159,19 @@ std::vector<EntityInstance> vehiclesAround(const TerrainView& view) {
 TEST(RenderAccuracy, ColumnCasterHitsTheReferenceVoxelOverHillsWithObjectsAndEntities) {
   const TerrainView& view = furnishedHills().view();
   sweepAgainstTheReference(view, 0.0, Agreement{0.94, 0.99, 8}, vehiclesAround(view));
+}
+
+// The lane march (neighbouring columns in step) over the same sweeps.
+TEST(RenderAccuracy, LaneMarchHitsTheReferenceVoxelOverAPoseSweep) {
+  sweepAgainstTheReference(hills().view(), 0.0, {}, {}, true);
+}
+
+TEST(RenderAccuracy, LaneMarchWithGrazingAngleLevelOfDetailAgreesWithTheReference) {
+  sweepAgainstTheReference(hills().view(), 2.0, {}, {}, true);
+}
+
+TEST(RenderAccuracy, LaneMarchHitsTheReferenceVoxelOverHillsWithObjects) {
+  sweepAgainstTheReference(furnishedHills().view(), 0.0, Agreement{0.94, 0.99, 8}, {}, true);
 }
 
 }  // namespace

@@ -25,11 +25,12 @@ ViewRequest someView(const TerrainView& view, double heading, double pitch, doub
   return r;
 }
 
-TEST(Renderer, SameImageForOneTwoAndSevenThreads) {
+void sameImageForOneTwoAndSevenThreads(bool laneMarch) {
   const TerrainView& view = hills().view();
   RenderSettings settings;
   settings.rangeImage = true;
   settings.verticalSupersample = 2;
+  settings.laneMarch = laneMarch;
   Renderer one(view, settings, 1);
   Renderer two(view, settings, 2);
   Renderer seven(view, settings, 7);
@@ -44,6 +45,10 @@ TEST(Renderer, SameImageForOneTwoAndSevenThreads) {
     EXPECT_EQ(a.rangeM, c.rangeM);
   }
 }
+
+TEST(Renderer, SameImageForOneTwoAndSevenThreads) { sameImageForOneTwoAndSevenThreads(false); }
+
+TEST(Renderer, SameImageForOneTwoAndSevenThreadsInTheLaneMarch) { sameImageForOneTwoAndSevenThreads(true); }
 
 TEST(Renderer, FrameCarriesPoseTimesMarginsAndNineControlPoints) {
   const TerrainView& view = hills().view();

@@ -43,6 +43,10 @@ struct RenderSettings {
   double maxAnisotropy = 0.0;
   double maxLodStretch = 4.0;   ///< at most this factor (2 levels) coarser than depth alone
   bool blendLevels = true;      ///< blend colours of adjacent levels by distance (no LOD seam)
+  /// March neighbouring columns in step, eight at a time (the caster's lane march; see ig_core's
+  /// RENDERER.md). Off: each column marches on its own, the columns of a staging block in depth
+  /// bands.
+  bool laneMarch = false;
   int verticalSupersample = 1;  ///< sub-rays per pixel along the column, 1..4 (for shallow pitch)
   FrameColour colourMode = FrameColour::Rgb;
   bool rangeImage = false;                  ///< also produce per-pixel range (metres, +inf = sky)
