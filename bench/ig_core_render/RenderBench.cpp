@@ -116,7 +116,7 @@ void BM_Render(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(2));
   RenderSettings settings;
   settings.maxAnisotropy = static_cast<double>(state.range(3));  // the grazing-angle rule, 0 = off
-  settings.laneMarch = state.range(4) != 0;                        // neighbouring columns in step
+  settings.laneMarch = state.range(4) != 0;                      // neighbouring columns in step
   state.SetLabel(std::string(kPoses[static_cast<std::size_t>(pose)].name));
   const double refNs = referenceNsPerPixel(pose, size);  // the reference with the rule off
   Renderer renderer(terrain().view(), settings, threads);

@@ -11,8 +11,8 @@ using ray_march::levelIndex;
 using ray_march::pow2;
 using ray_march::segmentLight;
 
-void blendNextLevel(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                                      Crossing& x, double blend) noexcept {
+void blendNextLevel(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c, Crossing& x,
+                    double blend) noexcept {
   const int l = x.level;
   const double p = pow2(l);
   const double mMaj = (x.i + 0.5 + (x.onMinorLine ? x.phi : 0.0)) * p - 0.5;
@@ -53,10 +53,9 @@ void relightCrossing(const CasterFrame& f, CasterThread& t, const ColumnPlane& c
   x.colour.v *= segmentLight(f, t, x.level, vx, vy, alongX, static_cast<float>(x.phi));
 }
 
-void fillOnStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                                   const StickVoxel& near, const StickVoxel& far, const Crossing& from,
-                                   const Crossing& to, const CrossingSpan& span, const ColumnFill& column,
-                                   ColumnSink& sink, double vStop, int& qInOut, double& vqInOut) noexcept {
+void fillOnStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c, const StickVoxel& near,
+                 const StickVoxel& far, const Crossing& from, const Crossing& to, const CrossingSpan& span,
+                 const ColumnFill& column, ColumnSink& sink, double vStop, int& qInOut, double& vqInOut) noexcept {
   const StickVoxel& s = far.id != 0 ? far : near;
   // A complex stick may be seen through (at level 0: its coarser texels are opaque); its pixels'
   // secondary rays need the column
@@ -81,7 +80,7 @@ void fillOnStick(const CasterFrame& f, CasterThread& t, TileWindows& w, const Co
 }
 
 void minorLineColour(const CasterFrame& f, CasterThread& t, TileWindows& w, const ColumnPlane& c,
-                                       Crossing& x) noexcept {
+                     Crossing& x) noexcept {
   const int l = x.level;
   const int vx = c.xMajor ? x.i : x.j;
   const int vy = c.xMajor ? x.j : x.i;

@@ -64,7 +64,8 @@ __attribute__((always_inline)) inline void colourCrossing(const CasterFrame& f, 
   x.colour = mix(unpackRgb(c0), unpackRgb(c1), static_cast<float>(x.phi));
   x.haveColour = true;
   if (f.blend && l + 1 < f.levels) {
-    const double blend = std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * ray_march::pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
+    const double blend =
+        std::clamp(4.0 * x.lodDepth * f.invLodDepth0M * ray_march::pow2(-l) - 3.0, 0.0, 1.0);  // levelBlend
     if (blend > 0.0) blendNextLevel(f, t, w, c, x, blend);
   }
   if (f.shading.light().relit()) relightCrossing(f, t, c, x);

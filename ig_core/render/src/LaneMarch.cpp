@@ -1,8 +1,12 @@
 // The lane march (LaneMarch.h): the column-plane march of PlaneMarch.cpp for neighbouring columns
-// in step, one grid line after another.
+// in step, one grid line after another. Per line, every lane's crossing, fill test, sky test and
+// next guess come from one call of the line kernel (LaneLine.h, in SIMD lanes); only the lanes
+// where something happens — a crossing that fills rows, a guess that missed the crossing's
+// segment, a march that ends — are taken one by one.
 #include "LaneMarch.h"
 
 #include "CrossingFill.h"
+#include "LaneLine.h"
 #include "RayMarch.h"
 #include "TileWindows.h"
 
@@ -20,6 +24,8 @@ using ray_march::floorToInt;
 using ray_march::levelIndex;
 using ray_march::pow2;
 
+static_assert(kLineLanes == kLaneColumns);
+
 namespace {
 
 constexpr int kNoGuess = std::numeric_limits<int>::min();
@@ -27,9 +33,9 @@ constexpr int kNoGuess = std::numeric_limits<int>::min();
 // The grid line the block is on, and what the lanes share there: the camera's axes and position
 // are the same for every column, so a point's camera coordinates (yc, zc) are too.
 struct BlockLine {
-  int sx = 1;
   int level = 0;
   int i = 0;
+  std::int64_t count = 0;         // lines taken so far (a line's number, across level switches)
   double p = 1;                   // 2^level
   double dMaj = 0;                // the line's major offset from the camera, level-0 units
   double minOffset = 0;           // minor offset from the camera of segment 0's start
@@ -41,35 +47,37 @@ struct BlockLine {
   int majLast = 0, minLast = 0;   // the level's last line inside the grid, last minor segment
 };
 
-// One column marched in a lane: its plane's terms on the block's line and its march's state.
+// One column marched in a lane: what is its own (the line's terms are in the block's LaneLine).
 struct Lane {
   enum class State { Waiting, Marching, Done };
   State state = State::Done;
   LaneColumn* column = nullptr;
   const ColumnPlane* c = nullptr;
   ColumnFill fill{};
-  int joinLine = 0;                     // the line (block level) the column's march starts on
-  double gA = 0, baseStep = 0, base = 0;  // g(minor, h) = gA·minor + nZ·h + base on the line
-  double drift = 0;                     // minor change of the plane's trace per line
-  double jPos = 0;                      // predicted minor position of the next crossing
-  int jGuess = kNoGuess;                // its segment, when the last solve found it
-  int q = 0;                            // the next sub-row to fill
-  double vq = 0, rowSlope = 0;          // its centre, and yc / zc of its ray
-  double stretch = 1, switchZc = 0;     // the grazing-angle stretch of its ray, the switch depth over it
-  double rayZPerDMaj = 0;               // the next sub-row's ray: its height gain per unit of dMaj
-  bool rayClimbs = false;               // ... and whether it climbs (along the march)
-  bool lastFilledNothing = false;
-  int prev = 0;  // crossings[prev] is the last crossing solved
-  Crossing crossings[2]{};
+  int joinLine = 0;                  // the line (block level) the column's march starts on
+  int q = 0;                         // the next sub-row to fill
+  double vq = 0;                     // its centre
+  double stretch = 1, switchZc = 0;  // the grazing-angle stretch of its ray, the switch depth over it
+  // The last crossing, with its colour and stick once looked up, when it bounded a fill on line
+  // lastLine (a crossing bounds the next fill too); otherwise the line's arrays hold it
+  Crossing last{};
+  std::int64_t lastLine = -1;
   std::uint64_t steps = 0;
 };
 
-}  // namespace
-
-namespace {
+// The lanes' last crossings (structure of arrays, as the line kernel gives them) and march state.
+struct LaneState {
+  alignas(64) double yc[kLaneColumns]{}, depth[kLaneColumns]{}, phi[kLaneColumns]{}, heightQ[kLaneColumns]{};
+  alignas(64) int j[kLaneColumns]{};
+  alignas(64) double jPos[kLaneColumns]{};
+  alignas(64) int jGuess[kLaneColumns]{};
+  alignas(64) double baseStep[kLaneColumns]{};
+  int level = 0, i = 0;  // the last crossings' line (they are all on the block's last line)
+};
 
 template <bool kXMajor, bool kSticks>
-void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn> columns, TileWindows& window) noexcept {
+void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn> columns,
+                    TileWindows& window) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const CameraAxes& axes = f.geo->axes();
   const ColumnPlane& c0 = *columns.front().plane;  // the camera's terms: the same in every plane
@@ -80,14 +88,35 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
   const auto& minSizes = kXMajor ? f.levelHeight : f.levelWidth;
   const double minorLinesDepth0 = k.fxPx / (f.unitsPerM * kMinorLinesVoxelPx);
   const bool grazingLod = f.geo->grazingLod();
+  const int sx = c0.sx;
+  const int evenParity = sx > 0 ? 0 : 1;  // lines where the coarser level's line lies half a step ahead
+
+  // The tile of the current level the heights come from, kept in registers as the one-column
+  // march keeps it: a read is two unsigned compares and a load; anything else goes through the
+  // window cache.
+  const std::uint16_t* tileHeights = nullptr;
+  int wx0 = std::numeric_limits<int>::min() / 4;
+  int wy0 = std::numeric_limits<int>::min() / 4;
+  const unsigned tileSize = 1u << f.tileShift;
   const auto height = [&](int lv, int i, int j) __attribute__((always_inline))->double {
-    return kXMajor ? windowHeight(f, t, window, lv, i, j) : windowHeight(f, t, window, lv, j, i);
+    const int x = kXMajor ? i : j;
+    const int y = kXMajor ? j : i;
+    if (static_cast<unsigned>(x - wx0) < tileSize && static_cast<unsigned>(y - wy0) < tileSize) {
+      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
+    }
+    if (windowFor(f, t, window, lv, x, y)) {
+      const auto l = static_cast<std::size_t>(lv);
+      tileHeights = window.tile[l]->heightQ;
+      wx0 = window.x0[l];
+      wy0 = window.y0[l];
+      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
+    }
+    return ray_march::heightAt(f, t, lv, x, y);  // outside the grid (clamped) or tile missing
   };
 
   BlockLine b;
-  b.sx = c0.sx;
-  const int sx = b.sx;
-  const int evenParity = sx > 0 ? 0 : 1;  // lines where the coarser level's line lies half a step ahead
+  LaneLine line{};
+  LaneState s;
   const auto enterLevel = [&](int lv) {
     b.level = lv;
     b.p = pow2(lv);
@@ -101,19 +130,23 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     const int hullLast = sx > 0 ? floorToInt(levelIndex(c0.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
     b.majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
     b.minLast = minSizes[static_cast<std::size_t>(lv)] - 2;
+    // The register window belongs to the old level
+    tileHeights = nullptr;
+    wx0 = std::numeric_limits<int>::min() / 4;
+    wy0 = std::numeric_limits<int>::min() / 4;
   };
-  const auto setLine = [&](int line) {
-    b.i = line;
-    b.dMaj = (line + 0.5) * b.p - 0.5 - c0.cMaj;
+  const auto setLine = [&](int i) {
+    b.i = i;
+    b.dMaj = (i + 0.5) * b.p - 0.5 - c0.cMaj;
     b.yLine = b.dMaj * c0.upMaj + b.minOffset * c0.upMin - c0.cZ * c0.upZ;
     b.zLine = b.dMaj * c0.fwdMaj + b.minOffset * c0.fwdMin - c0.cZ * c0.fwdZ;
   };
   // A lane's plane on the block's line (after a level change or a join)
-  const auto setLaneLine = [&](Lane& lane) {
+  const auto setLaneLine = [&](int n, Lane& lane) {
     const ColumnPlane& c = *lane.c;
-    lane.gA = c.nMin * b.p;
-    lane.baseStep = c.nMaj * sx * b.p;
-    lane.base = c.nMaj * b.dMaj + c.nMin * b.minOffset - c.nZ * c.cZ;
+    line.gA[n] = c.nMin * b.p;
+    s.baseStep[n] = c.nMaj * sx * b.p;
+    line.base[n] = c.nMaj * b.dMaj + c.nMin * b.minOffset - c.nZ * c.cZ;
     lane.switchZc = b.switchDepth / lane.stretch;
   };
   const auto joinLineOf = [&](const LaneColumn& column) {
@@ -124,37 +157,36 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     const double yc = (k.cyPx - (row + 0.5) * invS) / k.fyPx;
     return f.geo->lodStretch(c.xc * axes.right + yc * axes.up + axes.forward);
   };
-  // The next sub-row's ray of a lane, for the test whether it passes over all the terrain
-  const auto aimRowRay = [&](Lane& lane) {
+  // A lane's next sub-row's ray: its slope, and what the kernel's test whether it passes over all
+  // the terrain needs
+  const auto aimRowRay = [&](int n, const Lane& lane) {
     const ColumnPlane& c = *lane.c;
-    lane.rowSlope = (k.cyPx - lane.vq) * invFy;
-    const double rMaj = c.aMaj + lane.rowSlope * c.bMaj;
-    const double rZ = c.aZ + lane.rowSlope * c.bZ;
-    lane.rayClimbs = rMaj * sx > 1e-12 && rZ >= 0.0;
-    lane.rayZPerDMaj = lane.rayClimbs ? rZ / rMaj : 0.0;
+    const double rowSlope = (k.cyPx - lane.vq) * invFy;
+    line.rowSlope[n] = rowSlope;
+    const double rMaj = c.aMaj + rowSlope * c.bMaj;
+    const double rZ = c.aZ + rowSlope * c.bZ;
+    const bool climbs = rMaj * sx > 1e-12 && rZ >= 0.0;
+    line.rayClimbs[n] = climbs ? 1.0 : 0.0;
+    line.rayZPerDMaj[n] = climbs ? rZ / rMaj : 0.0;
   };
-
-  // Solves a lane's crossing on the block's line into `out`; false when it leaves the grid or the view.
-  const auto solve = [&](Lane& lane, Crossing& out) __attribute__((always_inline))->bool {
+  // Lane n's crossing on the block's line, walking from the kernel's segment (line.j, h0, h1) to
+  // where g changes sign, as the one-column march's solve does; false when it leaves the grid or
+  // the view. Records the crossing's values in the line's outputs, as the kernel would.
+  const auto solveWalking = [&](int n, Lane& lane) -> bool {
     const int i = b.i;
-    if (sx > 0 ? i > b.majLast : i < b.majLast) return false;
-    if (b.minLast < 0) return false;
-    const double nZ = lane.c->nZ;
-    int j = lane.jGuess != kNoGuess ? lane.jGuess : floorToInt(lane.jPos);
-    j = j < 0 ? 0 : (j > b.minLast ? b.minLast : j);
-    double h0 = height(b.level, i, j);
-    double h1 = height(b.level, i, j + 1);
-    double g0 = lane.gA * j + nZ * h0 + lane.base;
-    double g1 = g0 + lane.gA + nZ * (h1 - h0);
+    int j = line.j[n];
+    double h0 = line.h0[n], h1 = line.h1[n];
+    const double gA = line.gA[n], nZ = line.nZ[n];
+    double g0 = gA * j + nZ * h0 + line.base[n];
+    double g1 = g0 + gA + nZ * (h1 - h0);
     std::uint64_t samples = 2;
-    // g grows along the minor axis: walk to the segment where it changes sign.
     while (g0 > 0.0) {
       if (j == 0) return false;
       --j;
       h1 = h0;
       g1 = g0;
       h0 = height(b.level, i, j);
-      g0 -= lane.gA + nZ * (h1 - h0);
+      g0 -= gA + nZ * (h1 - h0);
       ++samples;
     }
     while (g1 <= 0.0) {
@@ -163,7 +195,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
       h0 = h1;
       g0 = g1;
       h1 = height(b.level, i, j + 1);
-      g1 = g0 + lane.gA + nZ * (h1 - h0);
+      g1 = g0 + gA + nZ * (h1 - h0);
       ++samples;
     }
     lane.steps += samples;
@@ -172,22 +204,38 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     const double h = h0 + phi * (h1 - h0);
     const double zc = b.zLine + minor * b.zMinor + h * c0.fwdZ;
     if (!(zc > 1e-6)) return false;
-    out.yc = b.yLine + minor * b.yMinor + h * c0.upZ;
-    out.depth = zc;
-    out.lodDepth = zc * lane.stretch;
-    out.phi = phi;
-    out.level = b.level;
-    out.i = i;
-    out.j = j;
-    out.onMinorLine = false;
-    out.haveColour = false;
-    out.heightQ = h;
-    out.haveStick = false;
-    lane.jPos = minor + lane.drift;
-    lane.jGuess = nextSegment(j, g0, g1, lane.drift);
+    line.yc[n] = b.yLine + minor * b.yMinor + h * c0.upZ;
+    line.depth[n] = zc;
+    line.phi[n] = phi;
+    line.heightQ[n] = h;
+    line.j[n] = j;
+    line.jPos[n] = minor + line.drift[n];
+    line.jNext[n] = nextSegment(j, g0, g1, line.drift[n]);
     return true;
   };
-  // Ends a lane's march: q, and its last crossing as where it stopped (none when `last` is null).
+  // Lane n's crossing on the current line (from the line's outputs) and its last one (from the
+  // lane's cache, or the state's arrays)
+  const auto crossingOf = [&](int n, const double* yc, const double* depth, const double* phi, const double* heightQ,
+                              const int* j, int level, int i, const Lane& lane) {
+    Crossing x;
+    x.yc = yc[n];
+    x.depth = depth[n];
+    x.lodDepth = depth[n] * lane.stretch;
+    x.phi = phi[n];
+    x.heightQ = heightQ[n];
+    x.level = level;
+    x.i = i;
+    x.j = j[n];
+    return x;
+  };
+  const auto currentCrossing = [&](int n, const Lane& lane) {
+    return crossingOf(n, line.yc, line.depth, line.phi, line.heightQ, line.j, b.level, b.i, lane);
+  };
+  const auto lastCrossing = [&](int n, const Lane& lane) {
+    if (lane.lastLine == b.count - 1) return lane.last;
+    return crossingOf(n, s.yc, s.depth, s.phi, s.heightQ, s.j, s.level, s.i, lane);
+  };
+  // Ends a lane's march: q, and a crossing as where it stopped (none when `last` is null).
   const auto end = [&](Lane& lane, const Crossing* last, bool overTerrain) {
     lane.state = Lane::State::Done;
     LaneColumn& column = *lane.column;
@@ -200,17 +248,40 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     }
     t.steps += lane.steps;
   };
-  // Fills a lane's sub-rows between two crossings; true when its column is full.
-  const auto fillBetween = [&](Lane& lane, Crossing& from, Crossing& to) __attribute__((always_inline))->bool {
+  // Fills lane n's sub-rows between two crossings; true when its column is full.
+  const auto fillBetween = [&](int n, Lane& lane, Crossing& from, Crossing& to) __attribute__((always_inline))->bool {
     const int qFirst = lane.q;
     fillCrossings<kSticks>(f, t, window, *lane.c, *lane.column->sink, lane.fill, from, to, lane.q, lane.vq);
-    aimRowRay(lane);
+    aimRowRay(n, lane);
     if (grazingLod) {
       lane.stretch = stretchOfRow(*lane.c, lane.q);
       lane.switchZc = b.switchDepth / lane.stretch;
     }
     t.rays += static_cast<std::uint64_t>(qFirst - lane.q);
     return lane.q < 0;
+  };
+  // Keeps the line's crossings as the lanes' last ones, and their next guesses
+  const auto keepLine = [&]() {
+    std::copy_n(line.yc, kLaneColumns, s.yc);
+    std::copy_n(line.depth, kLaneColumns, s.depth);
+    std::copy_n(line.phi, kLaneColumns, s.phi);
+    std::copy_n(line.heightQ, kLaneColumns, s.heightQ);
+    std::copy_n(line.j, kLaneColumns, s.j);
+    std::copy_n(line.jPos, kLaneColumns, s.jPos);
+    std::copy_n(line.jNext, kLaneColumns, s.jGuess);
+    s.level = b.level;
+    s.i = b.i;
+  };
+  // Reads the heights of each marching lane's guessed segment on the block's line
+  const auto readGuesses = [&](const std::array<Lane, kLaneColumns>& lanes, int count) {
+    for (int n = 0; n < count; ++n) {
+      if (lanes[static_cast<std::size_t>(n)].state != Lane::State::Marching) continue;
+      int j = s.jGuess[n] != kNoGuess ? s.jGuess[n] : floorToInt(s.jPos[n]);
+      j = j < 0 ? 0 : (j > b.minLast ? b.minLast : j);
+      line.j[n] = j;
+      line.h0[n] = height(b.level, b.i, j);
+      line.h1[n] = height(b.level, b.i, j + 1);
+    }
   };
 
   // The lanes, and the level they start at: the finest of their bottom rays' hits
@@ -219,6 +290,11 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
   int level = std::numeric_limits<int>::max();
   for (int n = 0; n < count; ++n) level = std::min(level, columns[static_cast<std::size_t>(n)].level);
   enterLevel(level);
+  line.zMinor = b.zMinor;  // (set per line below; here only so that unused lanes compute finite values)
+  line.ceilingQ = f.ceilingQ;
+  line.rayZAtLine = c0.cZ;
+  line.upZ = c0.upZ;
+  line.fwdZ = c0.fwdZ;
   for (int n = 0; n < count; ++n) {
     Lane& lane = lanes[static_cast<std::size_t>(n)];
     LaneColumn& column = columns[static_cast<std::size_t>(n)];
@@ -233,57 +309,75 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
                            static_cast<float>(1.0 / k.fyPx),
                            static_cast<float>(1.0 + lane.c->xc * lane.c->xc),
                            invS};
-    lane.drift = -lane.c->nMaj / lane.c->nMin * sx;
+    line.nZ[n] = lane.c->nZ;
+    line.drift[n] = -lane.c->nMaj / lane.c->nMin * sx;
     lane.stretch = grazingLod ? stretchOfRow(*lane.c, lane.q) : 1.0;
     lane.joinLine = joinLineOf(column);
-    aimRowRay(lane);
+    aimRowRay(n, lane);
   }
   // A lane joins on its line: its first crossing there, as its own march would start
-  const auto join = [&](Lane& lane) {
+  const auto join = [&](int n, Lane& lane) {
     const LaneColumn& column = *lane.column;
-    setLaneLine(lane);
-    lane.jPos = levelIndex(kXMajor ? column.start.y : column.start.x, b.level);
-    lane.jGuess = kNoGuess;
-    lane.prev = 0;
-    Crossing& first = lane.crossings[0];
+    setLaneLine(n, lane);
+    int j = floorToInt(levelIndex(kXMajor ? column.start.y : column.start.x, b.level));
+    j = j < 0 ? 0 : (j > b.minLast ? b.minLast : j);
     // The first crossing lies above the next sub-row's ray (the bottom ray hit the grid's side
     // wall, seen from outside the grid): the per-ray march takes over, as from marchPlane
-    if (!solve(lane, first) || first.yc > lane.rowSlope * first.depth) {
+    const bool inGrid = (sx > 0 ? b.i <= b.majLast : b.i >= b.majLast) && b.minLast >= 0;
+    if (inGrid) {
+      line.j[n] = j;
+      line.h0[n] = height(b.level, b.i, j);
+      line.h1[n] = height(b.level, b.i, j + 1);
+    }
+    if (!inGrid || !solveWalking(n, lane) || line.yc[n] > line.rowSlope[n] * line.depth[n]) {
       end(lane, nullptr, false);
       return;
     }
+    lane.last = currentCrossing(n, lane);
+    lane.lastLine = b.count;
+    // Its values as the state keeps a last crossing's (keepLine copies the others' at the line's end)
+    s.yc[n] = line.yc[n];
+    s.depth[n] = line.depth[n];
+    s.phi[n] = line.phi[n];
+    s.heightQ[n] = line.heightQ[n];
+    s.j[n] = line.j[n];
+    s.jPos[n] = line.jPos[n];
+    s.jGuess[n] = line.jNext[n];
     lane.state = Lane::State::Marching;
   };
 
   // The block starts on the nearest lane's line
   const auto nearestWaiting = [&]() {
-    int line = 0;
+    int at = 0;
     bool any = false;
     for (int n = 0; n < count; ++n) {
       const Lane& lane = lanes[static_cast<std::size_t>(n)];
       if (lane.state != Lane::State::Waiting) continue;
-      if (!any || (lane.joinLine - line) * sx < 0) line = lane.joinLine;
+      if (!any || (lane.joinLine - at) * sx < 0) at = lane.joinLine;
       any = true;
     }
-    return std::pair{any, line};
+    return std::pair{any, at};
   };
   Crossing onMinor[2];
-  for (auto [any, line] = nearestWaiting(); any;) {
-    setLine(line);
+  for (auto [any, at] = nearestWaiting(); any;) {
+    setLine(at);
+    s.level = b.level;
+    s.i = b.i;
     for (;;) {
       bool marching = false, switchable = (b.i & 1) == evenParity;
       for (int n = 0; n < count; ++n) {
         Lane& lane = lanes[static_cast<std::size_t>(n)];
-        if (lane.state == Lane::State::Waiting && (b.i - lane.joinLine) * sx >= 0) join(lane);
+        if (lane.state == Lane::State::Waiting && (b.i - lane.joinLine) * sx >= 0) join(n, lane);
         if (lane.state == Lane::State::Marching) {
           marching = true;
-          switchable = switchable && lane.crossings[lane.prev].depth > lane.switchZc;
+          switchable = switchable && s.depth[n] > lane.switchZc;
         } else if (lane.state == Lane::State::Waiting) {
           // Not while a waiting column's start is near: the coarser line half a step ahead might pass it
           switchable = switchable && (lane.joinLine - b.i) * sx >= 2;
         }
       }
-      if (!marching) break;  // the next waiting lane's line, if any
+      if (!marching) break;  // on to the next waiting lane's line, if any
+      ++b.count;
       if (switchable) {
         // Every column's march is past its switch depth: the coarser level's line, half a step ahead
         enterLevel(b.level + 1);
@@ -292,65 +386,92 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
           Lane& lane = lanes[static_cast<std::size_t>(n)];
           if (lane.state == Lane::State::Waiting) lane.joinLine = joinLineOf(*lane.column);
           if (lane.state != Lane::State::Marching) continue;
-          setLaneLine(lane);
-          lane.jPos = (lane.jPos + 0.5) * 0.5 - 0.5;
-          lane.jGuess = kNoGuess;
+          setLaneLine(n, lane);
+          s.jPos[n] = (s.jPos[n] + 0.5) * 0.5 - 0.5;
+          s.jGuess[n] = kNoGuess;
         }
       } else {
         b.i += sx;
         b.dMaj += sx * b.p;
         b.yLine += b.yStep;
         b.zLine += b.zStep;
-        for (int n = 0; n < count; ++n) lanes[static_cast<std::size_t>(n)].base += lanes[static_cast<std::size_t>(n)].baseStep;
+        for (int n = 0; n < kLaneColumns; ++n) line.base[n] += s.baseStep[n];
       }
+      // Off the grid: every march ends on its last crossing
+      if ((sx > 0 ? b.i > b.majLast : b.i < b.majLast) || b.minLast < 0) {
+        for (int n = 0; n < count; ++n) {
+          Lane& lane = lanes[static_cast<std::size_t>(n)];
+          if (lane.state != Lane::State::Marching) continue;
+          const Crossing last = lastCrossing(n, lane);
+          end(lane, &last, false);
+        }
+        break;
+      }
+      readGuesses(lanes, count);
+      line.yLine = b.yLine;
+      line.zLine = b.zLine;
+      line.yMinor = b.yMinor;
+      line.zMinor = b.zMinor;
+      line.dMaj = b.dMaj;
+      solveLaneLine(line);
       for (int n = 0; n < count; ++n) {
         Lane& lane = lanes[static_cast<std::size_t>(n)];
         if (lane.state != Lane::State::Marching) continue;
-        Crossing& prev = lane.crossings[lane.prev];
-        Crossing& cur = lane.crossings[1 - lane.prev];
-        if (!solve(lane, cur)) {
-          end(lane, &prev, false);
-          continue;
+        bool fills = line.fills[n] != 0;
+        if (line.solved[n] != 0) {
+          lane.steps += 2;
+          if (!fills && line.overTerrain[n] == 0) continue;  // nothing happens on this line
+        } else {
+          // The guess missed the segment (or the crossing lies behind the camera)
+          if (!solveWalking(n, lane)) {
+            const Crossing last = lastCrossing(n, lane);
+            end(lane, &last, false);
+            continue;
+          }
+          fills = line.yc[n] > line.rowSlope[n] * line.depth[n];
         }
-        // Rows to fill: the next sub-row's ray passes below this crossing
-        const bool fills = cur.yc > lane.rowSlope * cur.depth;
-        lane.lastFilledNothing = !fills;
+        bool lastFilledNothing = !fills;
+        Crossing cur = currentCrossing(n, lane);
         if (fills) {
+          Crossing prev = lastCrossing(n, lane);
           // The crossings of the minor axis's lines in between bound the fill too (PlaneMarch.cpp)
           int minorCrossings = 0;
           if (cur.depth < b.minorLinesDepth && prev.level == b.level && prev.i == b.i - sx) {
-            const MarchLine on{b.level,  b.i,       sx,     lane.gA,   lane.c->nZ, lane.base, lane.baseStep, b.yLine,
-                               b.yStep,  b.zLine,   b.zStep, b.yMinor, b.zMinor,   c0.upZ,    c0.fwdZ,       lane.stretch};
+            const MarchLine on{b.level,       b.i,     sx,      line.gA[n],  line.nZ[n], line.base[n],
+                               s.baseStep[n], b.yLine, b.yStep, b.zLine,     b.zStep,    b.yMinor,
+                               b.zMinor,      c0.upZ,  c0.fwdZ, lane.stretch};
             minorCrossings = solveMinorLines(on, height, prev, cur, onMinor, lane.steps);
           }
           Crossing* from = &prev;
           bool full = false;
           for (int m = 0; m < minorCrossings && !full; ++m) {
             Crossing& mid = onMinor[m];
-            if (mid.yc > lane.rowSlope * mid.depth && fillBetween(lane, *from, mid)) {
+            if (mid.yc > line.rowSlope[n] * mid.depth && fillBetween(n, lane, *from, mid)) {
               end(lane, &mid, false);
               full = true;
             }
             from = &mid;
           }
           if (full) continue;
-          if (cur.yc > lane.rowSlope * cur.depth) {
-            if (fillBetween(lane, *from, cur)) {
+          if (cur.yc > line.rowSlope[n] * cur.depth) {
+            if (fillBetween(n, lane, *from, cur)) {
               end(lane, &cur, false);
               continue;
             }
+            lane.last = cur;  // with its colour or stick: it bounds the next fill too
+            lane.lastLine = b.count;
           } else {
-            lane.lastFilledNothing = true;  // a crossing of a minor line hides it
+            lastFilledNothing = true;  // a crossing of a minor line hides it
           }
         }
-        lane.prev = 1 - lane.prev;
         // A row ray above all the terrain and climbing meets nothing more: the rows left see the sky
-        if (lane.lastFilledNothing && lane.rayClimbs && c0.cZ + b.dMaj * lane.rayZPerDMaj > f.ceilingQ) {
+        if (lastFilledNothing && line.rayClimbs[n] > 0.0 && c0.cZ + b.dMaj * line.rayZPerDMaj[n] > f.ceilingQ) {
           end(lane, &cur, true);
         }
       }
+      keepLine();
     }
-    std::tie(any, line) = nearestWaiting();
+    std::tie(any, at) = nearestWaiting();
   }
 }
 

@@ -446,8 +446,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       // up where a voxel spans many rows (DiagonalSeam test).
       int minorCrossings = 0;
       if (cur.depth < minorLinesDepth && prev.level == level && prev.i == i - sx) {
-        const MarchLine line{level, i,      sx,     gA,     nZ,     base,   baseStep, yLine,
-                             yStep, zLine,  zStep,  yMinor, zMinor, upZ,    fwdZ,     stretch};
+        const MarchLine line{level, i,     sx,    gA,     nZ,     base, baseStep, yLine,
+                             yStep, zLine, zStep, yMinor, zMinor, upZ,  fwdZ,     stretch};
         minorCrossings = solveMinorLines(line, height, prev, cur, onMinor, steps);
       }
       Crossing* from = &prev;

@@ -41,8 +41,8 @@ struct RenderSettings {
   /// `maxLodStretch`), so the march does not take several grid lines per pixel row. 0 = depth
   /// alone (the seed paper's rule).
   double maxAnisotropy = 0.0;
-  double maxLodStretch = 4.0;   ///< at most this factor (2 levels) coarser than depth alone
-  bool blendLevels = true;      ///< blend colours of adjacent levels by distance (no LOD seam)
+  double maxLodStretch = 4.0;  ///< at most this factor (2 levels) coarser than depth alone
+  bool blendLevels = true;     ///< blend colours of adjacent levels by distance (no LOD seam)
   /// March neighbouring columns in step, eight at a time (the caster's lane march; see ig_core's
   /// RENDERER.md). Off: each column marches on its own, the columns of a staging block in depth
   /// bands.
