@@ -12,7 +12,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <tuple>
 #include <utility>
@@ -49,8 +51,7 @@ struct BlockLine {
 
 // One column marched in a lane: what is its own (the line's terms are in the block's LaneLine).
 struct Lane {
-  enum class State { Waiting, Marching, Done };
-  State state = State::Done;
+  int index = 0;  // its lane
   LaneColumn* column = nullptr;
   const ColumnPlane* c = nullptr;
   ColumnFill fill{};
@@ -58,9 +59,11 @@ struct Lane {
   int q = 0;                         // the next sub-row to fill
   double vq = 0;                     // its centre
   double stretch = 1, switchZc = 0;  // the grazing-angle stretch of its ray, the switch depth over it
-  // The last crossing, with its colour and stick once looked up, when it bounded a fill on line
-  // lastLine (a crossing bounds the next fill too); otherwise the line's arrays hold it
-  Crossing last{};
+  // Crossings made whole for a fill: slots[lastSlot], with its colour and stick once looked up, is
+  // the last crossing when it bounded a fill on line lastLine (a crossing bounds the next fill
+  // too); otherwise the state's arrays hold the last crossing
+  Crossing slots[2]{};
+  int lastSlot = 0;
   std::int64_t lastLine = -1;
   std::uint64_t steps = 0;
 };
@@ -117,6 +120,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
   BlockLine b;
   LaneLine line{};
   LaneState s;
+  unsigned waiting = 0, marchingLanes = 0;  // bit n: lane n is waiting for its line, is marching
   const auto enterLevel = [&](int lv) {
     b.level = lv;
     b.p = pow2(lv);
@@ -213,11 +217,10 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     line.jNext[n] = nextSegment(j, g0, g1, line.drift[n]);
     return true;
   };
-  // Lane n's crossing on the current line (from the line's outputs) and its last one (from the
-  // lane's cache, or the state's arrays)
-  const auto crossingOf = [&](int n, const double* yc, const double* depth, const double* phi, const double* heightQ,
-                              const int* j, int level, int i, const Lane& lane) {
-    Crossing x;
+  // Lane n's crossing on the current line (from the line's outputs) and its last one (the lane's
+  // slot, or from the state's arrays), made whole in the lane's slots
+  const auto setCrossing = [&](Crossing& x, int n, const double* yc, const double* depth, const double* phi,
+                               const double* heightQ, const int* j, int level, int i, const Lane& lane) {
     x.yc = yc[n];
     x.depth = depth[n];
     x.lodDepth = depth[n] * lane.stretch;
@@ -226,18 +229,26 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     x.level = level;
     x.i = i;
     x.j = j[n];
-    return x;
+    x.onMinorLine = false;
+    x.haveColour = false;
+    x.haveStick = false;
   };
-  const auto currentCrossing = [&](int n, const Lane& lane) {
-    return crossingOf(n, line.yc, line.depth, line.phi, line.heightQ, line.j, b.level, b.i, lane);
+  const auto lastCrossing = [&](int n, Lane& lane) -> Crossing& {
+    Crossing& last = lane.slots[lane.lastSlot];
+    if (lane.lastLine != b.count - 1) {
+      setCrossing(last, n, s.yc, s.depth, s.phi, s.heightQ, s.j, s.level, s.i, lane);
+    }
+    return last;
   };
-  const auto lastCrossing = [&](int n, const Lane& lane) {
-    if (lane.lastLine == b.count - 1) return lane.last;
-    return crossingOf(n, s.yc, s.depth, s.phi, s.heightQ, s.j, s.level, s.i, lane);
+  const auto currentCrossing = [&](int n, Lane& lane) -> Crossing& {
+    Crossing& cur = lane.slots[1 - lane.lastSlot];
+    setCrossing(cur, n, line.yc, line.depth, line.phi, line.heightQ, line.j, b.level, b.i, lane);
+    return cur;
   };
   // Ends a lane's march: q, and a crossing as where it stopped (none when `last` is null).
   const auto end = [&](Lane& lane, const Crossing* last, bool overTerrain) {
-    lane.state = Lane::State::Done;
+    waiting &= ~(1u << lane.index);
+    marchingLanes &= ~(1u << lane.index);
     LaneColumn& column = *lane.column;
     column.q = lane.q;
     if (last != nullptr) {
@@ -272,18 +283,43 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     s.level = b.level;
     s.i = b.i;
   };
-  // Reads the heights of each marching lane's guessed segment on the block's line
-  const auto readGuesses = [&](const std::array<Lane, kLaneColumns>& lanes, int count) {
-    for (int n = 0; n < count; ++n) {
-      if (lanes[static_cast<std::size_t>(n)].state != Lane::State::Marching) continue;
+  // Reads the heights of each marching lane's guessed segment on the block's line: straight from
+  // the register window's tile when every lane's pair lies in it (neighbouring columns cross a line
+  // a few voxels apart), else each through the window cache
+  const auto readGuesses = [&](unsigned marching) {
+    int jMin = std::numeric_limits<int>::max(), jMax = std::numeric_limits<int>::min();
+    for (unsigned m = marching; m != 0; m &= m - 1) {
+      const int n = std::countr_zero(m);
       int j = s.jGuess[n] != kNoGuess ? s.jGuess[n] : floorToInt(s.jPos[n]);
       j = j < 0 ? 0 : (j > b.minLast ? b.minLast : j);
       line.j[n] = j;
-      line.h0[n] = height(b.level, b.i, j);
-      line.h1[n] = height(b.level, b.i, j + 1);
+      jMin = std::min(jMin, j);
+      jMax = std::max(jMax, j);
+    }
+    // The pairs' voxels (line i; minor jMin .. jMax + 1) in the window's tile?
+    const int xLo = kXMajor ? b.i : jMin, xHi = kXMajor ? b.i : jMax + 1;
+    const int yLo = kXMajor ? jMin : b.i, yHi = kXMajor ? jMax + 1 : b.i;
+    if (tileHeights != nullptr && static_cast<unsigned>(xLo - wx0) < tileSize &&
+        static_cast<unsigned>(xHi - wx0) < tileSize && static_cast<unsigned>(yLo - wy0) < tileSize &&
+        static_cast<unsigned>(yHi - wy0) < tileSize) {
+      // Voxel (line i, minor j) at lineStart + j · minorStride in the tile
+      const std::ptrdiff_t minorStride = kXMajor ? std::ptrdiff_t{1} << f.tileShift : 1;
+      const std::ptrdiff_t lineStart = kXMajor ? (b.i - wx0) - (static_cast<std::ptrdiff_t>(wy0) << f.tileShift)
+                                               : (static_cast<std::ptrdiff_t>(b.i - wy0) << f.tileShift) - wx0;
+      for (unsigned m = marching; m != 0; m &= m - 1) {
+        const int n = std::countr_zero(m);
+        const std::ptrdiff_t at = lineStart + line.j[n] * minorStride;
+        line.h0[n] = tileHeights[at];
+        line.h1[n] = tileHeights[at + minorStride];
+      }
+      return;
+    }
+    for (unsigned m = marching; m != 0; m &= m - 1) {
+      const int n = std::countr_zero(m);
+      line.h0[n] = height(b.level, b.i, line.j[n]);
+      line.h1[n] = height(b.level, b.i, line.j[n] + 1);
     }
   };
-
   // The lanes, and the level they start at: the finest of their bottom rays' hits
   std::array<Lane, kLaneColumns> lanes;
   const int count = std::min(static_cast<int>(columns.size()), kLaneColumns);
@@ -298,9 +334,10 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
   for (int n = 0; n < count; ++n) {
     Lane& lane = lanes[static_cast<std::size_t>(n)];
     LaneColumn& column = columns[static_cast<std::size_t>(n)];
+    lane.index = n;
     lane.column = &column;
     lane.c = column.plane;
-    lane.state = Lane::State::Waiting;
+    waiting |= 1u << n;
     lane.q = column.q;
     lane.vq = (column.q + 0.5) * invS;
     lane.fill = ColumnFill{f.shading.pixelShader(),
@@ -333,7 +370,8 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
       end(lane, nullptr, false);
       return;
     }
-    lane.last = currentCrossing(n, lane);
+    currentCrossing(n, lane);
+    lane.lastSlot = 1 - lane.lastSlot;
     lane.lastLine = b.count;
     // Its values as the state keeps a last crossing's (keepLine copies the others' at the line's end)
     s.yc[n] = line.yc[n];
@@ -343,38 +381,43 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     s.j[n] = line.j[n];
     s.jPos[n] = line.jPos[n];
     s.jGuess[n] = line.jNext[n];
-    lane.state = Lane::State::Marching;
+    waiting &= ~(1u << n);
+    marchingLanes |= 1u << n;
   };
 
   // The block starts on the nearest lane's line
   const auto nearestWaiting = [&]() {
     int at = 0;
     bool any = false;
-    for (int n = 0; n < count; ++n) {
-      const Lane& lane = lanes[static_cast<std::size_t>(n)];
-      if (lane.state != Lane::State::Waiting) continue;
+    for (unsigned w = waiting; w != 0; w &= w - 1) {
+      const Lane& lane = lanes[static_cast<std::size_t>(std::countr_zero(w))];
       if (!any || (lane.joinLine - at) * sx < 0) at = lane.joinLine;
       any = true;
     }
     return std::pair{any, at};
   };
   Crossing onMinor[2];
+  std::uint64_t stepsOfLines = 0;  // heights read by the kernel's lanes
   for (auto [any, at] = nearestWaiting(); any;) {
     setLine(at);
     s.level = b.level;
     s.i = b.i;
     for (;;) {
-      bool marching = false, switchable = (b.i & 1) == evenParity;
-      for (int n = 0; n < count; ++n) {
+      for (unsigned w = waiting; w != 0; w &= w - 1) {
+        const int n = std::countr_zero(w);
         Lane& lane = lanes[static_cast<std::size_t>(n)];
-        if (lane.state == Lane::State::Waiting && (b.i - lane.joinLine) * sx >= 0) join(n, lane);
-        if (lane.state == Lane::State::Marching) {
-          marching = true;
-          switchable = switchable && s.depth[n] > lane.switchZc;
-        } else if (lane.state == Lane::State::Waiting) {
-          // Not while a waiting column's start is near: the coarser line half a step ahead might pass it
-          switchable = switchable && (lane.joinLine - b.i) * sx >= 2;
-        }
+        if ((b.i - lane.joinLine) * sx >= 0) join(n, lane);
+      }
+      const bool marching = marchingLanes != 0;
+      bool switchable = marching && (b.i & 1) == evenParity;
+      for (unsigned m = switchable ? marchingLanes : 0u; m != 0; m &= m - 1) {
+        const int n = std::countr_zero(m);
+        switchable = switchable && s.depth[n] > lanes[static_cast<std::size_t>(n)].switchZc;
+      }
+      for (unsigned w = switchable ? waiting : 0u; w != 0; w &= w - 1) {
+        // Not while a waiting column's start is near: the coarser line half a step ahead might pass it
+        const int n = std::countr_zero(w);
+        switchable = switchable && (lanes[static_cast<std::size_t>(n)].joinLine - b.i) * sx >= 2;
       }
       if (!marching) break;  // on to the next waiting lane's line, if any
       ++b.count;
@@ -382,11 +425,13 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
         // Every column's march is past its switch depth: the coarser level's line, half a step ahead
         enterLevel(b.level + 1);
         setLine(b.i >> 1);
-        for (int n = 0; n < count; ++n) {
-          Lane& lane = lanes[static_cast<std::size_t>(n)];
-          if (lane.state == Lane::State::Waiting) lane.joinLine = joinLineOf(*lane.column);
-          if (lane.state != Lane::State::Marching) continue;
-          setLaneLine(n, lane);
+        for (unsigned w = waiting; w != 0; w &= w - 1) {
+          Lane& lane = lanes[static_cast<std::size_t>(std::countr_zero(w))];
+          lane.joinLine = joinLineOf(*lane.column);
+        }
+        for (unsigned m = marchingLanes; m != 0; m &= m - 1) {
+          const int n = std::countr_zero(m);
+          setLaneLine(n, lanes[static_cast<std::size_t>(n)]);
           s.jPos[n] = (s.jPos[n] + 0.5) * 0.5 - 0.5;
           s.jGuess[n] = kNoGuess;
         }
@@ -399,41 +444,49 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
       }
       // Off the grid: every march ends on its last crossing
       if ((sx > 0 ? b.i > b.majLast : b.i < b.majLast) || b.minLast < 0) {
-        for (int n = 0; n < count; ++n) {
+        for (unsigned m = marchingLanes; m != 0; m &= m - 1) {
+          const int n = std::countr_zero(m);
           Lane& lane = lanes[static_cast<std::size_t>(n)];
-          if (lane.state != Lane::State::Marching) continue;
-          const Crossing last = lastCrossing(n, lane);
+          const Crossing& last = lastCrossing(n, lane);
           end(lane, &last, false);
         }
         break;
       }
-      readGuesses(lanes, count);
+      readGuesses(marchingLanes);
       line.yLine = b.yLine;
       line.zLine = b.zLine;
       line.yMinor = b.yMinor;
       line.zMinor = b.zMinor;
       line.dMaj = b.dMaj;
       solveLaneLine(line);
-      for (int n = 0; n < count; ++n) {
+      // The lanes where something happens: a guess that missed, a fill, a ray over the terrain
+      // (the bytes of the kernel's flags, 0 or 1, eight lanes in one word)
+      std::uint64_t solvedBytes, fillsBytes, overBytes;
+      std::memcpy(&solvedBytes, line.solved, 8);
+      std::memcpy(&fillsBytes, line.fills, 8);
+      std::memcpy(&overBytes, line.overTerrain, 8);
+      std::uint64_t marchingBytes = 0;
+      for (unsigned m = marchingLanes; m != 0; m &= m - 1)
+        marchingBytes |= std::uint64_t{1} << (8 * std::countr_zero(m));
+      stepsOfLines += 2 * static_cast<std::uint64_t>(std::popcount(solvedBytes & marchingBytes));
+      for (std::uint64_t e = ((solvedBytes ^ marchingBytes) | fillsBytes | overBytes) & marchingBytes; e != 0;
+           e &= e - 1) {
+        const int n = std::countr_zero(e) / 8;
         Lane& lane = lanes[static_cast<std::size_t>(n)];
-        if (lane.state != Lane::State::Marching) continue;
         bool fills = line.fills[n] != 0;
-        if (line.solved[n] != 0) {
-          lane.steps += 2;
-          if (!fills && line.overTerrain[n] == 0) continue;  // nothing happens on this line
-        } else {
+        if (line.solved[n] == 0) {
           // The guess missed the segment (or the crossing lies behind the camera)
           if (!solveWalking(n, lane)) {
-            const Crossing last = lastCrossing(n, lane);
+            const Crossing& last = lastCrossing(n, lane);
             end(lane, &last, false);
             continue;
           }
           fills = line.yc[n] > line.rowSlope[n] * line.depth[n];
         }
         bool lastFilledNothing = !fills;
-        Crossing cur = currentCrossing(n, lane);
+        Crossing& cur = currentCrossing(n, lane);
         if (fills) {
-          Crossing prev = lastCrossing(n, lane);
+          Crossing& prev = lastCrossing(n, lane);
           // The crossings of the minor axis's lines in between bound the fill too (PlaneMarch.cpp)
           int minorCrossings = 0;
           if (cur.depth < b.minorLinesDepth && prev.level == b.level && prev.i == b.i - sx) {
@@ -458,7 +511,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
               end(lane, &cur, false);
               continue;
             }
-            lane.last = cur;  // with its colour or stick: it bounds the next fill too
+            lane.lastSlot = 1 - lane.lastSlot;  // with its colour or stick: it bounds the next fill too
             lane.lastLine = b.count;
           } else {
             lastFilledNothing = true;  // a crossing of a minor line hides it
@@ -473,6 +526,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     }
     std::tie(any, at) = nearestWaiting();
   }
+  t.steps += stepsOfLines;
 }
 
 }  // namespace
