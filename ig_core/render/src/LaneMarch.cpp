@@ -32,6 +32,14 @@ namespace {
 
 constexpr int kNoGuess = std::numeric_limits<int>::min();
 
+// Eight of the line kernel's flags (bytes 0 or 1) as the bits of a byte: flag k in bit k (each
+// product term is a distinct power of two, so nothing carries into the top byte but the flags).
+inline unsigned flagBits(const std::uint8_t* flags) noexcept {
+  std::uint64_t bytes;
+  std::memcpy(&bytes, flags, 8);
+  return static_cast<unsigned>((bytes * 0x0102040810204080ull) >> 56);
+}
+
 // The grid line the block is on, and what the lanes share there: the camera's axes and position
 // are the same for every column, so a point's camera coordinates (yc, zc) are too.
 struct BlockLine {
@@ -460,18 +468,15 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
       line.dMaj = b.dMaj;
       solveLaneLine(line);
       // The lanes where something happens: a guess that missed, a fill, a ray over the terrain
-      // (the bytes of the kernel's flags, 0 or 1, eight lanes in one word)
-      std::uint64_t solvedBytes, fillsBytes, overBytes;
-      std::memcpy(&solvedBytes, line.solved, 8);
-      std::memcpy(&fillsBytes, line.fills, 8);
-      std::memcpy(&overBytes, line.overTerrain, 8);
-      std::uint64_t marchingBytes = 0;
-      for (unsigned m = marchingLanes; m != 0; m &= m - 1)
-        marchingBytes |= std::uint64_t{1} << (8 * std::countr_zero(m));
-      stepsOfLines += 2 * static_cast<std::uint64_t>(std::popcount(solvedBytes & marchingBytes));
-      for (std::uint64_t e = ((solvedBytes ^ marchingBytes) | fillsBytes | overBytes) & marchingBytes; e != 0;
-           e &= e - 1) {
-        const int n = std::countr_zero(e) / 8;
+      unsigned events = 0;
+      for (int w = 0; w < kLaneColumns / 8; ++w) {
+        const unsigned marching = (marchingLanes >> (8 * w)) & 0xFFu;
+        const unsigned solved = flagBits(line.solved + 8 * w);
+        stepsOfLines += 2 * static_cast<std::uint64_t>(std::popcount(solved & marching));
+        events |= ((~solved | flagBits(line.fills + 8 * w) | flagBits(line.overTerrain + 8 * w)) & marching) << (8 * w);
+      }
+      for (; events != 0; events &= events - 1) {
+        const int n = std::countr_zero(events);
         Lane& lane = lanes[static_cast<std::size_t>(n)];
         bool fills = line.fills[n] != 0;
         if (line.solved[n] == 0) {
