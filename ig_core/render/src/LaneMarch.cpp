@@ -30,8 +30,6 @@ static_assert(kLineLanes == kLaneColumns);
 
 namespace {
 
-constexpr int kNoGuess = std::numeric_limits<int>::min();
-
 // Eight of the line kernel's flags (bytes 0 or 1) as the bits of a byte: flag k in bit k (each
 // product term is a distinct power of two, so nothing carries into the top byte but the flags).
 inline unsigned flagBits(const std::uint8_t* flags) noexcept {
@@ -294,11 +292,11 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
   // Reads the heights of each marching lane's guessed segment on the block's line: straight from
   // the register window's tile when every lane's pair lies in it (neighbouring columns cross a line
   // a few voxels apart), else each through the window cache
-  const auto readGuesses = [&](unsigned marching) {
+  const auto readGuesses = [&](unsigned marching) __attribute__((always_inline)) {
     int jMin = std::numeric_limits<int>::max(), jMax = std::numeric_limits<int>::min();
     for (unsigned m = marching; m != 0; m &= m - 1) {
       const int n = std::countr_zero(m);
-      int j = s.jGuess[n] != kNoGuess ? s.jGuess[n] : floorToInt(s.jPos[n]);
+      int j = s.jGuess[n];
       j = j < 0 ? 0 : (j > b.minLast ? b.minLast : j);
       line.j[n] = j;
       jMin = std::min(jMin, j);
@@ -441,7 +439,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
           const int n = std::countr_zero(m);
           setLaneLine(n, lanes[static_cast<std::size_t>(n)]);
           s.jPos[n] = (s.jPos[n] + 0.5) * 0.5 - 0.5;
-          s.jGuess[n] = kNoGuess;
+          s.jGuess[n] = floorToInt(s.jPos[n]);  // the one-column march's guess without a segment
         }
       } else {
         b.i += sx;
