@@ -7,6 +7,8 @@
 #include "NoiseImage.h"
 #include "SampleBlockVbmi.h"
 
+#include "../../tests/common/AtEverySimdLevel.h"
+
 #include <prp_warp/Resample.h>
 #include <prp_warp/WarpMaps.h>
 
@@ -31,23 +33,6 @@ namespace fieldcast::warp {
 namespace {
 
 using test::noiseImage;
-
-/// Runs `check` once at every level, then puts the best level back.
-template <typename Check>
-void atEveryLevel(Check&& check) {
-  const std::vector<std::string> levels = simdLevels();
-  ASSERT_FALSE(levels.empty());
-  for (const std::string& level : levels) {
-    forceSimdLevel(level);
-    ASSERT_EQ(dispatchedSimdLevel(), level) << "forcing did not reach the dispatch";
-    ASSERT_EQ(simdLevel(), level);
-    SCOPED_TRACE("SIMD level " + level);
-    std::printf("checking at SIMD level %s\n", level.c_str());
-    check();
-  }
-  forceSimdLevel("auto");
-  EXPECT_EQ(simdLevel(), levels.front());
-}
 
 /// Sample coordinates that drive every clamp: inside, on and past each edge, NaN, infinities,
 /// huge values, exact pixel centres and the last 1/256 px before the edge.
@@ -74,7 +59,7 @@ std::vector<float> coordinates(int n, float size, std::mt19937& rng) {
 }
 
 TEST(SimdLevels, SampleRowGivesTheReferencesBytesAndViolations) {
-  atEveryLevel([] {
+  fieldcast::testing::atEverySimdLevel([] {
     std::mt19937 rng(11);
     for (const PixelFormat format : {PixelFormat::Rgb8, PixelFormat::Grey8}) {
       const int channels = format == PixelFormat::Rgb8 ? 3 : 1;
@@ -120,7 +105,7 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
       {"with a NaN", 10.0, 30.0, 2.0, 1.0, 37},
   };
   const Image rgb = noiseImage(360, 250, PixelFormat::Rgb8, 77u), grey = noiseImage(360, 250, PixelFormat::Grey8, 78u);
-  atEveryLevel([&] {
+  fieldcast::testing::atEverySimdLevel([&] {
     for (const RowMap& m : maps) {
       for (const Image* src : {&rgb, &grey}) {
         const int channels = src == &rgb ? 3 : 1;
@@ -246,7 +231,7 @@ TEST(SimdLevels, TheQuadraticsRowsAreTheScalarFormsFloats) {
   const float coefficients[][3] = {{31.7f, 1.013f, 2.9e-5f},   {2071.3f, -0.987f, -4.4e-5f}, {-40.0f, 1.3f, 5e-4f},
                                    {0.0f, 0.0f, 0.0f},         {1e6f, 123.5f, -0.75f},       {-3e-7f, 1e-9f, 7.0f},
                                    {5.5f, std::nanf(""), 0.0f}};
-  atEveryLevel([&] {
+  fieldcast::testing::atEverySimdLevel([&] {
     std::vector<int> widths{128, 720, 1920};
     for (int n = 1; n <= 40; ++n) widths.push_back(n);
     for (const auto& k : coefficients) {
@@ -268,7 +253,7 @@ TEST(SimdLevels, TheQuadraticsRowsAreWithinAThousandthOfAPixelOfTheMap) {
   QuadraticMap map;
   map.a = {96.0 + 28.0, c, -s, 2.1e-6, 3.7e-5, -1.9e-5};
   map.b = {54.0 - 41.0, s, c, -1.3e-6, 2.2e-5, 4.1e-5};
-  atEveryLevel([&] {
+  fieldcast::testing::atEverySimdLevel([&] {
     double worst = 0.0;
     std::vector<float> xs(128), ys(128);
     for (int row = 0; row < 1080; row += 7) {
@@ -289,7 +274,7 @@ TEST(SimdLevels, TheQuadraticsRowsAreWithinAThousandthOfAPixelOfTheMap) {
 }
 
 TEST(SimdLevels, ConversionToUyvyWithGainGivesTheReferencesBytes) {
-  atEveryLevel([] {
+  fieldcast::testing::atEverySimdLevel([] {
     std::mt19937 rng(5);
     for (const int w : {2, 4, 6, 30, 34, 720}) {
       const Image src = noiseImage(w, 3, PixelFormat::Rgb8, static_cast<unsigned>(w));
@@ -306,7 +291,7 @@ TEST(SimdLevels, ConversionToUyvyWithGainGivesTheReferencesBytes) {
 }
 
 TEST(SimdLevels, TheAgcsMeanLumaIsTheReferences) {
-  atEveryLevel([] {
+  fieldcast::testing::atEverySimdLevel([] {
     // Every tail after a full block of every vector width (4, 8, 16 lanes), and real rows
     std::vector<int> widths{720, 1921};
     for (int w = 1; w <= 40; ++w) widths.push_back(w);
@@ -326,7 +311,7 @@ TEST(SimdLevels, TheAgcsMeanLumaIsTheReferences) {
 }
 
 TEST(SimdLevels, FlickerFilterGivesTheReferencesBytes) {
-  atEveryLevel([] {
+  fieldcast::testing::atEverySimdLevel([] {
     for (const PixelFormat format : {PixelFormat::Rgb8, PixelFormat::Grey8}) {
       for (const auto& [w, h] : {std::pair{1, 1}, std::pair{5, 2}, std::pair{37, 9}, std::pair{864, 7}}) {
         const Image src = noiseImage(w, h, format, static_cast<unsigned>(w + h));
@@ -347,7 +332,7 @@ TEST(SimdLevels, FlickerFilterRowIsTheReferencesForEveryThreeBytes) {
     above[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(k & 0xFF);
     below[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(k >> 8);
   }
-  atEveryLevel([&] {
+  fieldcast::testing::atEverySimdLevel([&] {
     for (int b = 0; b < 256; ++b) {
       std::fill(here.begin(), here.end(), static_cast<std::uint8_t>(b));
       flicker::filterRowLanes(above.data(), here.data(), below.data(), 65536, fast.data());

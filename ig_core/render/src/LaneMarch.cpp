@@ -100,27 +100,10 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
   const int sx = c0.sx;
   const int evenParity = sx > 0 ? 0 : 1;  // lines where the coarser level's line lies half a step ahead
 
-  // The tile of the current level the heights come from, kept in registers as the one-column
-  // march keeps it: a read is two unsigned compares and a load; anything else goes through the
-  // window cache.
-  const std::uint16_t* tileHeights = nullptr;
-  int wx0 = std::numeric_limits<int>::min() / 4;
-  int wy0 = std::numeric_limits<int>::min() / 4;
-  const unsigned tileSize = 1u << f.tileShift;
+  // The tile of the current level the heights come from, kept in registers
+  HeightWindow heights(f);
   const auto height = [&](int lv, int i, int j) __attribute__((always_inline))->double {
-    const int x = kXMajor ? i : j;
-    const int y = kXMajor ? j : i;
-    if (static_cast<unsigned>(x - wx0) < tileSize && static_cast<unsigned>(y - wy0) < tileSize) {
-      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
-    }
-    if (windowFor(f, t, window, lv, x, y)) {
-      const auto l = static_cast<std::size_t>(lv);
-      tileHeights = window.tile[l]->heightQ;
-      wx0 = window.x0[l];
-      wy0 = window.y0[l];
-      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
-    }
-    return ray_march::heightAt(f, t, lv, x, y);  // outside the grid (clamped) or tile missing
+    return kXMajor ? heights.read(f, t, window, lv, i, j) : heights.read(f, t, window, lv, j, i);
   };
 
   BlockLine b;
@@ -140,10 +123,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     const int hullLast = sx > 0 ? floorToInt(levelIndex(c0.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
     b.majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
     b.minLast = minSizes[static_cast<std::size_t>(lv)] - 2;
-    // The register window belongs to the old level
-    tileHeights = nullptr;
-    wx0 = std::numeric_limits<int>::min() / 4;
-    wy0 = std::numeric_limits<int>::min() / 4;
+    heights.reset();  // the register window belongs to the old level
   };
   const auto setLine = [&](int i) {
     b.i = i;
@@ -190,24 +170,8 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     double g0 = gA * j + nZ * h0 + line.base[n];
     double g1 = g0 + gA + nZ * (h1 - h0);
     std::uint64_t samples = 2;
-    while (g0 > 0.0) {
-      if (j == 0) return false;
-      --j;
-      h1 = h0;
-      g1 = g0;
-      h0 = height(b.level, i, j);
-      g0 -= gA + nZ * (h1 - h0);
-      ++samples;
-    }
-    while (g1 <= 0.0) {
-      if (j == b.minLast) return false;
-      ++j;
-      h0 = h1;
-      g0 = g1;
-      h1 = height(b.level, i, j + 1);
-      g1 = g0 + gA + nZ * (h1 - h0);
-      ++samples;
-    }
+    const auto heightAt = [&](int at) { return height(b.level, i, at); };
+    if (!walkToCrossing(j, h0, h1, g0, g1, gA, nZ, b.minLast, heightAt, samples)) return false;
     lane.steps += samples;
     const double phi = g0 / (g0 - g1);
     const double minor = j + phi;
@@ -305,18 +269,15 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     // The pairs' voxels (line i; minor jMin .. jMax + 1) in the window's tile?
     const int xLo = kXMajor ? b.i : jMin, xHi = kXMajor ? b.i : jMax + 1;
     const int yLo = kXMajor ? jMin : b.i, yHi = kXMajor ? jMax + 1 : b.i;
-    if (tileHeights != nullptr && static_cast<unsigned>(xLo - wx0) < tileSize &&
-        static_cast<unsigned>(xHi - wx0) < tileSize && static_cast<unsigned>(yLo - wy0) < tileSize &&
-        static_cast<unsigned>(yHi - wy0) < tileSize) {
+    if (heights.heights != nullptr && heights.holds(xLo, yLo) && heights.holds(xHi, yHi)) {
       // Voxel (line i, minor j) at lineStart + j · minorStride in the tile
       const std::ptrdiff_t minorStride = kXMajor ? std::ptrdiff_t{1} << f.tileShift : 1;
-      const std::ptrdiff_t lineStart = kXMajor ? (b.i - wx0) - (static_cast<std::ptrdiff_t>(wy0) << f.tileShift)
-                                               : (static_cast<std::ptrdiff_t>(b.i - wy0) << f.tileShift) - wx0;
+      const std::ptrdiff_t lineStart = kXMajor ? heights.index(b.i, 0) : heights.index(0, b.i);
       for (unsigned m = marching; m != 0; m &= m - 1) {
         const int n = std::countr_zero(m);
         const std::ptrdiff_t at = lineStart + line.j[n] * minorStride;
-        line.h0[n] = tileHeights[at];
-        line.h1[n] = tileHeights[at + minorStride];
+        line.h0[n] = heights.heights[at];
+        line.h1[n] = heights.heights[at + minorStride];
       }
       return;
     }
@@ -468,10 +429,10 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
       // The lanes where something happens: a guess that missed, a fill, a ray over the terrain
       unsigned events = 0;
       for (int w = 0; w < kLaneColumns / 8; ++w) {
-        const unsigned marching = (marchingLanes >> (8 * w)) & 0xFFu;
+        const unsigned inWord = (marchingLanes >> (8 * w)) & 0xFFu;  // the word's marching lanes
         const unsigned solved = flagBits(line.solved + 8 * w);
-        stepsOfLines += 2 * static_cast<std::uint64_t>(std::popcount(solved & marching));
-        events |= ((~solved | flagBits(line.fills + 8 * w) | flagBits(line.overTerrain + 8 * w)) & marching) << (8 * w);
+        stepsOfLines += 2 * static_cast<std::uint64_t>(std::popcount(solved & inWord));
+        events |= ((~solved | flagBits(line.fills + 8 * w) | flagBits(line.overTerrain + 8 * w)) & inWord) << (8 * w);
       }
       for (; events != 0; events &= events - 1) {
         const int n = std::countr_zero(events);

@@ -63,26 +63,10 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double cMinHalf = 0.5 + c.cMin;
   const auto& majSizes = c.xMajor ? f.levelWidth : f.levelHeight;
   const auto& minSizes = c.xMajor ? f.levelHeight : f.levelWidth;
-  // The tile of the current level the heights come from, kept in registers: a read is two
-  // unsigned compares and a load; anything else goes through the window cache.
-  const std::uint16_t* tileHeights = nullptr;
-  int wx0 = std::numeric_limits<int>::min() / 4;
-  int wy0 = std::numeric_limits<int>::min() / 4;
-  const unsigned tileSize = 1u << f.tileShift;
+  // The tile of the current level the heights come from, kept in registers
+  HeightWindow heights(f);
   const auto height = [&](int lv, int i, int j) __attribute__((always_inline))->double {
-    const int x = kXMajor ? i : j;
-    const int y = kXMajor ? j : i;
-    if (static_cast<unsigned>(x - wx0) < tileSize && static_cast<unsigned>(y - wy0) < tileSize) {
-      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
-    }
-    if (windowFor(f, t, window, lv, x, y)) {
-      const auto l = static_cast<std::size_t>(lv);
-      tileHeights = window.tile[l]->heightQ;
-      wx0 = window.x0[l];
-      wy0 = window.y0[l];
-      return tileHeights[((y - wy0) << f.tileShift) + (x - wx0)];
-    }
-    return heightAt(f, t, lv, x, y);  // outside the grid (clamped) or tile missing (coarser level)
+    return kXMajor ? heights.read(f, t, window, lv, i, j) : heights.read(f, t, window, lv, j, i);
   };
 
   // The crossing on grid line i at minor position j + φ (level units) solves g = gA·(j + φ) + nZ·h +
@@ -108,10 +92,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     zStep = c.fwdMaj * sx * p;
     switchDepth = lv + 1 < f.levels ? lodDepth * p : std::numeric_limits<double>::infinity();
     minorLinesDepth = minorLinesDepth0 * p;
-    // The register window belongs to the old level.
-    tileHeights = nullptr;
-    wx0 = std::numeric_limits<int>::min() / 4;
-    wy0 = std::numeric_limits<int>::min() / 4;
+    heights.reset();  // the register window belongs to the old level
     // Last grid line inside both the level's grid and the hull of the level-0 voxel centres.
     const int hullLast = sx > 0 ? floorToInt(levelIndex(c.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
     majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
@@ -170,24 +151,8 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     double g1 = g0 + gA + nZ * (h1 - h0);
     std::uint64_t samples = 2;
     // g grows along the minor axis: walk to the segment where it changes sign.
-    while (g0 > 0.0) {
-      if (j == 0) return false;
-      --j;
-      h1 = h0;
-      g1 = g0;
-      h0 = height(level, i, j);
-      g0 -= gA + nZ * (h1 - h0);
-      ++samples;
-    }
-    while (g1 <= 0.0) {
-      if (j == minLast) return false;
-      ++j;
-      h0 = h1;
-      g0 = g1;
-      h1 = height(level, i, j + 1);
-      g1 = g0 + gA + nZ * (h1 - h0);
-      ++samples;
-    }
+    const auto heightAt = [&](int at) __attribute__((always_inline)) { return height(level, i, at); };
+    if (!walkToCrossing(j, h0, h1, g0, g1, gA, nZ, minLast, heightAt, samples)) return false;
     steps += samples;
     // The crossing at fraction φ along segment j .. j+1 (g0 ≤ 0 < g1), and its camera coordinates.
     const double phi = g0 / (g0 - g1);
@@ -297,10 +262,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       double h0, h1;
       const int x = kXMajor ? line : j;
       const int y = kXMajor ? j : line;
-      if (static_cast<unsigned>(x - wx0) < tileSize - (kXMajor ? 0 : 1) &&
-          static_cast<unsigned>(y - wy0) < tileSize - (kXMajor ? 1 : 0)) {
+      if (heights.holds(x, y, kXMajor ? 0 : 1, kXMajor ? 1 : 0)) {
         // Both voxels in the register window: one check for the pair.
-        const std::uint16_t* pair = tileHeights + (((y - wy0) << f.tileShift) + (x - wx0));
+        const std::uint16_t* pair = heights.heights + heights.index(x, y);
         h0 = pair[0];
         h1 = pair[kXMajor ? std::ptrdiff_t{1} << f.tileShift : 1];
       } else {

@@ -162,4 +162,33 @@ inline int nextSegment(int j, double g0, double g1, double drift) noexcept {
   return j + static_cast<int>(g0 <= (1.0 - drift) * dg) - static_cast<int>(g0 > -drift * dg);
 }
 
+/// The crossing solve's walk along a grid line: from segment j .. j+1 (heights h0, h1, the plane's
+/// g0, g1 there) to the segment where g changes sign (g0 ≤ 0 < g1). g grows along the minor axis by
+/// gA per voxel plus nZ times the height's change; heightAt(j) reads the line's voxel j. False when
+/// the walk would leave segments 0 .. minLast. Adds the heights it reads to `samples`.
+template <typename HeightAt>
+__attribute__((always_inline)) inline bool walkToCrossing(int& j, double& h0, double& h1, double& g0, double& g1,
+                                                          double gA, double nZ, int minLast, HeightAt&& heightAt,
+                                                          std::uint64_t& samples) noexcept {
+  while (g0 > 0.0) {
+    if (j == 0) return false;
+    --j;
+    h1 = h0;
+    g1 = g0;
+    h0 = heightAt(j);
+    g0 -= gA + nZ * (h1 - h0);
+    ++samples;
+  }
+  while (g1 <= 0.0) {
+    if (j == minLast) return false;
+    ++j;
+    h0 = h1;
+    g0 = g1;
+    h1 = heightAt(j + 1);
+    g1 = g0 + gA + nZ * (h1 - h0);
+    ++samples;
+  }
+  return true;
+}
+
 }  // namespace fieldcast::core::plane_march

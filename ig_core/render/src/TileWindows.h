@@ -39,6 +39,45 @@ inline bool windowFor(const CasterFrame& f, CasterThread& t, TileWindows& w, int
   return true;
 }
 
+/// The tile of one level a march reads its heights from, meant to live in registers (a local of
+/// the march): a read inside it is two unsigned compares and a load; anything else goes through the
+/// window cache (TileWindows), and outside the grid or where a tile is missing through ray_march's
+/// clamped reads, which take a coarser level's voxel.
+struct HeightWindow {
+  explicit HeightWindow(const CasterFrame& f) noexcept : shift(f.tileShift), size(1u << f.tileShift) {}
+  int shift;                                     ///< the tiles' size, log2
+  unsigned size;                                 ///< and in voxels
+  const std::uint16_t* heights = nullptr;        ///< the tile's heights (null: none yet)
+  int x0 = std::numeric_limits<int>::min() / 4;  ///< level-L voxel of the tile's corner
+  int y0 = std::numeric_limits<int>::min() / 4;
+
+  /// Forgets the tile (the march changed level).
+  void reset() noexcept {
+    heights = nullptr;
+    x0 = y0 = std::numeric_limits<int>::min() / 4;
+  }
+  /// Whether voxels x .. x + dx, y .. y + dy lie in the tile (0 ≤ dx, dy < its size).
+  bool holds(int x, int y, int dx = 0, int dy = 0) const noexcept {
+    return static_cast<unsigned>(x - x0) < size - static_cast<unsigned>(dx) &&
+           static_cast<unsigned>(y - y0) < size - static_cast<unsigned>(dy);
+  }
+  /// Index of voxel (x, y), which the tile holds, in its arrays.
+  int index(int x, int y) const noexcept { return ((y - y0) << shift) + (x - x0); }
+  /// The height of voxel (x, y) of `level` (quanta); takes its tile when the window cache has it.
+  __attribute__((always_inline)) double read(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
+                                             int y) noexcept {
+    if (holds(x, y)) return heights[index(x, y)];
+    if (windowFor(f, t, w, level, x, y)) {
+      const auto l = static_cast<std::size_t>(level);
+      heights = w.tile[l]->heightQ;
+      x0 = w.x0[l];
+      y0 = w.y0[l];
+      return heights[index(x, y)];
+    }
+    return ray_march::heightAt(f, t, level, x, y);
+  }
+};
+
 /// The colour of voxel (x, y) of `level` (RGBA8) through the window.
 inline std::uint32_t windowColour(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x,
                                   int y) noexcept {

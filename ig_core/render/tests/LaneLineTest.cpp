@@ -3,6 +3,8 @@
 #include "LaneLine.h"
 #include "RenderTestUtil.h"
 
+#include "../../../tests/common/AtEverySimdLevel.h"
+
 #include <ig_core/Renderer.h>
 
 #include <fieldcast/SimdLevel.h>
@@ -21,21 +23,6 @@ namespace {
 
 using plane_march::kLineLanes;
 using plane_march::LaneLine;
-
-/// Runs `check` once at every level, then puts the best level back.
-template <typename Check>
-void atEveryLevel(Check&& check) {
-  const std::vector<std::string> levels = simdLevels();
-  ASSERT_FALSE(levels.empty());
-  for (const std::string& level : levels) {
-    forceSimdLevel(level);
-    ASSERT_EQ(dispatchedSimdLevel(), level) << "forcing did not reach the dispatch";
-    SCOPED_TRACE("SIMD level " + level);
-    std::printf("checking at SIMD level %s\n", level.c_str());
-    check();
-  }
-  forceSimdLevel("auto");
-}
 
 // Lines as the march meets them: planes of every tilt, guesses on, before and after the crossing's
 // segment, crossings behind the camera, rays climbing and not, some lanes with a zero-width g step.
@@ -71,7 +58,7 @@ LaneLine randomLine(std::mt19937& rng) {
 
 TEST(LaneLine, EveryLevelGivesTheReferencesBits) {
   int solved = 0, fills = 0, over = 0, moved = 0;
-  atEveryLevel([&] {
+  fieldcast::testing::atEverySimdLevel([&] {
     std::mt19937 rng(7);
     for (int trial = 0; trial < 2000; ++trial) {
       LaneLine lanes = randomLine(rng);
@@ -127,7 +114,7 @@ TEST(LaneLine, TheLaneMarchsFramesAreTheSameAtEveryLevel) {
     Renderer renderer(view, settings, 2);
     for (const ViewRequest& r : views) best.push_back(renderer.render(r));
   }
-  atEveryLevel([&] {
+  fieldcast::testing::atEverySimdLevel([&] {
     Renderer renderer(view, settings, 2);
     for (std::size_t k = 0; k < views.size(); ++k) {
       const Frame f = renderer.render(views[k]);
