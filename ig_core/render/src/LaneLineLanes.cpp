@@ -14,7 +14,7 @@ namespace fieldcast::core::plane_march::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 void SolveLaneLine(LaneLine& l) {
-  const hn::ScalableTag<double> d;
+  const hn::CappedTag<double, kLineLanes> d;  // (a wider vector would pass the arrays' end)
   const hn::Rebind<std::int32_t, decltype(d)> di;
   const hn::Rebind<std::uint8_t, decltype(di)> d8;
   const auto zero = hn::Zero(d), one = hn::Set(d, 1.0), ahead = hn::Set(d, 1e-6);

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -32,6 +33,8 @@ namespace {
 
 // Eight of the line kernel's flags (bytes 0 or 1) as the bits of a byte: flag k in bit k (each
 // product term is a distinct power of two, so nothing carries into the top byte but the flags).
+static_assert(std::endian::native == std::endian::little, "flagBits reads the flags' bytes little-endian");
+static_assert(kLaneColumns % 8 == 0 && kLaneColumns <= 32, "lanes go eight to a word, into an unsigned mask");
 inline unsigned flagBits(const std::uint8_t* flags) noexcept {
   std::uint64_t bytes;
   std::memcpy(&bytes, flags, 8);
@@ -155,7 +158,9 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     line.rowSlope[n] = rowSlope;
     const double rMaj = c.aMaj + rowSlope * c.bMaj;
     const double rZ = c.aZ + rowSlope * c.bZ;
-    const bool climbs = rMaj * sx > 1e-12 && rZ >= 0.0;
+    const double rMin = c.aMin + rowSlope * c.bMin;
+    // (Along the march, as the one-column march's row ray must be: not near the nadir)
+    const bool climbs = rMaj * sx > 1e-12 && rMaj * sx > 1e-4 * std::abs(rMin) && rZ >= 0.0;
     line.rayClimbs[n] = climbs ? 1.0 : 0.0;
     line.rayZPerDMaj[n] = climbs ? rZ / rMaj : 0.0;
   };
@@ -293,7 +298,6 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
   int level = std::numeric_limits<int>::max();
   for (int n = 0; n < count; ++n) level = std::min(level, columns[static_cast<std::size_t>(n)].level);
   enterLevel(level);
-  line.zMinor = b.zMinor;  // (set per line below; here only so that unused lanes compute finite values)
   line.ceilingQ = f.ceilingQ;
   line.rayZAtLine = c0.cZ;
   line.upZ = c0.upZ;
@@ -382,9 +386,10 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
         switchable = switchable && s.depth[n] > lanes[static_cast<std::size_t>(n)].switchZc;
       }
       for (unsigned w = switchable ? waiting : 0u; w != 0; w &= w - 1) {
-        // Not while a waiting column's start is near: the coarser line half a step ahead might pass it
-        const int n = std::countr_zero(w);
-        switchable = switchable && (lanes[static_cast<std::size_t>(n)].joinLine - b.i) * sx >= 2;
+        // Not while a waiting column's start is near (the coarser line half a step ahead might pass
+        // it), nor while its own march would start at this level or a finer one
+        const Lane& lane = lanes[static_cast<std::size_t>(std::countr_zero(w))];
+        switchable = switchable && (lane.joinLine - b.i) * sx >= 2 && lane.column->level > b.level;
       }
       if (!marching) break;  // on to the next waiting lane's line, if any
       ++b.count;
@@ -475,12 +480,14 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
               end(lane, &cur, false);
               continue;
             }
-            lane.lastSlot = 1 - lane.lastSlot;  // with its colour or stick: it bounds the next fill too
-            lane.lastLine = b.count;
           } else {
             lastFilledNothing = true;  // a crossing of a minor line hides it
           }
         }
+        // The crossing is the lane's last now, made whole (with its colour or stick once a fill looked
+        // them up, and its level-of-detail depth of before the fill, as the one-column march keeps it)
+        lane.lastSlot = 1 - lane.lastSlot;
+        lane.lastLine = b.count;
         // A row ray above all the terrain and climbing meets nothing more: the rows left see the sky
         if (lastFilledNothing && line.rayClimbs[n] > 0.0 && c0.cZ + b.dMaj * line.rayZPerDMaj[n] > f.ceilingQ) {
           end(lane, &cur, true);

@@ -8,10 +8,11 @@
 // the fills between crossings stay the column's own (CrossingFill.h).
 //
 // The block shares its level: it switches to the coarser one only where every column's march
-// would (each column's last crossing lies past its switch depth), so no column is drawn coarser than
+// would (each column's last crossing lies past its switch depth), and not while a column still to
+// join would start its own march at that level or a finer one, so no column is drawn coarser than
 // its own march draws it; the nearer columns of a block are drawn finer than that. A column joins
-// the block on the grid line at or before where its bottom rays left it, as its own march would
-// start. Private to ig_core.
+// the block at the block's level, on the grid line at or before where its bottom rays left it.
+// Private to ig_core.
 
 #include "PlaneMarch.h"
 
