@@ -489,6 +489,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
         lane.lastSlot = 1 - lane.lastSlot;
         lane.lastLine = b.count;
         // A row ray above all the terrain and climbing meets nothing more: the rows left see the sky
+        // (the kernel's test again, here: a fill up to a minor line's crossing moved the ray since)
         if (lastFilledNothing && line.rayClimbs[n] > 0.0 && c0.cZ + b.dMaj * line.rayZPerDMaj[n] > f.ceilingQ) {
           end(lane, &cur, true);
         }

@@ -1,6 +1,7 @@
 // Looking along a grid diagonal, the columns on either side march along different axes (each
 // column's plane takes the axis its ground trace runs closer to). Close up over coarse data, where a
 // voxel spans many pixels, the image must not change from one to the other in one column.
+#include "LaneMarch.h"
 #include "RenderTestUtil.h"
 
 #include <ig_core/Renderer.h>
@@ -72,7 +73,7 @@ TEST(DiagonalSeam, ColumnsAlongAGridDiagonalMatchTheirNeighboursInTheLaneMarch) 
   diagonalColumnsMatchTheirNeighbours(true);
 }
 
-// The lane march shares a level across each block of eight columns, switching where all of them
+// The lane march shares a level across each block of kLaneColumns (eight) columns, switching where all of them
 // would: a block's columns may be drawn finer than their neighbours' in the next block. On the
 // hills, at the views of the accuracy sweep's kinds, the columns at the blocks' edges must not
 // stand out from the others.
@@ -91,7 +92,9 @@ TEST(DiagonalSeam, LaneBlocksShowNoSeamAtTheirEdges) {
     double edges = 0.0, others = 0.0;
     int edgeCount = 0, otherCount = 0;
     for (int u = 1; u + 1 < f.image.widthPx(); ++u) {
-      const bool edge = u % 8 == 0 || u % 8 == 7;  // a step between columns 8k − 1 and 8k shows in both
+      // A step between a block's last column and the next block's first shows in both
+      constexpr int kBlock = plane_march::kLaneColumns;
+      const bool edge = u % kBlock == 0 || u % kBlock == kBlock - 1;
       (edge ? edges : others) += d[static_cast<std::size_t>(u)];
       ++(edge ? edgeCount : otherCount);
     }
