@@ -26,6 +26,25 @@ FIELDCAST_VBMI inline BlockCoordinates coordinatesOf(const Source& src, const fl
   const __m512 w = _mm512_set1_ps(static_cast<float>(src.widthPx)),
                h = _mm512_set1_ps(static_cast<float>(src.heightPx));
   BlockCoordinates b;
+  // Every lane between the frame's outer pixel centres (false for NaN): no lane violates the margins
+  // and the clamps change nothing but a lane on the last centre, whose x0 (y0) is then W − 1
+  // (H − 1) with weight 0 on its right (lower) neighbour instead of W − 2 with weight 256 on it —
+  // the same bytes. Such a lane's neighbour past the frame is in the staged rows or the block is
+  // refused (the checks below). Skipping the clamps shortens the chain to the block's loads.
+  const __mmask16 betweenCentres =
+      _mm512_cmp_ps_mask(px, half, _CMP_GE_OQ) & _mm512_cmp_ps_mask(px, _mm512_sub_ps(w, half), _CMP_LE_OQ) &
+      _mm512_cmp_ps_mask(py, half, _CMP_GE_OQ) & _mm512_cmp_ps_mask(py, _mm512_sub_ps(h, half), _CMP_LE_OQ);
+  if (betweenCentres == 0xFFFF) {
+    const __m512i ix = _mm512_cvttps_epi32(_mm512_add_ps(_mm512_mul_ps(_mm512_sub_ps(px, half), unit), half));
+    const __m512i iy = _mm512_cvttps_epi32(_mm512_add_ps(_mm512_mul_ps(_mm512_sub_ps(py, half), unit), half));
+    const __m512i fraction = _mm512_set1_epi32(kOne - 1);
+    b.inside = 0xFFFF;
+    b.x0 = _mm512_srai_epi32(ix, kFracBits);
+    b.y0 = _mm512_srai_epi32(iy, kFracBits);
+    b.fx = _mm512_and_si512(ix, fraction);
+    b.fy = _mm512_and_si512(iy, fraction);
+    return b;
+  }
   b.inside = _mm512_cmp_ps_mask(px, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(px, w, _CMP_LE_OQ) &
              _mm512_cmp_ps_mask(py, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(py, h, _CMP_LE_OQ);
   // Pixel-centre origin; a false compare (NaN) gives 0, as in the scalar form

@@ -79,6 +79,72 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAndViolations) {
   });
 }
 
+// The staged sampling's short cut for a block whose every sample lies between the frame's outer
+// pixel centres (no violation, no clamp that changes a byte): blocks with a lane on each edge of
+// that region, just inside it and just past it, give the reference's bytes and violations.
+TEST(SimdLevels, TheStagedSamplingsShortCutEndsWhereAClampWouldChangeASample) {
+  if (!simdVbmiEnabled()) GTEST_SKIP() << "this CPU has no AVX-512 VBMI (level avx512vbmi)";
+  const int width = 64, height = 12;
+  for (const PixelFormat format : {PixelFormat::Rgb8, PixelFormat::Grey8}) {
+    const Image src = noiseImage(width, height, format, 91u);
+    const int channels = format == PixelFormat::Rgb8 ? 3 : 1;
+    const auto w = static_cast<float>(width), h = static_cast<float>(height);
+    // An edge lane's value: on the short cut's edge, either side of it, and on or past the frame's
+    const float left[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f, 0.0f};
+    const float right[] = {w - 1.5f, w - 0.5f, std::nextafter(w - 0.5f, w), w - 0.375f, w};
+    const float top[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f};
+    const float bottom[] = {h - 1.5f, h - 0.5f, std::nextafter(h - 0.5f, h), h - 0.375f};
+    std::vector<std::array<float, 16>> xBlocks, yBlocks;  // 16 samples, one of them on an edge
+    for (const float x : left) {
+      std::array<float, 16> b{};
+      for (int i = 0; i < 16; ++i) b[static_cast<std::size_t>(i)] = x + 0.9f * static_cast<float>(i);
+      xBlocks.push_back(b);
+    }
+    for (const float x : right) {
+      std::array<float, 16> b{};
+      for (int i = 0; i < 16; ++i) b[static_cast<std::size_t>(i)] = x - 0.9f * static_cast<float>(15 - i);
+      xBlocks.push_back(b);
+    }
+    for (const float y : top)
+      yBlocks.push_back({y, y + 0.1f, y + 0.2f, y + 0.3f, y + 0.4f, y + 0.5f, y + 0.6f, y + 0.7f, y + 0.8f, y + 0.9f,
+                         y + 0.9f, y + 0.8f, y + 0.7f, y + 0.6f, y + 0.5f, y + 0.4f});
+    for (const float y : bottom)
+      yBlocks.push_back({y - 0.9f, y - 0.8f, y - 0.7f, y - 0.6f, y - 0.5f, y - 0.4f, y - 0.3f, y - 0.2f, y - 0.1f, y, y,
+                         y, y, y, y, y});
+    const std::array<float, 16> midRows{5.3f, 5.3f, 5.4f, 5.4f, 5.5f, 5.5f, 5.6f, 5.6f,
+                                        5.7f, 5.7f, 5.8f, 5.8f, 5.9f, 5.9f, 6.0f, 6.0f};
+    std::array<float, 16> midColumns{};
+    for (int i = 0; i < 16; ++i) midColumns[static_cast<std::size_t>(i)] = 20.2f + 0.9f * static_cast<float>(i);
+    // Blocks on the middle rows and on the first rows are staged; a block reaching the last row
+    // may be refused (its rows' loads would pass the frame's last byte), whatever the short cut.
+    struct Block {
+      std::array<float, 16> xs, ys;
+      bool staged;
+    };
+    std::vector<Block> blocks;
+    for (const auto& xs : xBlocks) blocks.push_back({xs, midRows, true});
+    for (std::size_t k = 0; k < yBlocks.size(); ++k) blocks.push_back({midColumns, yBlocks[k], k < std::size(top)});
+    const sampling::Source source{src.row(0), static_cast<std::int32_t>(src.strideBytes()), width, height};
+    for (const Block& b : blocks) {
+      const auto bytes = static_cast<std::size_t>(16 * channels);
+      std::vector<std::uint8_t> fast(bytes), ref(bytes);
+      std::uint32_t violations = 0;
+      const bool took =
+          sampling::sampleBlocksVbmi(source, channels, b.xs.data(), b.ys.data(), 16, fast.data(), violations) == 16;
+      const std::uint32_t refViolations = sampleRowReference(src, b.xs.data(), b.ys.data(), 16, ref.data());
+      const std::string where = std::to_string(channels) + " channels, x " + std::to_string(b.xs[0]) + ".." +
+                                std::to_string(b.xs[15]) + ", y " + std::to_string(b.ys[0]) + ".." +
+                                std::to_string(b.ys[15]);
+      if (!took) {
+        EXPECT_FALSE(b.staged) << where;
+        continue;
+      }
+      EXPECT_EQ(fast, ref) << where;
+      EXPECT_EQ(violations, refViolations) << where;
+    }
+  }
+}
+
 // Rows as a field's map makes them (turned, scaled, mirrored, at the frame's edges), where the
 // avx512vbmi level stages a block's frame bytes in registers, and where it cannot and gathers.
 TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
