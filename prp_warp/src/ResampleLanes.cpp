@@ -64,6 +64,10 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
   const auto maxX = hn::Set(df, static_cast<float>(src.widthPx - 1));
   const auto maxY = hn::Set(df, static_cast<float>(src.heightPx - 1));
   const auto lastX = hn::Set(di, src.widthPx - 2), lastY = hn::Set(di, src.heightPx - 2);
+  // The gathers read x0 + 1 and y0 + 1 unchecked: the short cut below keeps x0 ≤ W − 2, y0 ≤ H − 2
+  const auto shortCutMaxX = hn::Set(df, static_cast<float>(src.widthPx) - 1.5f);
+  const auto shortCutMaxY = hn::Set(df, static_cast<float>(src.heightPx) - 1.5f);
+  const auto fraction = hn::Set(di, kOne - 1);
   const auto stride = hn::Set(di, src.strideBytes);
   const auto round = hn::Set(di, 1 << (2 * kFracBits - 1));
   const auto* words = reinterpret_cast<const std::int32_t*>(src.base);  // gathered at byte offsets
@@ -90,19 +94,33 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
     offerNext = staged;
 #endif
     const auto px = hn::LoadU(df, xs + i), py = hn::LoadU(df, ys + i);
-    const auto inside =
-        hn::And(hn::And(hn::Ge(px, zero), hn::Le(px, widthPx)), hn::And(hn::Ge(py, zero), hn::Le(py, heightPx)));
-    violations += static_cast<std::uint32_t>(lanes - static_cast<int>(hn::CountTrue(df, inside)));
-    // Pixel-centre origin; a false compare (NaN) gives 0, as in the scalar form
-    auto qx = hn::Sub(px, half), qy = hn::Sub(py, half);
-    qx = hn::Min(hn::IfThenElseZero(hn::Ge(qx, zero), qx), maxX);
-    qy = hn::Min(hn::IfThenElseZero(hn::Ge(qy, zero), qy), maxY);
-    const auto ix = hn::ConvertTo(di, hn::Add(hn::Mul(qx, unit), half));
-    const auto iy = hn::ConvertTo(di, hn::Add(hn::Mul(qy, unit), half));
-    const auto x0 = hn::Min(hn::ShiftRight<kFracBits>(ix), lastX);
-    const auto y0 = hn::Min(hn::ShiftRight<kFracBits>(iy), lastY);
-    const auto fx = hn::Sub(ix, hn::ShiftLeft<kFracBits>(x0));
-    const auto fy = hn::Sub(iy, hn::ShiftLeft<kFracBits>(y0));
+    hn::Vec<decltype(di)> x0, y0, fx, fy;
+    if (hn::AllTrue(df, hn::And(hn::And(hn::Ge(px, half), hn::Le(px, shortCutMaxX)),
+                                hn::And(hn::Ge(py, half), hn::Le(py, shortCutMaxY))))) {
+      // Every lane from the first pixel centre to a pixel before the last: no violation, no clamp
+      // (the staged sampling's short cut, SampleBlockVbmi.cpp, goes on to the last centres: it
+      // checks its loads)
+      const auto ix = hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(px, half), unit), half));
+      const auto iy = hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(py, half), unit), half));
+      x0 = hn::ShiftRight<kFracBits>(ix);
+      y0 = hn::ShiftRight<kFracBits>(iy);
+      fx = hn::And(ix, fraction);
+      fy = hn::And(iy, fraction);
+    } else {
+      const auto inside =
+          hn::And(hn::And(hn::Ge(px, zero), hn::Le(px, widthPx)), hn::And(hn::Ge(py, zero), hn::Le(py, heightPx)));
+      violations += static_cast<std::uint32_t>(lanes - static_cast<int>(hn::CountTrue(df, inside)));
+      // Pixel-centre origin; a false compare (NaN) gives 0, as in the scalar form
+      auto qx = hn::Sub(px, half), qy = hn::Sub(py, half);
+      qx = hn::Min(hn::IfThenElseZero(hn::Ge(qx, zero), qx), maxX);
+      qy = hn::Min(hn::IfThenElseZero(hn::Ge(qy, zero), qy), maxY);
+      const auto ix = hn::ConvertTo(di, hn::Add(hn::Mul(qx, unit), half));
+      const auto iy = hn::ConvertTo(di, hn::Add(hn::Mul(qy, unit), half));
+      x0 = hn::Min(hn::ShiftRight<kFracBits>(ix), lastX);
+      y0 = hn::Min(hn::ShiftRight<kFracBits>(iy), lastY);
+      fx = hn::Sub(ix, hn::ShiftLeft<kFracBits>(x0));
+      fy = hn::Sub(iy, hn::ShiftLeft<kFracBits>(y0));
+    }
     const auto top = hn::Add(hn::Mul(y0, stride), C == 3 ? hn::Add(x0, hn::ShiftLeft<1>(x0)) : x0);
     const auto bottom = hn::Add(top, stride);
     if constexpr (C == 3) {

@@ -58,6 +58,27 @@ std::vector<float> coordinates(int n, float size, std::mt19937& rng) {
   return out;
 }
 
+/// Calls blocks(source) with a frame `width` × `height` pixels of `channels` (random bytes, rows
+/// padded by a byte) whose last byte is the neighbour of a page that may not be read: a read past
+/// the frame's end stops the test.
+template <typename Blocks>
+void withGuardedFrame(int channels, int width, int height, const Blocks& blocks) {
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  const int stride = width * channels + 1;
+  const std::size_t frameBytes = static_cast<std::size_t>((height - 1) * stride + width * channels);
+  const std::size_t pages = (frameBytes + page - 1) / page;
+  auto* area = static_cast<std::uint8_t*>(
+      ::mmap(nullptr, (pages + 1) * page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
+  ASSERT_NE(area, MAP_FAILED);
+  std::uint8_t* guard = area + pages * page;
+  ASSERT_EQ(::mprotect(guard, page, PROT_NONE), 0);
+  std::uint8_t* base = guard - frameBytes;
+  std::mt19937 rng(5);
+  for (std::uint8_t* b = base; b < guard; ++b) *b = static_cast<std::uint8_t>(rng());
+  blocks(sampling::Source{base, stride, width, height});
+  ASSERT_EQ(::munmap(area, (pages + 1) * page), 0);
+}
+
 TEST(SimdLevels, SampleRowGivesTheReferencesBytesAndViolations) {
   fieldcast::testing::atEverySimdLevel([] {
     std::mt19937 rng(11);
@@ -79,69 +100,75 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAndViolations) {
   });
 }
 
-// The staged sampling's short cut for a block whose every sample lies between the frame's outer
-// pixel centres (no violation, no clamp that changes a byte): blocks with a lane on each edge of
-// that region, just inside it and just past it, give the reference's bytes and violations.
-TEST(SimdLevels, TheStagedSamplingsShortCutEndsWhereAClampWouldChangeASample) {
-  if (!simdVbmiEnabled()) GTEST_SKIP() << "this CPU has no AVX-512 VBMI (level avx512vbmi)";
+// The short cut for a block whose every sample lies between the frame's outer pixel centres (no
+// violation, no clamp that changes a byte), staged and gathered: blocks with a lane on each edge
+// of that region, just inside it and just past it, in a frame that ends at a page that may not be
+// read, give the reference's bytes and violations at every level.
+TEST(SimdLevels, TheSamplingsShortCutEndsWhereAClampWouldChangeASample) {
   const int width = 64, height = 12;
-  for (const PixelFormat format : {PixelFormat::Rgb8, PixelFormat::Grey8}) {
-    const Image src = noiseImage(width, height, format, 91u);
-    const int channels = format == PixelFormat::Rgb8 ? 3 : 1;
-    const auto w = static_cast<float>(width), h = static_cast<float>(height);
-    // An edge lane's value: on the short cut's edge, either side of it, and on or past the frame's
-    const float left[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f, 0.0f};
-    const float right[] = {w - 1.5f, w - 0.5f, std::nextafter(w - 0.5f, w), w - 0.375f, w};
-    const float top[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f};
-    const float bottom[] = {h - 1.5f, h - 0.5f, std::nextafter(h - 0.5f, h), h - 0.375f};
-    std::vector<std::array<float, 16>> xBlocks, yBlocks;  // 16 samples, one of them on an edge
-    for (const float x : left) {
-      std::array<float, 16> b{};
-      for (int i = 0; i < 16; ++i) b[static_cast<std::size_t>(i)] = x + 0.9f * static_cast<float>(i);
-      xBlocks.push_back(b);
-    }
-    for (const float x : right) {
-      std::array<float, 16> b{};
-      for (int i = 0; i < 16; ++i) b[static_cast<std::size_t>(i)] = x - 0.9f * static_cast<float>(15 - i);
-      xBlocks.push_back(b);
-    }
-    for (const float y : top)
-      yBlocks.push_back({y, y + 0.1f, y + 0.2f, y + 0.3f, y + 0.4f, y + 0.5f, y + 0.6f, y + 0.7f, y + 0.8f, y + 0.9f,
-                         y + 0.9f, y + 0.8f, y + 0.7f, y + 0.6f, y + 0.5f, y + 0.4f});
-    for (const float y : bottom)
-      yBlocks.push_back({y - 0.9f, y - 0.8f, y - 0.7f, y - 0.6f, y - 0.5f, y - 0.4f, y - 0.3f, y - 0.2f, y - 0.1f, y, y,
-                         y, y, y, y, y});
-    const std::array<float, 16> midRows{5.3f, 5.3f, 5.4f, 5.4f, 5.5f, 5.5f, 5.6f, 5.6f,
-                                        5.7f, 5.7f, 5.8f, 5.8f, 5.9f, 5.9f, 6.0f, 6.0f};
-    std::array<float, 16> midColumns{};
-    for (int i = 0; i < 16; ++i) midColumns[static_cast<std::size_t>(i)] = 20.2f + 0.9f * static_cast<float>(i);
-    // Blocks on the middle rows and on the first rows are staged; a block reaching the last row
-    // may be refused (its rows' loads would pass the frame's last byte), whatever the short cut.
-    struct Block {
-      std::array<float, 16> xs, ys;
-      bool staged;
-    };
-    std::vector<Block> blocks;
-    for (const auto& xs : xBlocks) blocks.push_back({xs, midRows, true});
-    for (std::size_t k = 0; k < yBlocks.size(); ++k) blocks.push_back({midColumns, yBlocks[k], k < std::size(top)});
-    const sampling::Source source{src.row(0), static_cast<std::int32_t>(src.strideBytes()), width, height};
-    for (const Block& b : blocks) {
-      const auto bytes = static_cast<std::size_t>(16 * channels);
-      std::vector<std::uint8_t> fast(bytes), ref(bytes);
-      std::uint32_t violations = 0;
-      const bool took =
-          sampling::sampleBlocksVbmi(source, channels, b.xs.data(), b.ys.data(), 16, fast.data(), violations) == 16;
-      const std::uint32_t refViolations = sampleRowReference(src, b.xs.data(), b.ys.data(), 16, ref.data());
-      const std::string where = std::to_string(channels) + " channels, x " + std::to_string(b.xs[0]) + ".." +
-                                std::to_string(b.xs[15]) + ", y " + std::to_string(b.ys[0]) + ".." +
-                                std::to_string(b.ys[15]);
-      if (!took) {
-        EXPECT_FALSE(b.staged) << where;
-        continue;
+  const auto w = static_cast<float>(width), h = static_cast<float>(height);
+  // An edge lane's value: on the short cut's edge, either side of it, and on or past the frame's
+  const float left[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f, 0.0f};
+  const float right[] = {w - 1.5f, w - 0.5f, std::nextafter(w - 0.5f, w), w - 0.375f, w};
+  const float top[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f};
+  const float bottom[] = {h - 1.5f, h - 0.5f, std::nextafter(h - 0.5f, h), h - 0.375f};
+  struct Block {
+    std::array<float, 16> xs, ys;
+    bool staged;  // a block reaching the last row may be refused: its loads would pass the frame
+  };
+  std::vector<Block> blocks;
+  std::array<float, 16> midRows{}, midColumns{};
+  for (int i = 0; i < 16; ++i) {
+    midRows[static_cast<std::size_t>(i)] = 5.3f + 0.05f * static_cast<float>(i);
+    midColumns[static_cast<std::size_t>(i)] = 20.2f + 0.9f * static_cast<float>(i);
+  }
+  for (const float x : left) {
+    Block b{{}, midRows, true};
+    for (int i = 0; i < 16; ++i) b.xs[static_cast<std::size_t>(i)] = x + 0.9f * static_cast<float>(i);
+    blocks.push_back(b);
+  }
+  for (const float x : right) {
+    Block b{{}, midRows, true};
+    for (int i = 0; i < 16; ++i) b.xs[static_cast<std::size_t>(i)] = x - 0.9f * static_cast<float>(15 - i);
+    blocks.push_back(b);
+  }
+  for (const float y : top) {
+    Block b{midColumns, {}, true};
+    for (int i = 0; i < 16; ++i) b.ys[static_cast<std::size_t>(i)] = y + 0.06f * static_cast<float>(15 - i);
+    blocks.push_back(b);
+  }
+  for (const float y : bottom) {
+    Block b{midColumns, {}, false};
+    for (int i = 0; i < 16; ++i) b.ys[static_cast<std::size_t>(i)] = y - 0.06f * static_cast<float>(15 - i);
+    blocks.push_back(b);
+  }
+  for (const int channels : {3, 1}) {
+    withGuardedFrame(channels, width, height, [&](const sampling::Source& src) {
+      for (const Block& b : blocks) {
+        const auto bytes = static_cast<std::size_t>(16 * channels);
+        std::vector<std::uint8_t> ref(bytes), fast(bytes), row(bytes);
+        const std::uint32_t refViolations =
+            channels == 3 ? sampling::sampleRowScalar<3>(src, b.xs.data(), b.ys.data(), 16, ref.data())
+                          : sampling::sampleRowScalar<1>(src, b.xs.data(), b.ys.data(), 16, ref.data());
+        const std::string where = std::to_string(channels) + " channels, x " + std::to_string(b.xs[0]) + ".." +
+                                  std::to_string(b.xs[15]) + ", y " + std::to_string(b.ys[0]) + ".." +
+                                  std::to_string(b.ys[15]);
+        if (simdVbmiEnabled()) {
+          std::uint32_t violations = 0;
+          if (sampling::sampleBlocksVbmi(src, channels, b.xs.data(), b.ys.data(), 16, fast.data(), violations) == 16) {
+            EXPECT_EQ(fast, ref) << where;
+            EXPECT_EQ(violations, refViolations) << where;
+          } else {
+            EXPECT_FALSE(b.staged) << "refused: " << where;
+          }
+        }
+        fieldcast::testing::atEverySimdLevel([&] {
+          EXPECT_EQ(sampling::sampleRowLanes(src, channels, b.xs.data(), b.ys.data(), 16, row.data()), refViolations)
+              << where;
+          EXPECT_EQ(row, ref) << where;
+        });
       }
-      EXPECT_EQ(fast, ref) << where;
-      EXPECT_EQ(violations, refViolations) << where;
-    }
+    });
   }
 }
 
@@ -200,24 +227,6 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
 // refused one pixel further on (its load would reach into that page), where the gathers take over.
 TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte) {
   if (!simdVbmiEnabled()) GTEST_SKIP() << "this CPU has no AVX-512 VBMI (level avx512vbmi)";
-  const long page = ::sysconf(_SC_PAGESIZE);
-  // A frame `width` pixels wide of `channels`, 8 rows, padded rows, its last byte the guard page's
-  // neighbour; `blocks` gets the frame
-  const auto withFrame = [&](int channels, int width, const auto& blocks) {
-    const int height = 8, stride = width * channels + 1;
-    const std::size_t frameBytes = static_cast<std::size_t>((height - 1) * stride + width * channels);
-    const std::size_t pages = (frameBytes + static_cast<std::size_t>(page) - 1) / static_cast<std::size_t>(page);
-    auto* area = static_cast<std::uint8_t*>(::mmap(nullptr, (pages + 1) * static_cast<std::size_t>(page),
-                                                   PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
-    ASSERT_NE(area, MAP_FAILED);
-    std::uint8_t* guard = area + pages * static_cast<std::size_t>(page);
-    ASSERT_EQ(::mprotect(guard, static_cast<std::size_t>(page), PROT_NONE), 0);
-    std::uint8_t* base = guard - frameBytes;
-    std::mt19937 rng(5);
-    for (std::uint8_t* b = base; b < guard; ++b) *b = static_cast<std::uint8_t>(rng());
-    blocks(sampling::Source{base, stride, width, height});
-    ASSERT_EQ(::munmap(area, (pages + 1) * static_cast<std::size_t>(page)), 0);
-  };
   // 16 samples from (x, y) on, `step` frame pixels apart, rising by `rise` pixels per sample
   const auto block = [&](const sampling::Source& src, int channels, float x, float y, float rise, bool staged,
                          float step = 1.0f) {
@@ -243,7 +252,7 @@ TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte)
     EXPECT_EQ(row, ref);
     forceSimdLevel("auto");
   };
-  withFrame(3, 64, [&](const sampling::Source& src) {
+  withGuardedFrame(3, 64, 8, [&](const sampling::Source& src) {
     block(src, 3, 3.3f, 2.6f, 0.0f, true);    // two rows
     block(src, 3, 10.7f, 2.2f, 0.05f, true);  // three rows: the upper row changes within the block
     // On the last two rows: a load from x0 = 42 on row 6 ends two bytes before the frame's end
@@ -252,7 +261,7 @@ TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte)
     block(src, 3, 3.3f, 2.6f, 0.2f, false);        // turned too far: four rows
     block(src, 3, 3.3f, 2.6f, 0.0f, false, 1.3f);  // zoomed out: 20 pixels across
   });
-  withFrame(1, 100, [&](const sampling::Source& src) {
+  withGuardedFrame(1, 100, 8, [&](const sampling::Source& src) {
     block(src, 1, 3.3f, 2.6f, 0.0f, true);
     block(src, 1, 10.7f, 2.2f, 0.05f, true);
     block(src, 1, 3.3f, 2.6f, 0.0f, true, 4.0f);   // zoomed out: 61 pixels across, still one load
