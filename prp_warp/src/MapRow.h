@@ -6,12 +6,15 @@
 
 namespace fieldcast::warp::mapping {
 
+/// The longest run of a raster row the kernels evaluate a map on: the width of the strips the
+/// field is resampled in (Resample.cpp's forEachStrip).
+constexpr int kMaxRunPx = 256;
+
 /// Along a raster row a quadratic map is a parabola in the pixel's position. For pixel i of a run
 /// (centre u = i + ½ from the run's start) it is a + u·(b + u·c), in single precision: the
-/// coefficients are worked out per run in double about its first pixel, so u stays small — the
-/// kernels' runs are strips of at most 128 pixels (Resample.cpp) — and the error below 1e-3 px:
-/// one rounding of a, a few of terms no larger than the strip's span in the frame (128 px times
-/// the map's scale).
+/// coefficients are worked out per run in double about its first pixel, so u stays small (a run
+/// is at most kMaxRunPx pixels) and the error below 1e-3 px: one rounding of a, a few of terms no
+/// larger than the run's span in the frame (kMaxRunPx times the map's scale).
 inline float parabolaAt(float a, float b, float c, int i) noexcept {
   const float u = static_cast<float>(i) + 0.5f;
   return a + u * (b + u * c);

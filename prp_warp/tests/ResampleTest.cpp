@@ -132,7 +132,7 @@ TEST_P(FastVersusReference, MeshWithinOneGreyLevelAndSameViolations) {
   const auto [format, parity] = GetParam();
   const Image src = noiseImage(360, 250, format, 9);
   RowScratch scratch(300);
-  // 16 px (the warp's default), 7 px (cells that do not divide the raster, nor the 128 px strips)
+  // 16 px (the warp's default), 7 px (cells that do not divide the raster, nor the 256 px strips)
   for (int spacing : {16, 7}) {
     const MeshMap mesh = someMesh(spacing, 3);
     Image fast(300, fieldRowCount(parity, 200), format), ref = fast;

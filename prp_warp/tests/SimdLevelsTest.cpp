@@ -323,20 +323,21 @@ TEST(SimdLevels, TheQuadraticsRowsAreTheScalarFormsFloats) {
 
 TEST(SimdLevels, TheQuadraticsRowsAreWithinAThousandthOfAPixelOfTheMap) {
   // A 1080i field's map into a 2112 x 1188 frame (10 % margins): turned by 3°, zoomed by 2 %,
-  // curved as a fast low pass makes it; every row's runs of 128 pixels, as the kernel asks them
+  // curved as a fast low pass makes it; every row's longest runs, as the kernels ask them
   const double c = 1.02 * std::cos(0.052), s = 1.02 * std::sin(0.052);
   QuadraticMap map;
   map.a = {96.0 + 28.0, c, -s, 2.1e-6, 3.7e-5, -1.9e-5};
   map.b = {54.0 - 41.0, s, c, -1.3e-6, 2.2e-5, 4.1e-5};
   fieldcast::testing::atEverySimdLevel([&] {
     double worst = 0.0;
-    std::vector<float> xs(128), ys(128);
+    constexpr int n = mapping::kMaxRunPx;
+    std::vector<float> xs(n), ys(n);
     for (int row = 0; row < 1080; row += 7) {
       const double v = row + 0.5;
-      for (int first = 0; first < 1920; first += 128) {
-        mapping::quadraticRow(map.a, first, v, 128, xs.data());
-        mapping::quadraticRow(map.b, first, v, 128, ys.data());
-        for (int i = 0; i < 128; ++i) {
+      for (int first = 0; first < 1920; first += n) {
+        mapping::quadraticRow(map.a, first, v, n, xs.data());
+        mapping::quadraticRow(map.b, first, v, n, ys.data());
+        for (int i = 0; i < n && first + i < 1920; ++i) {
           const glm::dvec2 p = map({first + i + 0.5, v});
           const auto k = static_cast<std::size_t>(i);
           worst = std::max({worst, std::abs(xs[k] - p.x), std::abs(ys[k] - p.y)});
