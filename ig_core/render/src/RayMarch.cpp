@@ -283,6 +283,7 @@ StickVoxel stickAt(const CasterFrame& f, CasterThread& t, int level, int x, int 
   }
   if (tile->stickId == nullptr) return {};
   const auto index = static_cast<std::size_t>(((y & f.tileMask) << f.tileShift) | (x & f.tileMask));
+  if (!tile->hasStick(index)) return {};
   const std::uint32_t id = tile->stickId[index];
   return id != 0 ? StickVoxel{id, tile->heightQ[index], level} : StickVoxel{};
 }

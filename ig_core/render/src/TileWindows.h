@@ -101,6 +101,7 @@ inline StickVoxel windowStick(const CasterFrame& f, CasterThread& t, TileWindows
   if (tile.stickId == nullptr) return {};
   const auto index = static_cast<std::size_t>(((y - w.y0[static_cast<std::size_t>(level)]) << f.tileShift) +
                                               (x - w.x0[static_cast<std::size_t>(level)]));
+  if (!tile.hasStick(index)) return {};
   const std::uint32_t id = tile.stickId[index];
   return id != 0 ? StickVoxel{id, tile.heightQ[index], level} : StickVoxel{};
 }

@@ -35,8 +35,10 @@ MemoryTerrain::MemoryTerrain(TerrainGeometry geometry, std::span<const std::uint
         if (std::all_of(owned->stickId.begin(), owned->stickId.end(), [](std::uint32_t id) { return id == 0; })) {
           owned->stickId.clear();  // a tile without sticks says so with a null array
         }
+        owned->stickBits = stickBitsOf(owned->stickId);
         owned->tile = TerrainTile{owned->heightQ.data(), owned->maxHeightQ.data(), owned->colourRgba.data(),
-                                  owned->stickId.empty() ? nullptr : owned->stickId.data()};
+                                  owned->stickId.empty() ? nullptr : owned->stickId.data(),
+                                  owned->stickId.empty() ? nullptr : owned->stickBits.data()};
         mView->publish(level, tx, ty, &owned->tile);
         mTiles.push_back(std::move(owned));
       }

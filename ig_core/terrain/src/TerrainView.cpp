@@ -35,6 +35,13 @@ TerrainView::TerrainView(const TerrainGeometry& geometry, std::shared_ptr<const 
   }
 }
 
+std::vector<std::uint64_t> stickBitsOf(std::span<const std::uint32_t> stickId) {
+  std::vector<std::uint64_t> bits((stickId.size() + 63) / 64, 0);
+  for (std::size_t k = 0; k < stickId.size(); ++k)
+    if (stickId[k] != 0) bits[k >> 6] |= std::uint64_t{1} << (k & 63);
+  return bits;
+}
+
 TerrainView::Sample TerrainView::sample(int level, int i, int j) const noexcept {
   for (int l = level; l < mGeometry.levels; ++l) {
     const int shift = l - level;

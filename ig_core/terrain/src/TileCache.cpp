@@ -76,9 +76,9 @@ TileCache::TileCache(std::unique_ptr<TileSource> source, const TileCacheOptions&
   const TerrainGeometry& g = mSource->geometry();
   mView = std::make_unique<TerrainView>(g, mSource->sticks());
   const std::size_t voxels = std::size_t{1} << (2 * g.tileShift);
-  // Heights, maxima, colours; and stick ids where the terrain has sticks (counted for every tile:
-  // the budget is a bound)
-  mTileBytes = voxels * (2 + 2 + 4 + (mSource->sticks() ? 4 : 0)) + sizeof(Entry);
+  // Heights, maxima, colours; and stick ids and their bits where the terrain has sticks (counted
+  // for every tile: the budget is a bound)
+  mTileBytes = voxels * (2 + 2 + 4) + (mSource->sticks() ? voxels * 4 + voxels / 8 : 0) + sizeof(Entry);
   mResident.resize(static_cast<std::size_t>(g.levels));
   mFailed.resize(static_cast<std::size_t>(g.levels));
   for (int level = 0; level < g.levels; ++level) {
@@ -159,8 +159,10 @@ bool TileCache::loadTile(int level, int tx, int ty, bool pinned) {
   entry->tx = tx;
   entry->ty = ty;
   entry->pinned = pinned;
+  entry->data.stickBits = stickBitsOf(entry->data.stickId);
   entry->tile = TerrainTile{entry->data.heightQ.data(), entry->data.maxHeightQ.data(), entry->data.colourRgba.data(),
-                            entry->data.stickId.empty() ? nullptr : entry->data.stickId.data()};
+                            entry->data.stickId.empty() ? nullptr : entry->data.stickId.data(),
+                            entry->data.stickId.empty() ? nullptr : entry->data.stickBits.data()};
   mView->publish(level, tx, ty, &entry->tile);
   mResident[static_cast<std::size_t>(level)][slotIndex(level, tx, ty)] = std::move(entry);
   mResidentBytesLoader += mTileBytes;

@@ -7,10 +7,13 @@
 #include <ig_core/Sticks.h>
 #include <ig_core/TerrainBuilder.h>
 #include <ig_core/TerrainDatabase.h>
+#include <ig_core/TileCache.h>
 
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -225,6 +228,54 @@ TEST(StickDatabase, Version3KeepsTheTableAndEveryTilesIds) {
   EXPECT_TRUE(tile.stickId.empty());
   reader.readTile(2, 0, 0, tile);  // level 2: the stick carried up
   EXPECT_EQ(tile.stickId[2 * 16 + 2], 2u);
+}
+
+// Every voxel's bit in TerrainTile::stickBits (which the caster asks before the id plane) is set
+// exactly where its stick id is not 0: in the bits of any id array, and in every tile a terrain
+// publishes, from memory and from a database through the tile cache.
+TEST(StickTiles, EveryTilesBitsSayWhichOfItsVoxelsHaveAStick) {
+  std::vector<std::uint32_t> ids(130, 0);
+  for (const std::size_t k : {0u, 5u, 63u, 64u, 127u, 129u}) ids[k] = 7;
+  const std::vector<std::uint64_t> bits = stickBitsOf(ids);
+  ASSERT_EQ(bits.size(), 3u);
+  const TerrainTile tile{nullptr, nullptr, nullptr, ids.data(), bits.data()};
+  for (std::size_t k = 0; k < ids.size(); ++k) EXPECT_EQ(tile.hasStick(k), ids[k] != 0) << "voxel " << k;
+
+  const auto checkTiles = [](const TerrainView& view, const char* what) {
+    int tilesWithSticks = 0;
+    const TerrainGeometry& g = view.geometry();
+    for (int level = 0; level < g.levels; ++level)
+      for (int ty = 0; ty < g.tilesY(level); ++ty)
+        for (int tx = 0; tx < g.tilesX(level); ++tx) {
+          const TerrainTile* t = view.tile(level, tx, ty);
+          ASSERT_NE(t, nullptr) << what;
+          if (t->stickId == nullptr) continue;
+          ++tilesWithSticks;
+          ASSERT_NE(t->stickBits, nullptr) << what;
+          const std::size_t voxels = std::size_t{1} << (2 * g.tileShift);
+          for (std::size_t k = 0; k < voxels; ++k)
+            ASSERT_EQ(t->hasStick(k), t->stickId[k] != 0)
+                << what << ", level " << level << " tile " << tx << ", " << ty;
+        }
+    EXPECT_GT(tilesWithSticks, 2) << what;
+  };
+  TerrainGrid grid = gridWithSticks();
+  grid.geometry.tileShift = 4;
+  grid.geometry.levels = 3;
+  const MemoryTerrain memory(grid.geometry, grid.heightQ, grid.colourRgba, grid.stickId, grid.sticks);
+  checkTiles(memory.view(), "in memory");
+
+  ScratchDir dir;
+  BuildOptions options;
+  options.tileShift = 4;
+  writeTerrainDatabase(gridWithSticks(), dir / "s.fctdb", options);
+  TileCache cache(std::make_unique<DatabaseTileSource>(dir / "s.fctdb"), TileCacheOptions{});
+  const TerrainGeometry& g = cache.view().geometry();
+  for (int level = 0; level < g.levels; ++level)
+    for (int ty = 0; ty < g.tilesY(level); ++ty)
+      for (int tx = 0; tx < g.tilesX(level); ++tx) cache.request(level, tx, ty);
+  ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(10)));
+  checkTiles(cache.view(), "through the tile cache");
 }
 
 TEST(StickDatabase, AnIdBeyondTheTableIsACorruptTile) {

@@ -34,6 +34,7 @@ class MemoryTerrain {
     std::vector<std::uint16_t> maxHeightQ;
     std::vector<std::uint32_t> colourRgba;
     std::vector<std::uint32_t> stickId;  // empty when the tile has none
+    std::vector<std::uint64_t> stickBits;
     TerrainTile tile;
   };
   std::unique_ptr<TerrainView> mView;

@@ -18,8 +18,10 @@
 #include <glm/vec2.hpp>
 
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace fieldcast::core {
@@ -54,7 +56,17 @@ struct TerrainTile {
   /// Stick ids (0: none; else an entry of TerrainView::sticks()), or nullptr when the tile has no
   /// stick: the height of a voxel with a stick is its stick's top (Sticks.h).
   const std::uint32_t* stickId = nullptr;
+  /// Bit k (word k / 64, bit k % 64) set where stickId[k] is not 0, or nullptr with stickId: which
+  /// voxels have a stick, in 1/32 of the id plane's bytes (a caster asks it of most crossings;
+  /// most of a furnished tile's voxels have none).
+  const std::uint64_t* stickBits = nullptr;
+
+  /// Whether voxel `index` (row-major in the tile) has a stick. Call only where stickId is set.
+  bool hasStick(std::size_t index) const noexcept { return (stickBits[index >> 6] >> (index & 63)) & 1u; }
 };
+
+/// TerrainTile::stickBits of a tile's stick ids (empty for none).
+std::vector<std::uint64_t> stickBitsOf(std::span<const std::uint32_t> stickId);
 
 /// Lock-free tile table over all levels. The owner of the tiles (MemoryTerrain, the tile cache)
 /// publishes and withdraws tiles; renderers read them. The top level is always resident, so every
