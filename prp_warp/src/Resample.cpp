@@ -120,7 +120,7 @@ std::uint32_t sampleRowReference(const Image& src, const float* framePxX, const 
 /// Runs `row(firstPx, n, fieldRow, dstPixels)` over the field in vertical strips of kStripPx
 /// columns: a rolled or turned map crosses many frame rows along one raster row, and a strip
 /// keeps the frame lines it touches in cache from one field row to the next. 256 columns: the
-/// NTSC field step 0.30 -> 0.28 ms against 128 (a third of the calls per field); 512 and whole
+/// NTSC field step 0.30 -> 0.28 ms against 128 (half the calls per field); 512 and whole
 /// rows measured the same at NTSC, a 1080i strip of 256 already about fills a 1 MB L2.
 template <typename RowFn>
 std::uint32_t forEachStrip(Image& dst, RowFn&& row) noexcept {

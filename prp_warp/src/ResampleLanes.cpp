@@ -43,7 +43,7 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
 #if HWY_TARGET == HWY_AVX3
   // At level avx512vbmi: the frame's bytes staged in registers instead of gathered where they fit
   // (SampleBlockVbmi.h). A run whose blocks all fit ends here, before the gathers' constants are
-  // made (a field has six runs a row: returning here took the NTSC kernel from 300 to 287 µs).
+  // made (returning here took the NTSC kernel from 300 to 287 µs, with six runs a row then).
   const bool staged = simdVbmiEnabled() && stagedBlocksLikelyFit(C, xs, ys, n);
   // Whether the loop's next block is offered to the staged sampling first: not the one it just
   // refused, every one after a gathered block

@@ -108,10 +108,10 @@ TEST(SimdLevels, TheSamplingsShortCutEndsWhereAClampWouldChangeASample) {
   const int width = 64, height = 12;
   const auto w = static_cast<float>(width), h = static_cast<float>(height);
   // An edge lane's value: on the short cut's edge, either side of it, and on or past the frame's
-  const float left[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f, 0.0f};
-  const float right[] = {w - 1.5f, w - 0.5f, std::nextafter(w - 0.5f, w), w - 0.375f, w};
-  const float top[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f};
-  const float bottom[] = {h - 1.5f, h - 0.5f, std::nextafter(h - 0.5f, h), h - 0.375f};
+  const float left[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f, 0.0f, -0.25f};
+  const float right[] = {w - 1.5f, w - 0.5f, std::nextafter(w - 0.5f, w), w - 0.375f, w, std::nextafter(w, 2.0f * w)};
+  const float top[] = {0.5f, std::nextafter(0.5f, 0.0f), 0.25f, -0.25f};
+  const float bottom[] = {h - 1.5f, h - 0.5f, std::nextafter(h - 0.5f, h), h - 0.375f, h + 0.25f};
   struct Block {
     std::array<float, 16> xs, ys;
     bool staged;  // a block reaching the last row may be refused: its loads would pass the frame
@@ -140,6 +140,16 @@ TEST(SimdLevels, TheSamplingsShortCutEndsWhereAClampWouldChangeASample) {
   for (const float y : bottom) {
     Block b{midColumns, {}, false};
     for (int i = 0; i < 16; ++i) b.ys[static_cast<std::size_t>(i)] = y - 0.06f * static_cast<float>(15 - i);
+    blocks.push_back(b);
+  }
+  // The last corner: the gathered short cut's lower right, where a read of the right neighbour's
+  // lower row past its bound would run into the unreadable page
+  for (const float x : right) {
+    Block b{{}, {}, false};
+    for (int i = 0; i < 16; ++i) {
+      b.xs[static_cast<std::size_t>(i)] = x - 0.9f * static_cast<float>(15 - i);
+      b.ys[static_cast<std::size_t>(i)] = h - 1.5f;
+    }
     blocks.push_back(b);
   }
   for (const int channels : {3, 1}) {

@@ -103,6 +103,7 @@ void TileBuffers::resize(int tileShift) {
   maxHeightQ.resize(n);
   colourRgba.resize(n);
   stickId.clear();
+  stickBits.clear();
 }
 
 TileSticks tileSticks(const DatabaseLayout& layout, const StickTable* table) noexcept {

@@ -83,8 +83,8 @@ struct TileBuffers {
   std::vector<std::uint32_t> stickId;    ///< empty when the tile has no stick (all ids 0)
   std::vector<std::uint64_t> stickBits;  ///< TerrainTile::stickBits, made by whoever publishes the tile
 
-  /// Sizes heights, maxima and colours for tiles of 1 << tileShift voxels a side (stick ids are
-  /// left empty: no sticks).
+  /// Sizes heights, maxima and colours for tiles of 1 << tileShift voxels a side (stick ids and
+  /// their bits are left empty: no sticks).
   void resize(int tileShift);
 };
 
