@@ -65,6 +65,9 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
   if (sticks != nullptr) {
     stickUnitsPerQ = g.heightStepM / sticks->unitM();
     seeThrough = sticks->hasSeeThrough();
+    std::uint32_t longest = 0;
+    for (std::uint32_t id = 1; id <= sticks->size(); ++id) longest = std::max(longest, sticks->entry(id).lengthVox);
+    stickReachQ = longest / stickUnitsPerQ;
   }
   for (int l = 0; l < levels; ++l) {
     levelWidth[static_cast<std::size_t>(l)] = g.levelWidthVox(l);
@@ -84,7 +87,6 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
 }
 
 namespace {
-
 inline float rayLength(double xc, double yc) noexcept { return static_cast<float>(std::sqrt(1.0 + xc * xc + yc * yc)); }
 
 // A per-ray hit as the pixel shows it: its colour hazed at `rangeM`, or through a complex stick's
@@ -100,35 +102,35 @@ SeenThrough shadedHit(const CasterFrame& f, CasterThread& t, const RayLine& r, c
   return {f.shading.terrain(colour, rangeM), rangeM};
 }
 
-// Rays that missed the terrain in sub-rows q = qFrom ... 0 of the column at camera-space x `xc`:
+// Rays that missed the terrain in sub-rows q = qFrom ... qTo of the column at camera-space x `xc`:
 // sky, or the base plane beyond the edge (a descending ray). A ray's world z and length are linear
 // / quadratic in the camera-space yc of the row.
-void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double xc, int qFrom) noexcept {
+void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double xc, int qFrom, int qTo = 0) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const CameraAxes& ax = f.geo->axes();
   const double invS = 1.0 / sink.s;
   const double az = xc * ax.right.z + ax.forward.z;
-  for (int q = qFrom; q >= 0; --q) {
+  for (int q = qFrom; q >= qTo; --q) {
     const double yc = (k.cyPx - (q + 0.5) * invS) / k.fyPx;
     float rangeM;
     const Rgb c = f.missed(az + yc * ax.up.z, rayLength(xc, yc), rangeM);
     sink.emit(q, c, rangeM);
   }
-  t.rays += static_cast<std::uint64_t>(std::max(qFrom + 1, 0));
+  t.rays += static_cast<std::uint64_t>(std::max(qFrom + 1 - qTo, 0));
 }
 
-// Per-ray casting of sub-rows q = qFrom, qFrom−1, ... (the rows the plane march cannot take: below
-// the first hit, and beyond the terrain's edge). Stops after the first hit when `untilHit`.
+// Per-ray casting of sub-rows q = qFrom, qFrom−1, ..., qTo (the rows the plane march cannot take:
+// below the first hit, and beyond the terrain's edge). Stops after the first hit when `untilHit`.
 // Returns the sub-row below which it stopped (−1 when the column is done) and the hit. The first
 // ray starts at `resume` when given and it marches along the same major axis (its distance is then
 // measured along the grid lines the plane march took; on the other axis the crossing's minor
 // offset could put the start past terrain the ray has not been tested against).
 int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double uc, int qFrom, bool untilHit,
                    bool& havePrev, glm::dvec2& prevHit, MarchHit& hitOut, RayLine& lineOut,
-                   const PlaneStop* resume = nullptr) noexcept {
+                   const PlaneStop* resume = nullptr, int qTo = 0) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const double xc = (uc - k.cxPx) / k.fxPx;
-  for (int q = qFrom; q >= 0; --q) {
+  for (int q = qFrom; q >= qTo; --q) {
     const double vq = (q + 0.5) / f.supersample;
     const glm::dvec3 d = f.geo->ray(uc, vq);
     const float length = rayLength(xc, -(vq - k.cyPx) / k.fyPx);
@@ -155,7 +157,7 @@ int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, doub
       // descending one left the terrain's side; the ray above starts where this one left (a
       // pitched column fans out in azimuth, so it may come back over the terrain: retrace).
       if (d.z >= 0.0) {
-        castSkyRows(f, t, sink, xc, q);
+        castSkyRows(f, t, sink, xc, q, qTo);
         return -1;
       }
     } else {
@@ -213,9 +215,15 @@ class ColumnCast {
   }
 
  private:
-  // The rows from q down that the plane march left (none when q < 0); the column is then done.
+  // The rows from q down that the plane march left (none when q < 0), and those it passed over
+  // (PlaneMarchState::recast); the column is then done.
   void castRowsLeft(const CasterFrame& f, CasterThread& t, int q) noexcept {
     mQ = -1;
+    castRowsUnmarched(f, t, q);
+    recastRowsPassedOver(f, t);
+  }
+
+  void castRowsUnmarched(const CasterFrame& f, CasterThread& t, int q) noexcept {
     if (q < 0) return;
     // Above all the terrain, the rows left see the sky. Otherwise (the march left the grid, or
     // could not start) they are cast one by one: a row may look over the terrain's edge and a
@@ -227,6 +235,25 @@ class ColumnCast {
       return;
     }
     castRowsPerRay(f, t, mSink, mUc, q, false, mHavePrev, mPrevHit, mHit, mLine, &mStopped);
+  }
+
+  // Rows whose rays meet terrain the plane march passed over (pieceBeyondCrossing), cast ray by ray
+  // over what the march gave them, whole pixels at a time (the sink averages a pixel's sub-rows).
+  // Each ray from its own first hit in the max pyramid: the ray below may have seen terrain behind.
+  void recastRowsPassedOver(const CasterFrame& f, CasterThread& t) noexcept {
+    const int s = mSink.s;
+    const int lastRow = f.supersample * f.geo->intrinsics().heightPx - 1;
+    for (int n = 0; n < mMarch.recastCount; ++n) {
+      const PlaneMarchState::RowSpan& span = mMarch.recast[n];
+      const int hi = std::min(span.hi / s * s + s - 1, lastRow);
+      for (int q = hi; q >= span.lo / s * s; --q) {
+        bool havePrev = false;
+        glm::dvec2 prevHit{0.0};
+        MarchHit hit;
+        RayLine line;
+        castRowsPerRay(f, t, mSink, mUc, q, false, havePrev, prevHit, hit, line, nullptr, q);
+      }
+    }
   }
 
   ColumnSink mSink;

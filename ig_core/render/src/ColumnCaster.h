@@ -66,6 +66,7 @@ struct CasterFrame {
   const StickTable* sticks;     ///< the terrain's sticks, or null when it has none
   bool seeThrough = false;      ///< some of them are complex: a ray may go on as a secondary ray
   double stickUnitsPerQ = 0.0;  ///< stick voxels (level 0) per height quantum
+  double stickReachQ = 0.0;     ///< the tallest stick's length, height quanta (0: no sticks)
   Image* image;                 ///< output pixels (or null)
   float* rangeM;                ///< output range per pixel (or null)
 };

@@ -20,6 +20,7 @@
 
 #include <glm/vec2.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -132,6 +133,26 @@ struct PlaneMarchState {
   double base = 0, yLine = 0, zLine = 0, jPos = 0, vq = 0;
   bool lastFilledNothing = false, rayWaitsForSwitch = false;
   Crossing crossings[2]{};
+  /// Sub-rows lo .. hi that see terrain the march passes over (pieceBeyondCrossing), to be cast ray
+  /// by ray once it is done. Spans that meet are merged; past kRecastSpans, into the last.
+  struct RowSpan {
+    int lo = 0, hi = -1;
+  };
+  static constexpr int kRecastSpans = 8;
+  RowSpan recast[kRecastSpans]{};
+  int recastCount = 0;
+  void addRecast(int lo, int hi) noexcept {
+    if (lo > hi) return;
+    if (recastCount > 0) {
+      RowSpan& last = recast[recastCount - 1];
+      if (recastCount == kRecastSpans || (lo <= last.hi + 1 && hi >= last.lo - 1)) {
+        last.lo = lo < last.lo ? lo : last.lo;
+        last.hi = hi > last.hi ? hi : last.hi;
+        return;
+      }
+    }
+    recast[recastCount++] = RowSpan{lo, hi};
+  }
 };
 
 /// The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of
@@ -189,6 +210,47 @@ __attribute__((always_inline)) inline bool walkToCrossing(int& j, double& h0, do
     ++samples;
   }
   return true;
+}
+
+/// Terrain of a grid line beyond the crossing the march takes on it (RENDERER.md, "Steep terrain in
+/// a tilted column plane"). A pitched camera tilts its columns' planes, so the line L_i where a
+/// plane cuts grid line i leans; a profile steeper than that lean (a stick's side) can rise above
+/// L_i again past the crossing, on the side of it that the rows above the crossing look at. The
+/// rows that see it there are given the terrain of other lines by the march: nearer to the camera,
+/// its rays run against the march and those rows were filled already; farther, they are filled
+/// from the lines after. Scans the voxels of the line past the crossing's segment j .. j+1 that
+/// way (the plane's g = gA·minor + nZ·h + base along the line; a voxel is above L_i where g has
+/// nZ's sign) while L_i lies less than `reachQ` (the tallest stick) above the crossing's height
+/// `heightQ` or a voxel read below it, at most kMaxPieceScan of them; `first` and `last` get the voxels
+/// either side of those above L_i. False when none. `samples` counts the heights read.
+constexpr int kMaxPieceScan = 64;
+template <typename HeightAt>
+__attribute__((always_inline)) inline bool pieceBeyondCrossing(int j, double gA, double nZ, double base, double heightQ,
+                                                               double reachQ, int minLast, HeightAt&& heightAt,
+                                                               int& first, int& last, std::uint64_t& samples) noexcept {
+  if (nZ == 0.0) return false;  // a vertical plane: L_i is vertical and meets the profile once
+  // L_i rises toward the segment's end where g < 0 when nZ > 0 (its first voxel), else its last.
+  const int dir = nZ > 0.0 ? -1 : 1;
+  const double zPerMinor = -gA / nZ, zAtZero = -base / nZ;  // L_i: z(m) = zAtZero + m·zPerMinor
+  double ceilingQ = heightQ + reachQ;
+  int m = nZ > 0.0 ? j : j + 1;
+  bool found = false;
+  for (int n = 0; n < kMaxPieceScan; ++n) {
+    m += dir;
+    if (m < 0 || m > minLast + 1) break;
+    const double zL = zAtZero + m * zPerMinor;
+    if (zL > ceilingQ) break;
+    ++samples;
+    const double h = heightAt(m);
+    if (h > zL) {
+      if (!found) first = m - dir;
+      last = m + dir;
+      found = true;
+    } else {
+      ceilingQ = std::max(ceilingQ, h + reachQ);  // a stick may stand on ground that rises
+    }
+  }
+  return found;
 }
 
 }  // namespace fieldcast::core::plane_march

@@ -115,14 +115,14 @@ TEST(RenderAccuracy, GrazingAngleLevelOfDetailAgreesWithTheReference) { sweepAga
 // The same hills furnished with woods and a village of sticks. A stick raises one voxel's height
 // sample by up to 30 m, and on such steep one-voxel leans the two renderers' surfaces part more
 // than on terrain: the reference's is bilinear over each cell, the caster's linear along grid
-// lines and ruled between them. And a pitched camera's column planes are tilted: the march's one
-// crossing per grid line misses a nearer piece of a steep profile (RENDERER.md, "Known limits"),
-// which makes the worst pose (20 m above the church tower, looking 75° down: 94.85%). Measured
-// (2026-12-05): overall 99.494%, eight poses under 99.5%; (2026-12-03) one control point 7 voxels
-// from the reference's hit (still on the caster's own surface, the one its image shows). The
-// bounds are a guard against losing more.
+// lines and ruled between them. A pitched camera's column planes are tilted, and a stick can rise
+// above a grid line's line in the plane past the crossing the march takes; where a voxel spans
+// 8 pixels or more the rows that see it are cast ray by ray (pieceBeyondCrossing): the pose 20 m
+// above the church tower, 75° down, went from 94.85% to 98.63%. Measured (2026-12-05): overall
+// 99.628%, eight poses under 99.5%, the worst 97.38% (a wood seen along the diagonal, 60 m up,
+// 20° down: single trees' leans). The bounds are a guard against losing more.
 TEST(RenderAccuracy, ColumnCasterHitsTheReferenceVoxelOverHillsWithObjects) {
-  sweepAgainstTheReference(furnishedHills().view(), 0.0, Agreement{0.94, 0.99, 8});
+  sweepAgainstTheReference(furnishedHills().view(), 0.0, Agreement{0.97, 0.995, 8});
 }
 
 // Entities among the objects: eight vehicles on the ground around the sweep's point, facing every
@@ -158,7 +158,7 @@ std::vector<EntityInstance> vehiclesAround(const TerrainView& view) {
 
 TEST(RenderAccuracy, ColumnCasterHitsTheReferenceVoxelOverHillsWithObjectsAndEntities) {
   const TerrainView& view = furnishedHills().view();
-  sweepAgainstTheReference(view, 0.0, Agreement{0.94, 0.99, 8}, vehiclesAround(view));
+  sweepAgainstTheReference(view, 0.0, Agreement{0.97, 0.995, 8}, vehiclesAround(view));
 }
 
 // The lane march (neighbouring columns in step) over the same sweeps.
@@ -170,6 +170,7 @@ TEST(RenderAccuracy, LaneMarchWithGrazingAngleLevelOfDetailAgreesWithTheReferenc
   sweepAgainstTheReference(hills().view(), 2.0, {}, {}, true);
 }
 
+// (The lane march does not yet look past its crossings: its worst pose is the church tower's.)
 TEST(RenderAccuracy, LaneMarchHitsTheReferenceVoxelOverHillsWithObjects) {
   sweepAgainstTheReference(furnishedHills().view(), 0.0, Agreement{0.94, 0.99, 8}, {}, true);
 }
