@@ -202,25 +202,25 @@ class ColumnCast {
       mDepth = finiteOrZero(mMarch.crossings[mMarch.prev].depth);
       return;
     }
-    castRowsLeft(f, t, q);
+    castRowsLeft(f, t, q, mMarch.passedOver);
   }
 
   const ColumnPlane& plane() const noexcept { return mPlane; }
   // The column for a lane march (LaneMarch.h), which does its plane march in step with others.
-  LaneColumn laneColumn() noexcept { return {&mSink, &mPlane, mQ, mPrevHit, mHit.at.level, {}}; }
+  LaneColumn laneColumn() noexcept { return {&mSink, &mPlane, mQ, mPrevHit, mHit.at.level, {}, {}}; }
   // After its lane march: the rows it left.
   void finishLane(const CasterFrame& f, CasterThread& t, const LaneColumn& lane) noexcept {
     mStopped = lane.stopped;
-    castRowsLeft(f, t, lane.q);
+    castRowsLeft(f, t, lane.q, lane.passedOver);
   }
 
  private:
-  // The rows from q down that the plane march left (none when q < 0), and those it passed over
-  // (PlaneMarchState::recast); the column is then done.
-  void castRowsLeft(const CasterFrame& f, CasterThread& t, int q) noexcept {
+  // The rows from q down that the plane march left (none when q < 0), and those it passed over;
+  // the column is then done.
+  void castRowsLeft(const CasterFrame& f, CasterThread& t, int q, const RowsPassedOver& passedOver) noexcept {
     mQ = -1;
     castRowsUnmarched(f, t, q);
-    recastRowsPassedOver(f, t);
+    recastRowsPassedOver(f, t, passedOver);
   }
 
   void castRowsUnmarched(const CasterFrame& f, CasterThread& t, int q) noexcept {
@@ -237,16 +237,15 @@ class ColumnCast {
     castRowsPerRay(f, t, mSink, mUc, q, false, mHavePrev, mPrevHit, mHit, mLine, &mStopped);
   }
 
-  // Rows whose rays meet terrain the plane march passed over (pieceBeyondCrossing), cast ray by ray
+  // Rows whose rays meet terrain the plane march passed over (lookPastCrossing), cast ray by ray
   // over what the march gave them, whole pixels at a time (the sink averages a pixel's sub-rows).
   // Each ray from its own first hit in the max pyramid: the ray below may have seen terrain behind.
-  void recastRowsPassedOver(const CasterFrame& f, CasterThread& t) noexcept {
+  void recastRowsPassedOver(const CasterFrame& f, CasterThread& t, const RowsPassedOver& rows) noexcept {
     const int s = mSink.s;
     const int lastRow = f.supersample * f.geo->intrinsics().heightPx - 1;
-    for (int n = 0; n < mMarch.recastCount; ++n) {
-      const PlaneMarchState::RowSpan& span = mMarch.recast[n];
-      const int hi = std::min(span.hi / s * s + s - 1, lastRow);
-      for (int q = hi; q >= span.lo / s * s; --q) {
+    for (int n = 0; n < rows.count; ++n) {
+      const RowsPassedOver::Span& span = rows.spans[n];
+      for (int q = std::min(span.hi / s * s + s - 1, lastRow); q >= span.lo / s * s; --q) {
         bool havePrev = false;
         glm::dvec2 prevHit{0.0};
         MarchHit hit;

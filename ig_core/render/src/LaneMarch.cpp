@@ -484,6 +484,15 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
             lastFilledNothing = true;  // a crossing of a minor line hides it
           }
         }
+        if constexpr (kSticks) {
+          // Terrain past the crossing that rows see (lookPastCrossing); here only past a crossing
+          // that bounds a fill or needed solving, not the rest of the line's
+          const MarchLine on{b.level,       b.i,     sx,      line.gA[n],  line.nZ[n], line.base[n],
+                             s.baseStep[n], b.yLine, b.yStep, b.zLine,     b.zStep,    b.yMinor,
+                             b.zMinor,      c0.upZ,  c0.fwdZ, lane.stretch};
+          lookPastCrossing(f, *lane.c, on, b.minLast, b.minorLinesDepth, height, cur, lane.q, lane.column->sink->s,
+                           lane.column->passedOver, lane.steps);
+        }
         // The crossing is the lane's last now, made whole (with its colour or stick once a fill looked
         // them up, and its level-of-detail depth of before the fill, as the one-column march keeps it)
         lane.lastSlot = 1 - lane.lastSlot;

@@ -81,10 +81,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double minorLinesDepth0 = k.fxPx / (f.unitsPerM * kMinorLinesVoxelPx);
   double minorLinesDepth = 0;
   int majLast = 0, minLast = 0;
-  // Whether the plane leans enough that a stick could rise above L_i again past a crossing
-  // (pieceBeyondCrossing): L_i climbs the tallest stick's length over half a voxel of the level
-  // or more.
-  bool scanPieces = false;
   const auto enterLevel = [&](int lv) __attribute__((always_inline)) {
     p = pow2(lv);
     gA = c.nMin * p;
@@ -101,7 +97,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     const int hullLast = sx > 0 ? floorToInt(levelIndex(c.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
     majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
     minLast = minSizes[static_cast<std::size_t>(lv)] - 2;
-    scanPieces = kSticks && f.stickReachQ * std::abs(nZ) > 0.5 * gA;
   };
   const double startMaj = c.xMajor ? start.x : start.y;
   const double startMin = c.xMajor ? start.y : start.x;
@@ -300,56 +295,6 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   // The crossings of minor lines between two of the major axis (solveMinorLines): here, not in the
   // loop, where zeroing them before every fill was 6% of a furnished frame's march
   Crossing onMinor[2];
-  // Terrain of the current line beyond crossing x that rows see there (pieceBeyondCrossing): the
-  // march gives them other terrain, so they are cast ray by ray once it is done.
-  const auto recastPieceBeyond = [&](const Crossing& x) {
-    // Only where a voxel spans kMinorLinesVoxelPx pixels or more, at the crossing or as far along
-    // L_i as the scan may go (the depth is linear along it): farther, a voxel's worth of terrain
-    // passed over is a few pixels, and in a wood, where the next tree along nearly every line
-    // rises above it, casting those rows made the frames up to 3× slower (looking down at 4 px).
-    const double mEnd = x.j + x.phi + (nZ > 0.0 ? -1.0 : 1.0) * (2.0 * f.stickReachQ * std::abs(nZ) / gA + 2.0);
-    const double zcEnd = zLine + mEnd * zMinor - (gA * mEnd + base) / nZ * fwdZ;
-    if (x.depth >= minorLinesDepth && !(zcEnd < minorLinesDepth)) return;
-    int first = 0, last = 0;
-    const auto heightAt = [&](int at) __attribute__((always_inline)) { return height(level, i, at); };
-    if (!pieceBeyondCrossing(x.j, gA, nZ, base, x.heightQ, f.stickReachQ, minLast, heightAt, first, last, steps))
-      return;
-    // The rows of L_i's points over the voxels either side of it
-    const auto rowOf = [&](int m, double& v) {
-      const double z = -(gA * m + base) / nZ;
-      const double zc = zLine + m * zMinor + z * fwdZ;
-      if (!(zc > 1e-6)) return false;
-      v = k.cyPx - k.fyPx * (yLine + m * yMinor + z * upZ) / zc;
-      return true;
-    };
-    double v0, v1;
-    if (!rowOf(first, v0) || !rowOf(last, v1)) return;
-    // Of those rows, the march got wrong the ones it has yet to fill whose rays run along it (it
-    // would fill them from the lines after, farther along those rays), and the ones it filled
-    // already whose rays run against it (nearer the camera than its nadir, a steep column's rays
-    // run back under it: the lines before were farther along them). A ray runs along the march
-    // where sx·rMaj > 0, rMaj = aMaj + yc·bMaj being linear in the row: on one side of a row.
-    const double s = sink.s;
-    const double top = std::max(std::min(v0, v1) * s - 0.5, 0.0);
-    const double bottom = std::min(std::max(v0, v1) * s - 0.5, k.heightPx * s - 1.0);
-    // The rays above sub-row qTurn run along the march (alongAbove), or those below it
-    bool alongAbove = sx * c.bMaj > 0.0;
-    double qTurn = (k.cyPx + k.fyPx * c.aMaj / c.bMaj) * s - 0.5;
-    if (c.bMaj == 0.0) {  // all one way
-      alongAbove = true;
-      qTurn = sx * c.aMaj > 0.0 ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
-    }
-    const double along0 = alongAbove ? -1.0 : qTurn, along1 = alongAbove ? qTurn : k.heightPx * s;
-    // Not yet filled (≤ q) and along, or filled (> q) and against.
-    const double lo0 = std::max(top, along0), hi0 = std::min({bottom, static_cast<double>(q), along1});
-    if (lo0 <= hi0) state.addRecast(ceilToInt(lo0), floorToInt(hi0));
-    const double lo1 = std::max(top, static_cast<double>(q + 1));
-    if (lo1 <= bottom) {
-      // Against: rows on the other side of qTurn from `along`.
-      const double lo = alongAbove ? std::max(lo1, qTurn) : lo1, hi = alongAbove ? bottom : std::min(bottom, qTurn);
-      if (lo <= hi) state.addRecast(ceilToInt(lo), floorToInt(hi));
-    }
-  };
   for (;;) {
     if (prevP->depth > pauseDepth) {
       // Past the depth band: the next columns march it before this one goes on.
@@ -487,7 +432,11 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         lastFilledNothing = true;  // a crossing of a minor line hides it
       }
     }
-    if (kSticks && scanPieces) recastPieceBeyond(cur);
+    if constexpr (kSticks) {
+      const MarchLine line{level, i,     sx,    gA,     nZ,     base, baseStep, yLine,
+                           yStep, zLine, zStep, yMinor, zMinor, upZ,  fwdZ,     stretch};
+      lookPastCrossing(f, c, line, minLast, minorLinesDepth, height, cur, q, sink.s, state.passedOver, steps);
+    }
     std::swap(prevP, curP);
   }
 }

@@ -121,6 +121,30 @@ struct PlaneStop {
   bool overTerrain = false;  ///< the rows left look over all the terrain: they see the sky
 };
 
+/// Sub-rows of a column that see terrain its plane march passed over (pieceBeyondCrossing), to be
+/// cast ray by ray once the march is done: spans lo .. hi, those that meet merged, and past
+/// kSpans, into the last.
+struct RowsPassedOver {
+  struct Span {
+    int lo = 0, hi = -1;
+  };
+  static constexpr int kSpans = 8;
+  Span spans[kSpans]{};
+  int count = 0;
+  void add(int lo, int hi) noexcept {
+    if (lo > hi) return;
+    if (count > 0) {
+      Span& last = spans[count - 1];
+      if (count == kSpans || (lo <= last.hi + 1 && hi >= last.lo - 1)) {
+        last.lo = lo < last.lo ? lo : last.lo;
+        last.hi = hi > last.hi ? hi : last.hi;
+        return;
+      }
+    }
+    spans[count++] = Span{lo, hi};
+  }
+};
+
 /// What the plane march of a column carries from one grid line to the next, so that it can pause
 /// at a depth and resume there. castColumns marches the columns of a staging block in step, depth
 /// band by depth band: all but the first then read heights and texels already in L1.
@@ -133,26 +157,7 @@ struct PlaneMarchState {
   double base = 0, yLine = 0, zLine = 0, jPos = 0, vq = 0;
   bool lastFilledNothing = false, rayWaitsForSwitch = false;
   Crossing crossings[2]{};
-  /// Sub-rows lo .. hi that see terrain the march passes over (pieceBeyondCrossing), to be cast ray
-  /// by ray once it is done. Spans that meet are merged; past kRecastSpans, into the last.
-  struct RowSpan {
-    int lo = 0, hi = -1;
-  };
-  static constexpr int kRecastSpans = 8;
-  RowSpan recast[kRecastSpans]{};
-  int recastCount = 0;
-  void addRecast(int lo, int hi) noexcept {
-    if (lo > hi) return;
-    if (recastCount > 0) {
-      RowSpan& last = recast[recastCount - 1];
-      if (recastCount == kRecastSpans || (lo <= last.hi + 1 && hi >= last.lo - 1)) {
-        last.lo = lo < last.lo ? lo : last.lo;
-        last.hi = hi > last.hi ? hi : last.hi;
-        return;
-      }
-    }
-    recast[recastCount++] = RowSpan{lo, hi};
-  }
+  RowsPassedOver passedOver;  ///< rows to cast ray by ray once the march is done
 };
 
 /// The plane march from the grid line at or before `start` (level-0 x, y of the hit of the ray of

@@ -170,9 +170,9 @@ TEST(RenderAccuracy, LaneMarchWithGrazingAngleLevelOfDetailAgreesWithTheReferenc
   sweepAgainstTheReference(hills().view(), 2.0, {}, {}, true);
 }
 
-// (The lane march does not yet look past its crossings: its worst pose is the church tower's.)
+// Measured (2026-12-05): overall 99.566%, the worst pose 96.80% (the same wood along the diagonal).
 TEST(RenderAccuracy, LaneMarchHitsTheReferenceVoxelOverHillsWithObjects) {
-  sweepAgainstTheReference(furnishedHills().view(), 0.0, Agreement{0.94, 0.99, 8}, {}, true);
+  sweepAgainstTheReference(furnishedHills().view(), 0.0, Agreement{0.96, 0.995, 8}, {}, true);
 }
 
 }  // namespace

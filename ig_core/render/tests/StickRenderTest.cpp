@@ -136,12 +136,16 @@ std::unique_ptr<MemoryTerrain> tower() {
 // march alone gave the rows that see the tower's top the ground (RENDERER.md, "Steep terrain in a
 // tilted column plane"): it drew 62-76% of the reference's red pixels, 98.8-99.1% of all pixels on
 // the reference's voxel or a neighbour (now 93-101%, 99.8% and more).
-TEST(StickRender, ATowerBesideASteepViewIsNotPassedOver) {
+// Both the one-column march and the lane march.
+class TowerBesideASteepView : public ::testing::TestWithParam<bool> {};
+
+TEST_P(TowerBesideASteepView, IsNotPassedOver) {
   const auto terrain = tower();
   const TerrainView& view = terrain->view();
   RenderSettings settings;
   settings.rangeImage = true;
   settings.hazeRangeM = 0.0;
+  settings.laneMarch = GetParam();
   Renderer renderer(view, settings, 2);
   const ReferenceRenderer reference(view);
   for (const double headingDeg : {0.0, 90.0, 200.0, 300.0}) {
@@ -164,6 +168,11 @@ TEST(StickRender, ATowerBesideASteepViewIsNotPassedOver) {
     }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(StickRender, TowerBesideASteepView, ::testing::Bool(),
+                         [](const ::testing::TestParamInfo<bool>& lanes) {
+                           return lanes.param ? "LaneMarch" : "ColumnMarch";
+                         });
 
 TEST(StickRender, ATexturedSticksStripesLieAtTheirHeights) {
   const auto terrain = blocks();
