@@ -163,27 +163,35 @@ __attribute__((always_inline)) inline int solveMinorLines(const MarchLine& line,
   return found;
 }
 
-/// On a terrain with sticks, where the column's plane leans and a voxel spans kMinorLinesVoxelPx
-/// pixels or more: looks past crossing x on `line` for terrain above its line L_i
-/// (pieceBeyondCrossing) and adds to `out` the sub-rows that see it there and that the march got
-/// wrong — those it has yet to fill (from q up) whose rays run along it (it would fill them from
-/// the lines after, farther along those rays), and those it filled already whose rays run against
-/// it (nearer the camera than the column's nadir, a steep column's rays run back under it: the
-/// lines before were farther along them). `minLast` is the level's last minor segment;
-/// height(level, major, minor) reads the grid; `steps` counts the reads.
+/// Whether terrain past crossing x on a grid line (the plane's g = gA·minor + nZ·h + base along it,
+/// the camera's zc = zLine + minor·zMinor + h·fwdZ) could rise into the column where the march
+/// should look for it (lookPastCrossing): the plane leans so that its line L_i climbs the tallest
+/// stick within half a voxel or more, and a voxel spans kMinorLinesVoxelPx pixels or more (nearer
+/// than `minorLinesDepth`) at the crossing or as far along L_i as a stick could reach (the depth is
+/// linear along it). Farther, a voxel's worth of terrain passed over is a few pixels, and in a wood,
+/// where the next tree along nearly every line rises above it, casting those rows made the frames
+/// up to 3× slower (looking down, at 4 px). Inline: it is asked of every crossing.
+__attribute__((always_inline)) inline bool mayLookPastCrossing(const CasterFrame& f, double gA, double nZ, double base,
+                                                               double zLine, double zMinor, double fwdZ,
+                                                               double minorLinesDepth, const Crossing& x) noexcept {
+  const double reach = f.stickReachQ * std::abs(nZ);  // × gA: the voxels along L_i a stick reaches
+  if (!(reach > 0.5 * gA)) return false;
+  if (x.depth < minorLinesDepth) return true;
+  const double mEnd = x.j + x.phi + (nZ > 0.0 ? -1.0 : 1.0) * (2.0 * reach / gA + 2.0);
+  return zLine + mEnd * zMinor - (gA * mEnd + base) / nZ * fwdZ < minorLinesDepth;
+}
+
+/// On a terrain with sticks, where mayLookPastCrossing says so: looks past crossing x on `line` for
+/// terrain above its line L_i (pieceBeyondCrossing) and adds to `out` the sub-rows that see it
+/// there and that the march got wrong — those it has yet to fill (from q up) whose rays run along
+/// it (it would fill them from the lines after, farther along those rays), and those it filled
+/// already whose rays run against it (nearer the camera than the column's nadir, a steep column's
+/// rays run back under it: the lines before were farther along them). `minLast` is the level's
+/// last minor segment; height(level, major, minor) reads the grid; `steps` counts the reads.
 template <typename Height>
-inline void lookPastCrossing(const CasterFrame& f, const ColumnPlane& c, const MarchLine& line, int minLast,
-                             double minorLinesDepth, Height&& height, const Crossing& x, int q, int subRows,
-                             RowsPassedOver& out, std::uint64_t& steps) noexcept {
+void lookPastCrossing(const CasterFrame& f, const ColumnPlane& c, const MarchLine& line, int minLast, Height&& height,
+                      const Crossing& x, int q, int subRows, RowsPassedOver& out, std::uint64_t& steps) noexcept {
   const double gA = line.gA, nZ = line.nZ, base = line.base;
-  if (!(f.stickReachQ * std::abs(nZ) > 0.5 * gA)) return;  // L_i climbs the tallest stick within half a voxel
-  // Only where a voxel spans kMinorLinesVoxelPx pixels or more, at the crossing or as far along
-  // L_i as the scan may go (the depth is linear along it): farther, a voxel's worth of terrain
-  // passed over is a few pixels, and in a wood, where the next tree along nearly every line rises
-  // above it, casting those rows made the frames up to 3× slower (looking down at 4 px).
-  const double mEnd = x.j + x.phi + (nZ > 0.0 ? -1.0 : 1.0) * (2.0 * f.stickReachQ * std::abs(nZ) / gA + 2.0);
-  const double zcEnd = line.zLine + mEnd * line.zMinor - (gA * mEnd + base) / nZ * line.fwdZ;
-  if (x.depth >= minorLinesDepth && !(zcEnd < minorLinesDepth)) return;
   int first = 0, last = 0;
   const auto heightAt = [&](int at) __attribute__((always_inline)) { return height(line.level, line.i, at); };
   if (!pieceBeyondCrossing(x.j, gA, nZ, base, x.heightQ, f.stickReachQ, minLast, heightAt, first, last, steps)) return;

@@ -484,13 +484,14 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
             lastFilledNothing = true;  // a crossing of a minor line hides it
           }
         }
-        if constexpr (kSticks) {
-          // Terrain past the crossing that rows see (lookPastCrossing); here only past a crossing
-          // that bounds a fill or needed solving, not the rest of the line's
+        // Terrain past the crossing that rows see (lookPastCrossing); here only past a crossing that
+        // bounds a fill or needed solving, not the rest of the line's
+        if (kSticks && mayLookPastCrossing(f, line.gA[n], line.nZ[n], line.base[n], b.zLine, b.zMinor, c0.fwdZ,
+                                           b.minorLinesDepth, cur)) {
           const MarchLine on{b.level,       b.i,     sx,      line.gA[n],  line.nZ[n], line.base[n],
                              s.baseStep[n], b.yLine, b.yStep, b.zLine,     b.zStep,    b.yMinor,
                              b.zMinor,      c0.upZ,  c0.fwdZ, lane.stretch};
-          lookPastCrossing(f, *lane.c, on, b.minLast, b.minorLinesDepth, height, cur, lane.q, lane.column->sink->s,
+          lookPastCrossing(f, *lane.c, on, b.minLast, height, cur, lane.q, lane.column->sink->s,
                            lane.column->passedOver, lane.steps);
         }
         // The crossing is the lane's last now, made whole (with its colour or stick once a fill looked

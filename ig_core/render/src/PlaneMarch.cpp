@@ -81,6 +81,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double minorLinesDepth0 = k.fxPx / (f.unitsPerM * kMinorLinesVoxelPx);
   double minorLinesDepth = 0;
   int majLast = 0, minLast = 0;
+  // Crossings nearer than this may have terrain past them that rows see (mayLookPastCrossing): a
+  // bound per level, so that farther crossings, nearly all of them, pay one compare
+  double lookPastDepth = 0;
   const auto enterLevel = [&](int lv) __attribute__((always_inline)) {
     p = pow2(lv);
     gA = c.nMin * p;
@@ -97,6 +100,13 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     const int hullLast = sx > 0 ? floorToInt(levelIndex(c.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
     majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
     minLast = minSizes[static_cast<std::size_t>(lv)] - 2;
+    if (kSticks) {
+      // The depth changes along L_i by |zMinor − gA/nZ·fwdZ| a voxel, over at most the voxels
+      // mayLookPastCrossing looks along
+      const double reach = f.stickReachQ * std::abs(nZ);
+      lookPastDepth =
+          reach > 0.5 * gA ? minorLinesDepth + (2.0 * reach / gA + 2.0) * std::abs(zMinor - gA / nZ * fwdZ) : -1.0;
+    }
   };
   const double startMaj = c.xMajor ? start.x : start.y;
   const double startMin = c.xMajor ? start.y : start.x;
@@ -432,10 +442,11 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
         lastFilledNothing = true;  // a crossing of a minor line hides it
       }
     }
-    if constexpr (kSticks) {
+    if (kSticks && cur.depth < lookPastDepth &&
+        mayLookPastCrossing(f, gA, nZ, base, zLine, zMinor, fwdZ, minorLinesDepth, cur)) {
       const MarchLine line{level, i,     sx,    gA,     nZ,     base, baseStep, yLine,
                            yStep, zLine, zStep, yMinor, zMinor, upZ,  fwdZ,     stretch};
-      lookPastCrossing(f, c, line, minLast, minorLinesDepth, height, cur, q, sink.s, state.passedOver, steps);
+      lookPastCrossing(f, c, line, minLast, height, cur, q, sink.s, state.passedOver, steps);
     }
     std::swap(prevP, curP);
   }
