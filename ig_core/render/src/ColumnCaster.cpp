@@ -65,9 +65,7 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
   if (sticks != nullptr) {
     stickUnitsPerQ = g.heightStepM / sticks->unitM();
     seeThrough = sticks->hasSeeThrough();
-    std::uint32_t longest = 0;
-    for (std::uint32_t id = 1; id <= sticks->size(); ++id) longest = std::max(longest, sticks->entry(id).lengthVox);
-    stickReachQ = longest / stickUnitsPerQ;
+    stickReachQ = sticks->longestVox() / stickUnitsPerQ;
   }
   for (int l = 0; l < levels; ++l) {
     levelWidth[static_cast<std::size_t>(l)] = g.levelWidthVox(l);
@@ -121,7 +119,7 @@ void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double
 
 // Per-ray casting of sub-rows q = qFrom, qFrom−1, ..., qTo (the rows the plane march cannot take:
 // below the first hit, and beyond the terrain's edge). Stops after the first hit when `untilHit`.
-// Returns the sub-row below which it stopped (−1 when the column is done) and the hit. The first
+// Returns the sub-row below which it stopped (−1 when it cast down to qTo) and the hit. The first
 // ray starts at `resume` when given and it marches along the same major axis (its distance is then
 // measured along the grid lines the plane march took; on the other axis the crossing's minor
 // offset could put the start past terrain the ray has not been tested against).

@@ -165,12 +165,14 @@ __attribute__((always_inline)) inline int solveMinorLines(const MarchLine& line,
 
 /// Whether terrain past crossing x on a grid line (the plane's g = gA·minor + nZ·h + base along it,
 /// the camera's zc = zLine + minor·zMinor + h·fwdZ) could rise into the column where the march
-/// should look for it (lookPastCrossing): the plane leans so that its line L_i climbs the tallest
-/// stick within half a voxel or more, and a voxel spans kMinorLinesVoxelPx pixels or more (nearer
-/// than `minorLinesDepth`) at the crossing or as far along L_i as a stick could reach (the depth is
-/// linear along it). Farther, a voxel's worth of terrain passed over is a few pixels, and in a wood,
+/// should look for it (lookPastCrossing): the plane leans so far that L_i takes more than half a
+/// voxel to climb the tallest stick's height, and a voxel spans kMinorLinesVoxelPx pixels or more
+/// (nearer than `minorLinesDepth`) at the crossing or as far along L_i as a stick on the
+/// crossing's ground could reach (the depth is linear along it; the scan may go farther where the
+/// ground rises). Farther, a voxel's worth of terrain passed over is a few pixels, and in a wood,
 /// where the next tree along nearly every line rises above it, casting those rows made the frames
-/// up to 3× slower (looking down, at 4 px). Inline: it is asked of every crossing.
+/// up to 3× slower (looking down, at 4 px). The one-column march asks it of the crossings nearer
+/// than a bound per level, the lane march of every crossing it fills from.
 __attribute__((always_inline)) inline bool mayLookPastCrossing(const CasterFrame& f, double gA, double nZ, double base,
                                                                double zLine, double zMinor, double fwdZ,
                                                                double minorLinesDepth, const Crossing& x) noexcept {
@@ -183,18 +185,21 @@ __attribute__((always_inline)) inline bool mayLookPastCrossing(const CasterFrame
 
 /// On a terrain with sticks, where mayLookPastCrossing says so: looks past crossing x on `line` for
 /// terrain above its line L_i (pieceBeyondCrossing) and adds to `out` the sub-rows that see it
-/// there and that the march got wrong — those it has yet to fill (from q up) whose rays run along
-/// it (it would fill them from the lines after, farther along those rays), and those it filled
-/// already whose rays run against it (nearer the camera than the column's nadir, a steep column's
-/// rays run back under it: the lines before were farther along them). `minLast` is the level's
-/// last minor segment; height(level, major, minor) reads the grid; `steps` counts the reads.
+/// there and that the march got wrong. Every such row's ray meets L_i in front of the camera, so
+/// it runs along the march where the line lies ahead of the camera along the march's axis, and
+/// against it where the line lies behind (a steep column's rays run back under the camera): along,
+/// the rows are those above the front it has yet to fill (from q up), which it would fill from the
+/// lines after, farther along their rays; against, those below it, filled already from the lines
+/// before, which were farther along theirs. `minLast` is the level's last minor segment;
+/// height(level, major, minor) reads the grid; `steps` counts the reads.
 template <typename Height>
 void lookPastCrossing(const CasterFrame& f, const ColumnPlane& c, const MarchLine& line, int minLast, Height&& height,
                       const Crossing& x, int q, int subRows, RowsPassedOver& out, std::uint64_t& steps) noexcept {
   const double gA = line.gA, nZ = line.nZ, base = line.base;
-  int first = 0, last = 0;
+  int before = 0, after = 0;
   const auto heightAt = [&](int at) __attribute__((always_inline)) { return height(line.level, line.i, at); };
-  if (!pieceBeyondCrossing(x.j, gA, nZ, base, x.heightQ, f.stickReachQ, minLast, heightAt, first, last, steps)) return;
+  if (!pieceBeyondCrossing(x.j, gA, nZ, base, x.heightQ, f.stickReachQ, minLast, heightAt, before, after, steps))
+    return;
   // The rows of L_i's points over the voxels either side of the piece
   const Intrinsics& k = f.geo->intrinsics();
   const auto rowOf = [&](int m, double& v) {
@@ -205,25 +210,14 @@ void lookPastCrossing(const CasterFrame& f, const ColumnPlane& c, const MarchLin
     return true;
   };
   double v0, v1;
-  if (!rowOf(first, v0) || !rowOf(last, v1)) return;
+  if (!rowOf(before, v0) || !rowOf(after, v1)) return;
   const double s = subRows;
   const double top = std::max(std::min(v0, v1) * s - 0.5, 0.0);
   const double bottom = std::min(std::max(v0, v1) * s - 0.5, k.heightPx * s - 1.0);
-  // A ray runs along the march where sx·rMaj > 0, rMaj = aMaj + yc·bMaj being linear in the row:
-  // the rays above sub-row qTurn (alongAbove), or those below it
-  bool alongAbove = line.sx * c.bMaj > 0.0;
-  double qTurn = (k.cyPx + k.fyPx * c.aMaj / c.bMaj) * s - 0.5;
-  if (c.bMaj == 0.0) {  // all one way
-    alongAbove = true;
-    qTurn = line.sx * c.aMaj > 0.0 ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
-  }
-  // Not yet filled (≤ q) and along
-  const double alongLo = alongAbove ? -1.0 : qTurn, alongHi = alongAbove ? qTurn : k.heightPx * s;
-  const double lo0 = std::max(top, alongLo), hi0 = std::min({bottom, static_cast<double>(q), alongHi});
-  if (lo0 <= hi0) out.add(ray_march::ceilToInt(lo0), ray_march::floorToInt(hi0));
-  // Filled (> q) and against
-  const double lo1 = std::max(top, static_cast<double>(q + 1));
-  const double lo = alongAbove ? std::max(lo1, qTurn) : lo1, hi = alongAbove ? bottom : std::min(bottom, qTurn);
+  const double dMaj = (line.i + 0.5) * ray_march::pow2(line.level) - 0.5 - c.cMaj;  // the line from the camera
+  const bool along = line.sx * dMaj > 0.0;
+  const double lo = along ? top : std::max(top, static_cast<double>(q + 1));
+  const double hi = along ? std::min(bottom, static_cast<double>(q)) : bottom;
   if (lo <= hi) out.add(ray_march::ceilToInt(lo), ray_march::floorToInt(hi));
 }
 

@@ -122,26 +122,28 @@ struct PlaneStop {
 };
 
 /// Sub-rows of a column that see terrain its plane march passed over (pieceBeyondCrossing), to be
-/// cast ray by ray once the march is done: spans lo .. hi, those that meet merged, and past
-/// kSpans, into the last.
+/// cast ray by ray once the march is done: spans lo .. hi. A span that meets or overlaps the last
+/// one is merged into it; past kSpans, a span is merged into the one it lies nearest.
 struct RowsPassedOver {
   struct Span {
     int lo = 0, hi = -1;
   };
-  static constexpr int kSpans = 8;
+  static constexpr int kSpans = 16;
   Span spans[kSpans]{};
   int count = 0;
   void add(int lo, int hi) noexcept {
     if (lo > hi) return;
-    if (count > 0) {
-      Span& last = spans[count - 1];
-      if (count == kSpans || (lo <= last.hi + 1 && hi >= last.lo - 1)) {
-        last.lo = lo < last.lo ? lo : last.lo;
-        last.hi = hi > last.hi ? hi : last.hi;
-        return;
-      }
+    const auto gap = [&](const Span& s) { return lo > s.hi ? lo - s.hi : (s.lo > hi ? s.lo - hi : 0); };
+    int into = count - 1;
+    if (count == kSpans) {
+      for (int n = 0; n < count; ++n) into = gap(spans[n]) < gap(spans[into]) ? n : into;
+    } else if (count == 0 || gap(spans[into]) > 1) {
+      spans[count++] = Span{lo, hi};
+      return;
     }
-    spans[count++] = Span{lo, hi};
+    Span& s = spans[into];
+    s.lo = lo < s.lo ? lo : s.lo;
+    s.hi = hi > s.hi ? hi : s.hi;
   }
 };
 
@@ -220,19 +222,19 @@ __attribute__((always_inline)) inline bool walkToCrossing(int& j, double& h0, do
 /// Terrain of a grid line beyond the crossing the march takes on it (RENDERER.md, "Steep terrain in
 /// a tilted column plane"). A pitched camera tilts its columns' planes, so the line L_i where a
 /// plane cuts grid line i leans; a profile steeper than that lean (a stick's side) can rise above
-/// L_i again past the crossing, on the side of it that the rows above the crossing look at. The
-/// rows that see it there are given the terrain of other lines by the march: nearer to the camera,
-/// its rays run against the march and those rows were filled already; farther, they are filled
-/// from the lines after. Scans the voxels of the line past the crossing's segment j .. j+1 that
-/// way (the plane's g = gA·minor + nZ·h + base along the line; a voxel is above L_i where g has
-/// nZ's sign) while L_i lies less than `reachQ` (the tallest stick) above the crossing's height
-/// `heightQ` or a voxel read below it, at most kMaxPieceScan of them; `first` and `last` get the voxels
-/// either side of those above L_i. False when none. `samples` counts the heights read.
+/// L_i again past the crossing, on the side where L_i rises. The rows that see it there are given
+/// the terrain of other lines by the march (lookPastCrossing says which). Scans the voxels of the
+/// line past the crossing's segment j .. j+1 that way (the plane's g = gA·minor + nZ·h + base along
+/// the line; a voxel is above L_i where g has nZ's sign) while L_i lies less than `reachQ` (the
+/// tallest stick) above the crossing's height `heightQ` or a voxel read below it, at most
+/// kMaxPieceScan voxels; `before` and `after` get the voxels either side of those above L_i (`after`
+/// may lie off the grid). False when none. `samples` counts the heights read.
 constexpr int kMaxPieceScan = 64;
 template <typename HeightAt>
 __attribute__((always_inline)) inline bool pieceBeyondCrossing(int j, double gA, double nZ, double base, double heightQ,
                                                                double reachQ, int minLast, HeightAt&& heightAt,
-                                                               int& first, int& last, std::uint64_t& samples) noexcept {
+                                                               int& before, int& after,
+                                                               std::uint64_t& samples) noexcept {
   if (nZ == 0.0) return false;  // a vertical plane: L_i is vertical and meets the profile once
   // L_i rises toward the segment's end where g < 0 when nZ > 0 (its first voxel), else its last.
   const int dir = nZ > 0.0 ? -1 : 1;
@@ -248,8 +250,8 @@ __attribute__((always_inline)) inline bool pieceBeyondCrossing(int j, double gA,
     ++samples;
     const double h = heightAt(m);
     if (h > zL) {
-      if (!found) first = m - dir;
-      last = m + dir;
+      if (!found) before = m - dir;
+      after = m + dir;
       found = true;
     } else {
       ceilingQ = std::max(ceilingQ, h + reachQ);  // a stick may stand on ground that rises

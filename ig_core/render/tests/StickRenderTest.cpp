@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace fieldcast::core::test {
@@ -136,8 +137,13 @@ std::unique_ptr<MemoryTerrain> tower() {
 // march alone gave the rows that see the tower's top the ground (RENDERER.md, "Steep terrain in a
 // tilted column plane"): it drew 62-76% of the reference's red pixels, 98.8-99.1% of all pixels on
 // the reference's voxel or a neighbour (now 93-101%, 99.8% and more).
-// Both the one-column march and the lane march.
-class TowerBesideASteepView : public ::testing::TestWithParam<bool> {};
+// The one-column march and the lane march, and the one-column march with two sub-rows a pixel
+// (the rows cast again are whole pixels).
+struct MarchKind {
+  bool laneMarch;
+  int subRows;
+};
+class TowerBesideASteepView : public ::testing::TestWithParam<MarchKind> {};
 
 TEST_P(TowerBesideASteepView, IsNotPassedOver) {
   const auto terrain = tower();
@@ -145,7 +151,8 @@ TEST_P(TowerBesideASteepView, IsNotPassedOver) {
   RenderSettings settings;
   settings.rangeImage = true;
   settings.hazeRangeM = 0.0;
-  settings.laneMarch = GetParam();
+  settings.laneMarch = GetParam().laneMarch;
+  settings.verticalSupersample = GetParam().subRows;
   Renderer renderer(view, settings, 2);
   const ReferenceRenderer reference(view);
   for (const double headingDeg : {0.0, 90.0, 200.0, 300.0}) {
@@ -169,9 +176,11 @@ TEST_P(TowerBesideASteepView, IsNotPassedOver) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(StickRender, TowerBesideASteepView, ::testing::Bool(),
-                         [](const ::testing::TestParamInfo<bool>& lanes) {
-                           return lanes.param ? "LaneMarch" : "ColumnMarch";
+INSTANTIATE_TEST_SUITE_P(StickRender, TowerBesideASteepView,
+                         ::testing::Values(MarchKind{false, 1}, MarchKind{true, 1}, MarchKind{false, 2}),
+                         [](const ::testing::TestParamInfo<MarchKind>& kind) {
+                           return std::string(kind.param.laneMarch ? "LaneMarch" : "ColumnMarch") +
+                                  (kind.param.subRows > 1 ? "TwoSubRows" : "");
                          });
 
 TEST(StickRender, ATexturedSticksStripesLieAtTheirHeights) {

@@ -1,6 +1,7 @@
 // The shared stick table: validation, mips, and its stored form.
 #include <ig_core/Sticks.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -94,6 +95,7 @@ StickTable::StickTable(double unitM, std::vector<StickEntry> entries) : mUnitM(u
     // Only a complex entry's level 0 keeps its alpha; it has a level 1 even when one texel long.
     const bool complex = entry.kind == StickKind::Complex;
     mSeeThrough = mSeeThrough || complex;
+    mLongestVox = std::max(mLongestVox, entry.lengthVox);
     Mips& m = mMips[e];
     m.firstLevel = static_cast<std::uint32_t>(mLevelStart.size());
     const std::span<const std::uint32_t> run(entry.texels);

@@ -121,6 +121,14 @@ TEST(StickTable, AComplexStickRoundTripsWithItsAlpha) {
   EXPECT_TRUE(back.hasSeeThrough());
 }
 
+// The renderers bound how far a stick can rise past a crossing by the longest entry
+TEST(StickTable, KnowsItsLongestStick) {
+  EXPECT_EQ(twoSticks().longestVox(), 5u);
+  EXPECT_EQ(StickTable::parse(twoSticks().serialize()).longestVox(), 5u);
+  EXPECT_EQ(crownOverAGap().longestVox(), 6u);
+  EXPECT_EQ(StickTable(0.5, {}).longestVox(), 0u);
+}
+
 TEST(StickTable, RefusesWhatItCannotHold) {
   auto refuses = [](auto make, const std::string& what) {
     try {

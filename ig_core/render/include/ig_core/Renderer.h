@@ -19,7 +19,7 @@ struct CasterThread;
 /// Work counted while rendering one frame.
 struct RenderStats {
   std::uint64_t steps = 0;          ///< height samples (march steps) over all rays
-  std::uint64_t rays = 0;           ///< rays cast (pixels × supersampling)
+  std::uint64_t rays = 0;           ///< rays cast (pixels × supersampling, and rows cast again)
   std::uint64_t secondaryRays = 0;  ///< rays gone on through a complex stick's see-through texel
   std::uint64_t pixels = 0;
   double quality = 1.0;        ///< the quality knob the frame was rendered with (RenderSettings)

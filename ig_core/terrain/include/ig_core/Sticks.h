@@ -68,6 +68,8 @@ class StickTable {
 
   /// Whether any entry is complex (a frame over this table may need secondary rays).
   bool hasSeeThrough() const noexcept { return mSeeThrough; }
+  /// The longest entry's length (stick voxels; 0 for an empty table).
+  std::uint32_t longestVox() const noexcept { return mLongestVox; }
 
   /// Level `level`'s colours of stick `id` (1 .. size()), top down, each 2^level units tall. RT-safe.
   /// Alpha is 255 but at level 0 of a complex entry, where a texel below 255 is see-through: a
@@ -95,6 +97,7 @@ class StickTable {
   };
   double mUnitM;
   bool mSeeThrough = false;
+  std::uint32_t mLongestVox = 0;
   std::vector<StickEntry> mEntries;
   std::vector<Mips> mMips;
   std::vector<std::size_t> mLevelStart;  // where each entry's each level starts in mTexels, and one past the last
