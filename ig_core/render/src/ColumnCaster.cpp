@@ -240,10 +240,10 @@ class ColumnCast {
   // Each ray from its own first hit in the max pyramid: the ray below may have seen terrain behind.
   void recastRowsPassedOver(const CasterFrame& f, CasterThread& t, const RowsPassedOver& rows) noexcept {
     const int s = mSink.s;
-    const int lastRow = f.supersample * f.geo->intrinsics().heightPx - 1;
     for (int n = 0; n < rows.count; ++n) {
       const RowsPassedOver::Span& span = rows.spans[n];
-      for (int q = std::min(span.hi / s * s + s - 1, lastRow); q >= span.lo / s * s; --q) {
+      for (int q = span.hi / s * s + s - 1; q >= span.lo / s * s;
+           --q) {  // hi < rows·s: its pixel's top is in the frame
         bool havePrev = false;
         glm::dvec2 prevHit{0.0};
         MarchHit hit;

@@ -26,37 +26,54 @@ constexpr std::uint32_t kWhite = rgb(235, 235, 235);
 constexpr double kGroundM = 100.0;
 constexpr double kStickUnitM = 0.5;
 
-// 256² voxels at 2 m, flat at 100 m, 64-voxel tiles. A uniform red block of 8 × 8 voxels, 8 m
-// tall, at voxels (100..107, 120..127) — world x 200..214, y 240..254; and a textured block of
-// 6 × 6 voxels, 12 m tall, at (140..145, 120..125): a black roof texel (0.5 m), then 1 m stripes,
-// blue then white, down to the ground.
-std::unique_ptr<MemoryTerrain> blocks() {
-  constexpr int kSide = 256;
+// side² voxels at 2 m, flat at 100 m, 64-voxel tiles, as many levels as fit (far views are drawn
+// at coarser levels); place() stands square blocks of sticks on it.
+struct FlatGround {
+  int side;
   TerrainGeometry g;
-  g.widthVox = g.heightVox = kSide;
-  g.spacingM = 2.0;
-  g.heightStepM = 0.05;
-  g.tileShift = 6;
-  g.levels = 0;  // as many as fit: the far view is drawn at coarser levels
-  std::vector<std::uint16_t> heightQ(kSide * kSide, static_cast<std::uint16_t>(kGroundM / g.heightStepM));
-  std::vector<std::uint32_t> colour(kSide * kSide, kGround);
-  std::vector<std::uint32_t> stickId(kSide * kSide, 0);
-  std::vector<std::uint32_t> striped{kRoof};
-  for (int k = 0; k < 23; ++k) striped.push_back((k / 2) % 2 == 0 ? kBlue : kWhite);
-  auto table = std::make_shared<const StickTable>(
-      kStickUnitM, std::vector<StickEntry>{{StickKind::Uniform, 16, {kRed}}, {StickKind::Textured, 24, striped}});
-  const auto place = [&](int i0, int j0, int side, double heightM, std::uint32_t id) {
-    for (int j = j0; j < j0 + side; ++j)
-      for (int i = i0; i < i0 + side; ++i) {
-        const auto k = static_cast<std::size_t>(j * kSide + i);
+  std::vector<std::uint16_t> heightQ;
+  std::vector<std::uint32_t> colour, stickId;
+  std::shared_ptr<const StickTable> table;
+
+  FlatGround(int sideVox, std::shared_ptr<const StickTable> sticks) : side(sideVox), table(std::move(sticks)) {
+    g.widthVox = g.heightVox = side;
+    g.spacingM = 2.0;
+    g.heightStepM = 0.05;
+    g.tileShift = 6;
+    g.levels = 0;
+    const auto voxels = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
+    heightQ.assign(voxels, static_cast<std::uint16_t>(kGroundM / g.heightStepM));
+    colour.assign(voxels, kGround);
+    stickId.assign(voxels, 0);
+  }
+  /// Stick `id` on voxels (i0 .. i0 + n − 1, j0 .. j0 + n − 1), `heightM` tall.
+  void place(int i0, int j0, int n, double heightM, std::uint32_t id) {
+    for (int j = j0; j < j0 + n; ++j)
+      for (int i = i0; i < i0 + n; ++i) {
+        const auto k = static_cast<std::size_t>(j * side + i);
         heightQ[k] = static_cast<std::uint16_t>((kGroundM + heightM) / g.heightStepM);
         colour[k] = table->texels(id, 0)[0];  // the top's colour, as a builder writes it
         stickId[k] = id;
       }
-  };
-  place(100, 120, 8, 8.0, 1);
-  place(140, 120, 6, 12.0, 2);
-  return std::make_unique<MemoryTerrain>(g, heightQ, colour, stickId, std::move(table));
+  }
+  std::unique_ptr<MemoryTerrain> terrain() {
+    return std::make_unique<MemoryTerrain>(g, heightQ, colour, stickId, table);
+  }
+};
+
+// 256² voxels. A uniform red block of 8 × 8 voxels, 8 m tall, at voxels (100..107, 120..127) —
+// world x 200..214, y 240..254; and a textured block of 6 × 6 voxels, 12 m tall, at
+// (140..145, 120..125): a black roof texel (0.5 m), then 1 m stripes, blue then white, down to the
+// ground.
+std::unique_ptr<MemoryTerrain> blocks() {
+  std::vector<std::uint32_t> striped{kRoof};
+  for (int k = 0; k < 23; ++k) striped.push_back((k / 2) % 2 == 0 ? kBlue : kWhite);
+  FlatGround ground(256, std::make_shared<const StickTable>(
+                             kStickUnitM, std::vector<StickEntry>{{StickKind::Uniform, 16, {kRed}},
+                                                                  {StickKind::Textured, 24, striped}}));
+  ground.place(100, 120, 8, 8.0, 1);
+  ground.place(140, 120, 6, 12.0, 2);
+  return ground.terrain();
 }
 
 struct StickView {
@@ -105,29 +122,13 @@ TEST(StickRender, TheCasterDrawsSticksAsTheReferenceDoes) {
   }
 }
 
-// 128² voxels at 2 m, flat at 100 m, and a slim uniform red tower of 2 × 2 voxels, 20 m tall, at
-// voxels (64..65, 64..65): world x, y 128..130.
+// 128² voxels and a slim uniform red tower of 2 × 2 voxels, 20 m tall, at voxels (64..65, 64..65):
+// world x, y 128..130.
 std::unique_ptr<MemoryTerrain> tower() {
-  constexpr int kSide = 128;
-  TerrainGeometry g;
-  g.widthVox = g.heightVox = kSide;
-  g.spacingM = 2.0;
-  g.heightStepM = 0.05;
-  g.tileShift = 6;
-  g.levels = 0;
-  std::vector<std::uint16_t> heightQ(kSide * kSide, static_cast<std::uint16_t>(kGroundM / g.heightStepM));
-  std::vector<std::uint32_t> colour(kSide * kSide, kGround);
-  std::vector<std::uint32_t> stickId(kSide * kSide, 0);
-  auto table =
-      std::make_shared<const StickTable>(kStickUnitM, std::vector<StickEntry>{{StickKind::Uniform, 40, {kRed}}});
-  for (int j = 64; j < 66; ++j)
-    for (int i = 64; i < 66; ++i) {
-      const auto k = static_cast<std::size_t>(j * kSide + i);
-      heightQ[k] = static_cast<std::uint16_t>((kGroundM + 20.0) / g.heightStepM);
-      colour[k] = kRed;
-      stickId[k] = 1;
-    }
-  return std::make_unique<MemoryTerrain>(g, heightQ, colour, stickId, std::move(table));
+  FlatGround ground(
+      128, std::make_shared<const StickTable>(kStickUnitM, std::vector<StickEntry>{{StickKind::Uniform, 40, {kRed}}}));
+  ground.place(64, 64, 2, 20.0, 1);
+  return ground.terrain();
 }
 
 // The tower looked down on steeply from 14 m above its top and 8 m beside it, left and right of the
