@@ -1,4 +1,5 @@
-// One field: the pose at t_k → warp (with the frame flicker-filtered once per frame) → AGC → format.
+// One field: the pose at t_k → warp (of the frame flicker-filtered once per frame) → mirror, AGC and format
+// piece by piece as the warp writes.
 #include <prp_warp/FieldWarper.h>
 
 #include <glm/geometric.hpp>
@@ -14,6 +15,7 @@ FieldWarper::FieldWarper(const FieldWarperConfig& config)
     : mConfig(config),
       mWarp(makeWarp(config.warp, config.rasterWidthPx, config.rasterHeightPx)),
       mAutoGain(config.autoGain),
+      mAssembly(config.rasterWidthPx),
       mMirror(config.mirror) {
   if (config.outputFormat == PixelFormat::Uyvy422 && config.rasterWidthPx % 2 != 0) {
     throw std::invalid_argument("field warper: UYVY 4:2:2 output needs an even width, got " +
@@ -22,9 +24,6 @@ FieldWarper::FieldWarper(const FieldWarperConfig& config)
   if (config.maxFrameWidthPx < 2 || config.maxFrameHeightPx < 2) {
     throw std::invalid_argument("field warper: max frame size must be at least 2x2");
   }
-  // Reserve the largest shapes once: Rgb8 is the widest working format, progressive the tallest field
-  mWork.resize(config.rasterWidthPx, config.rasterHeightPx, PixelFormat::Rgb8);
-  mWorkReserved = mWork.bytes().size();
   if (config.flickerFilter) mFiltered.resize(config.maxFrameWidthPx, config.maxFrameHeightPx, PixelFormat::Rgb8);
 }
 
@@ -118,9 +117,7 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
     return FieldStatus::Held;
   }
   const PixelFormat workFormat = frame.image.format();
-  if ((workFormat != PixelFormat::Rgb8 && workFormat != PixelFormat::Grey8) ||
-      !reshape(mWork, mConfig.rasterWidthPx, rows, workFormat, mWorkReserved))
-    return black(FieldStatus::BadFrame);
+  if (workFormat != PixelFormat::Rgb8 && workFormat != PixelFormat::Grey8) return black(FieldStatus::BadFrame);
 
   // Warp to the pose at the field's own display time. Mirrored top to bottom, raster line y shows
   // line H−1−y: of an even raster's other field, so that field's rows are warped (at this
@@ -130,8 +127,13 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
   if (mirrorsRows(mirror) && spec.parity != FieldParity::Progressive && mConfig.rasterHeightPx % 2 == 0) {
     sampled = spec.parity == FieldParity::Top ? FieldParity::Bottom : FieldParity::Top;
   }
-  const WarpResult r = mWarp->warp(frame, flickerFiltered(frame), pose, sampled, mWork);
+  // Each piece the warp writes is mirrored, measured and converted at once (FieldAssembly), so
+  // the gain is the one measured up to the field before: one field's lag, as a camera's AGC has
+  const std::int32_t gainQ16 = mAutoGain.gainQ16();
+  mAssembly.start(out.image, mirror, gainQ16, mAutoGain.enabled());
+  const WarpResult r = mWarp->warp(frame, flickerFiltered(frame), pose, sampled, mAssembly.rows(workFormat));
   if (r.status != WarpStatus::Ok) return black(FieldStatus::BadFrame);
+  mAppliedGain = mAutoGain.enabled() ? mAutoGain.gain() : 1.0;
   if (r.fellBack) {
     mCounters.fitFallbacks.fetch_add(1, std::memory_order_relaxed);
     mCounters.fallbacksByReason[static_cast<int>(r.fallbackReason)].fetch_add(1, std::memory_order_relaxed);
@@ -141,16 +143,14 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
     mCounters.fieldsWithViolations.fetch_add(1, std::memory_order_relaxed);
   }
   out.marginViolations = r.marginViolations;
-  if (mirror != Mirror::None) mirrorInPlace(mWork, mirror);
 
-  // Gain over the time since the previous field, then the output format
+  // The gain for the next field, over the time since the previous one
   const Nanoseconds elapsed =
       mHaveLast ? std::clamp(spec.displayTime - mLastDisplayTime, Nanoseconds{0}, Nanoseconds{1'000'000'000})
                 : Nanoseconds{0};
   mLastDisplayTime = spec.displayTime;
   mHaveLast = true;
-  mAutoGain.update(mWork, elapsed);
-  if (!convertPixels(mWork, out.image, mAutoGain.gainQ16())) return black(FieldStatus::BadOutput);
+  mAutoGain.updateFromMean(mAssembly.meanLuma(), elapsed);
   return FieldStatus::Ok;
 }
 

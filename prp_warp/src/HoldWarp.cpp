@@ -7,7 +7,7 @@ HoldWarp::HoldWarp(int rasterWidthPx, int rasterHeightPx)
     : Warp(rasterWidthPx, rasterHeightPx), mScratch(rasterWidthPx) {}
 
 WarpResult HoldWarp::doWarp(const Frame& frame, const Image& pixels, const Pose& /*fieldPose*/, FieldParity parity,
-                            Image& out) noexcept {
+                            FieldRows out) noexcept {
   const OutputGeometry g = OutputGeometry::of(frame, rasterWidthPx(), rasterHeightPx());
   mLastMap = QuadraticMap::affine(g.offsetPx, g.scale);
   return {WarpStatus::Ok, resampleQuadraticFast(pixels, *mLastMap, parity, rasterHeightPx(), out, mScratch), false};

@@ -8,7 +8,7 @@ HomographyWarp::HomographyWarp(int rasterWidthPx, int rasterHeightPx)
     : Warp(rasterWidthPx, rasterHeightPx), mScratch(rasterWidthPx) {}
 
 WarpResult HomographyWarp::doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                                  Image& out) noexcept {
+                                  FieldRows out) noexcept {
   const OutputGeometry g = OutputGeometry::of(frame, rasterWidthPx(), rasterHeightPx());
   const Correspondences c = projectControlPoints(frame, fieldPose, g);
   const auto n = static_cast<std::size_t>(c.count);

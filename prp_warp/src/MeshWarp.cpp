@@ -266,7 +266,7 @@ bool MeshWarp::solveNodes(const Frame& frame, const Pose& fieldPose, const Outpu
 }
 
 WarpResult MeshWarp::doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                            Image& out) noexcept {
+                            FieldRows out) noexcept {
   const auto framePixels = static_cast<std::size_t>(frame.intrinsics.widthPx) * frame.intrinsics.heightPx;
   FallbackReason reason = FallbackReason::None;
   const OutputGeometry g = OutputGeometry::of(frame, rasterWidthPx(), rasterHeightPx());

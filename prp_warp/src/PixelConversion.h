@@ -2,6 +2,8 @@
 // One row of gain and RGB → UYVY 4:2:2: the scalar reference of the vector kernel
 // (PixelConversionLanes.cpp), which must produce the same bytes.
 
+#include <fieldcast/Image.h>
+
 #include <algorithm>
 #include <array>
 #include <cstddef>
@@ -60,5 +62,11 @@ inline void toUyvyRowScalar(const std::uint8_t* in, int channels, int widthPx, s
 
 /// toUyvyRowScalar for R'G'B' rows in SIMD lanes at the dispatched level.
 void rgbToUyvyRowLanes(const std::uint8_t* in, int widthPx, std::int32_t gainQ16, std::uint8_t* out) noexcept;
+
+/// `widthPx` pixels of R'G'B' or grey (`inFormat`) under a gain to `outFormat` (R'G'B', grey
+/// luma, or UYVY: then `widthPx` even): convertPixels' rows, and the field warper's pieces of
+/// rows. `lanes` picks the vector kernel where there is one. RT-safe.
+void convertRow(const std::uint8_t* in, PixelFormat inFormat, int widthPx, PixelFormat outFormat, std::int32_t gainQ16,
+                bool lanes, std::uint8_t* out) noexcept;
 
 }  // namespace fieldcast::warp::conversion

@@ -70,7 +70,11 @@ std::int32_t AutoGain::gainQ16() const noexcept { return mConfig.enabled ? mGain
 bool AutoGain::update(const Image& field, Nanoseconds elapsed) noexcept {
   if (!mConfig.enabled || field.empty() || field.format() == PixelFormat::Uyvy422) return false;
   // A sparse sample of the field is plenty for a mean: every 2nd pixel of every 2nd row
-  const double mean = meanLuma(field, 2);
+  return updateFromMean(meanLuma(field, 2), elapsed);
+}
+
+bool AutoGain::updateFromMean(double mean, Nanoseconds elapsed) noexcept {
+  if (!mConfig.enabled) return false;
   const double wanted = std::clamp(mConfig.targetMeanLevel / std::max(mean, 1.0), mConfig.minGain, mConfig.maxGain);
   const double dt = std::max(0.0, toSeconds(elapsed));
   const double alpha = mConfig.timeConstantS > 0.0 ? 1.0 - std::exp(-dt / mConfig.timeConstantS) : 1.0;
@@ -115,50 +119,57 @@ bool makeFlickerFiltered(Frame& frame) {
   return frame.hasFlickerFiltered;
 }
 
+namespace conversion {
+
+void convertRow(const std::uint8_t* in, PixelFormat inFormat, int widthPx, PixelFormat outFormat, std::int32_t gainQ16,
+                bool lanes, std::uint8_t* out) noexcept {
+  gainQ16 = validGain(gainQ16);
+  const bool rgb = inFormat == PixelFormat::Rgb8;
+  const int channels = rgb ? 3 : 1;
+  const int w = widthPx;
+  const bool unity = gainQ16 == kUnityGain;
+  switch (outFormat) {
+    case PixelFormat::Rgb8:
+      if (unity && rgb) {
+        std::memcpy(out, in, rowBytes(inFormat, w));
+        break;
+      }
+      for (int x = 0; x < 3 * w; ++x) out[x] = static_cast<std::uint8_t>(applyGain(in[rgb ? x : x / 3], gainQ16));
+      break;
+    case PixelFormat::Grey8:
+      if (unity && !rgb) {
+        std::memcpy(out, in, rowBytes(inFormat, w));
+        break;
+      }
+      for (int x = 0; x < w; ++x) {
+        const std::uint8_t* p = in + channels * x;
+        const int luma = rgb ? (kWr * applyGain(p[0], gainQ16) + kWg * applyGain(p[1], gainQ16) +
+                                kWb * applyGain(p[2], gainQ16) + 128) >>
+                                   8
+                             : applyGain(p[0], gainQ16);
+        out[x] = static_cast<std::uint8_t>(luma);
+      }
+      break;
+    case PixelFormat::Uyvy422:
+      if (lanes && rgb) {
+        rgbToUyvyRowLanes(in, w, gainQ16, out);
+      } else {
+        toUyvyRowScalar(in, channels, w, gainQ16, out);
+      }
+      break;
+  }
+}
+
+}  // namespace conversion
+
 namespace {
 
 /// convertPixels' rows; `lanes` picks the vector kernel where there is one.
 bool convertRows(const Image& src, Image& dst, std::int32_t gainQ16, bool lanes) noexcept {
   if (src.widthPx() != dst.widthPx() || src.heightPx() != dst.heightPx()) return false;
-  gainQ16 = conversion::validGain(gainQ16);
   if (src.format() == PixelFormat::Uyvy422) return false;
-  const bool rgb = src.format() == PixelFormat::Rgb8;
-  const int channels = rgb ? 3 : 1;
-  const int w = src.widthPx();
-  const bool unity = gainQ16 == conversion::kUnityGain;
   for (int y = 0; y < src.heightPx(); ++y) {
-    const std::uint8_t* in = src.row(y);
-    std::uint8_t* out = dst.row(y);
-    switch (dst.format()) {
-      case PixelFormat::Rgb8:
-        if (unity && rgb) {
-          std::memcpy(out, in, src.strideBytes());
-          break;
-        }
-        for (int x = 0; x < 3 * w; ++x) out[x] = static_cast<std::uint8_t>(applyGain(in[rgb ? x : x / 3], gainQ16));
-        break;
-      case PixelFormat::Grey8:
-        if (unity && !rgb) {
-          std::memcpy(out, in, src.strideBytes());
-          break;
-        }
-        for (int x = 0; x < w; ++x) {
-          const std::uint8_t* p = in + channels * x;
-          const int luma = rgb ? (kWr * applyGain(p[0], gainQ16) + kWg * applyGain(p[1], gainQ16) +
-                                  kWb * applyGain(p[2], gainQ16) + 128) >>
-                                     8
-                               : applyGain(p[0], gainQ16);
-          out[x] = static_cast<std::uint8_t>(luma);
-        }
-        break;
-      case PixelFormat::Uyvy422:
-        if (lanes && rgb) {
-          conversion::rgbToUyvyRowLanes(in, w, gainQ16, out);
-        } else {
-          conversion::toUyvyRowScalar(in, channels, w, gainQ16, out);
-        }
-        break;
-    }
+    conversion::convertRow(src.row(y), src.format(), src.widthPx(), dst.format(), gainQ16, lanes, dst.row(y));
   }
   return true;
 }

@@ -20,7 +20,7 @@ QuadraticWarp::QuadraticWarp(int rasterWidthPx, int rasterHeightPx, ResampleKern
     : Warp(rasterWidthPx, rasterHeightPx), mKernel(kernel), mScratch(rasterWidthPx) {}
 
 WarpResult QuadraticWarp::doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                                 Image& out) noexcept {
+                                 FieldRows out) noexcept {
   const OutputGeometry g = OutputGeometry::of(frame, rasterWidthPx(), rasterHeightPx());
   mFit = fitFieldQuadratic(frame, fieldPose, g);
   mHaveFit = true;

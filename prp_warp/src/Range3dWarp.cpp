@@ -152,7 +152,7 @@ void Range3dWarp::fillHoles(FieldParity parity, const OutputGeometry& g) noexcep
 }
 
 WarpResult Range3dWarp::doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                               Image& out) noexcept {
+                               FieldRows out) noexcept {
   const auto framePixels = static_cast<std::size_t>(frame.intrinsics.widthPx) * frame.intrinsics.heightPx;
   if (!frame.hasRange() || frame.rangeM.size() != framePixels) {
     mUsedFallback = true;
@@ -181,7 +181,8 @@ WarpResult Range3dWarp::doWarp(const Frame& frame, const Image& pixels, const Po
   std::uint32_t violations = 0;
   for (int r = 0; r < out.heightPx(); ++r) {
     const std::size_t base = static_cast<std::size_t>(rasterRow(parity, r)) * static_cast<std::size_t>(rw);
-    violations += sampleRow(pixels, mMapX.data() + base, mMapY.data() + base, rw, out.row(r));
+    violations += sampleRow(pixels, mMapX.data() + base, mMapY.data() + base, rw, out.begin(0, r));
+    out.end(0, rw, r);
   }
   return {WarpStatus::Ok, violations, false};
 }

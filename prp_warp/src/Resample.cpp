@@ -29,7 +29,7 @@ void RowScratch::reserve(int maxWidthPx) {
   mCapacityPx = maxWidthPx;
 }
 
-bool resampleShapesValid(const Image& src, FieldParity parity, int rasterHeightPx, const Image& dst) noexcept {
+bool resampleShapesValid(const Image& src, FieldParity parity, int rasterHeightPx, const FieldRows& dst) noexcept {
   if (src.format() != PixelFormat::Grey8 && src.format() != PixelFormat::Rgb8) return false;
   if (src.widthPx() < 2 || src.heightPx() < 2 || src.empty()) return false;
   if (dst.format() != src.format() || dst.widthPx() < 1) return false;
@@ -54,13 +54,13 @@ double sampleBilinearReference(const Image& src, double x, double y, int c) noex
 /// The reference loop shared by every map: `map(rasterPx)` per pixel centre, double precision.
 template <typename Map>
 std::uint32_t resampleReference(const Image& src, const Map& map, FieldParity parity, int rasterHeightPx,
-                                Image& dst) noexcept {
+                                FieldRows dst) noexcept {
   if (!resampleShapesValid(src, parity, rasterHeightPx, dst)) return 0;
   const int w = src.widthPx(), h = src.heightPx(), ch = channelsOf(src.format());
   std::uint32_t violations = 0;
   for (int r = 0; r < dst.heightPx(); ++r) {
     const double v = rasterRow(parity, r) + 0.5;
-    std::uint8_t* out = dst.row(r);
+    std::uint8_t* out = dst.begin(0, r);
     for (int i = 0; i < dst.widthPx(); ++i) {
       const glm::dvec2 p = map({i + 0.5, v});
       const bool inside = p.x >= 0.0 && p.x <= w && p.y >= 0.0 && p.y <= h;
@@ -69,17 +69,18 @@ std::uint32_t resampleReference(const Image& src, const Map& map, FieldParity pa
         out[i * ch + c] = static_cast<std::uint8_t>(std::lround(sampleBilinearReference(src, p.x, p.y, c)));
       }
     }
+    dst.end(0, dst.widthPx(), r);
   }
   return violations;
 }
 
 std::uint32_t resampleQuadraticReference(const Image& src, const QuadraticMap& map, FieldParity parity,
-                                         int rasterHeightPx, Image& dst) noexcept {
+                                         int rasterHeightPx, FieldRows dst) noexcept {
   return resampleReference(src, map, parity, rasterHeightPx, dst);
 }
 
 std::uint32_t resampleMeshReference(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx,
-                                    Image& dst) noexcept {
+                                    FieldRows dst) noexcept {
   return resampleReference(src, map, parity, rasterHeightPx, dst);
 }
 
@@ -123,19 +124,21 @@ std::uint32_t sampleRowReference(const Image& src, const float* framePxX, const 
 /// NTSC field step 0.30 -> 0.28 ms against 128 (half the calls per field); 512 and whole
 /// rows measured the same at NTSC, a 1080i strip of 256 already about fills a 1 MB L2.
 template <typename RowFn>
-std::uint32_t forEachStrip(Image& dst, RowFn&& row) noexcept {
+std::uint32_t forEachStrip(FieldRows dst, RowFn&& row) noexcept {
   constexpr int kStripPx = mapping::kMaxRunPx;
-  const int channels = channelsOf(dst.format());
   std::uint32_t violations = 0;
   for (int first = 0; first < dst.widthPx(); first += kStripPx) {
     const int n = std::min(kStripPx, dst.widthPx() - first);
-    for (int r = 0; r < dst.heightPx(); ++r) violations += row(first, n, r, dst.row(r) + first * channels);
+    for (int r = 0; r < dst.heightPx(); ++r) {
+      violations += row(first, n, r, dst.begin(first, r));
+      dst.end(first, n, r);
+    }
   }
   return violations;
 }
 
 std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, FieldParity parity, int rasterHeightPx,
-                                    Image& dst, RowScratch& scratch) noexcept {
+                                    FieldRows dst, RowScratch& scratch) noexcept {
   if (!resampleShapesValid(src, parity, rasterHeightPx, dst) || scratch.capacityPx() < dst.widthPx()) return 0;
   return forEachStrip(dst, [&](int first, int n, int r, std::uint8_t* out) noexcept {
     const double v = rasterRow(parity, r) + 0.5;
@@ -146,7 +149,7 @@ std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, F
 }
 
 std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldParity parity, int rasterHeightPx,
-                                 Image& dst, RowScratch& scratch) noexcept {
+                                 FieldRows dst, RowScratch& scratch) noexcept {
   if (!resampleShapesValid(src, parity, rasterHeightPx, dst) || scratch.capacityPx() < dst.widthPx()) return 0;
   const std::array<double, 9>& h = map.h;
   float* xs = scratch.x();
@@ -166,8 +169,8 @@ std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldP
   });
 }
 
-std::uint32_t resampleMeshFast(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx, Image& dst,
-                               RowScratch& scratch) noexcept {
+std::uint32_t resampleMeshFast(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx,
+                               FieldRows dst, RowScratch& scratch) noexcept {
   if (!resampleShapesValid(src, parity, rasterHeightPx, dst) || scratch.capacityPx() < dst.widthPx()) return 0;
   if (map.columns() < 2 || map.rows() < 2) return 0;
   float* xs = scratch.x();

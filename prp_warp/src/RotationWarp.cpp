@@ -9,7 +9,7 @@ RotationWarp::RotationWarp(int rasterWidthPx, int rasterHeightPx)
     : Warp(rasterWidthPx, rasterHeightPx), mScratch(rasterWidthPx) {}
 
 WarpResult RotationWarp::doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                                Image& out) noexcept {
+                                FieldRows out) noexcept {
   const OutputGeometry g = OutputGeometry::of(frame, rasterWidthPx(), rasterHeightPx());
   mMap = rotationHomography(frame, fieldPose, g);
   return {WarpStatus::Ok, resampleHomography(pixels, *mMap, parity, rasterHeightPx(), out, mScratch), false};

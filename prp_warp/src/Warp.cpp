@@ -16,7 +16,7 @@ std::optional<WarpKind> warpKindFromString(std::string_view name) noexcept {
 }
 
 WarpResult Warp::warp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                      Image& out) noexcept {
+                      FieldRows out) noexcept {
   const Image& img = frame.image;
   const bool frameOk = !img.empty() && img.widthPx() == frame.intrinsics.widthPx &&
                        img.heightPx() == frame.intrinsics.heightPx && frame.displayWidthPx() > 0 &&

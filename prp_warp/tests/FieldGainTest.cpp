@@ -1,5 +1,6 @@
-// The automatic gain in the field warper: the gain measured on a field is applied to that same
-// field as it is converted to the output format.
+// The automatic gain in the field warper: the gain measured on a field is applied to the next
+// field as it is converted to the output format (one field's lag: each piece of a field is
+// converted as the warp writes it).
 #include "AnalyticScene.h"
 
 #include <prp_warp/FieldWarper.h>
@@ -16,21 +17,29 @@ namespace {
 
 constexpr int kW = 160, kH = 120;  // test::obliqueFrame()'s display window
 
-Image fieldOf(PixelFormat format, const AutoGainConfig& gain) {
+FieldWarperConfig configOf(PixelFormat format, const AutoGainConfig& gain) {
   FieldWarperConfig cfg;
   cfg.rasterWidthPx = kW;
   cfg.rasterHeightPx = kH;
   cfg.outputFormat = format;
   cfg.autoGain = gain;
-  FieldWarper warper(cfg);
+  return cfg;
+}
+
+// The bottom field of the scene at its own pose, from a warper that has made `before` fields
+Image fieldOf(FieldWarper& warper, int before = 0) {
   Field field = warper.makeField();
   const Frame& scene = test::obliqueFrame();
-  EXPECT_EQ(warper.produce(scene, scene.pose, FieldSpec{0, TimePoint{}, FieldParity::Bottom}, field), FieldStatus::Ok);
+  for (int k = 0; k <= before; ++k) {
+    const FieldSpec spec{static_cast<std::uint64_t>(k), TimePoint{Nanoseconds{k * 16'683'333}}, FieldParity::Bottom};
+    EXPECT_EQ(warper.produce(scene, scene.pose, spec, field), FieldStatus::Ok);
+  }
   return field.image;
 }
 
-TEST(FieldGain, TheGainMeasuredOnAFieldBrightensThatField) {
-  const Image plain = fieldOf(PixelFormat::Rgb8, AutoGainConfig{});
+TEST(FieldGain, TheGainMeasuredOnAFieldBrightensTheNext) {
+  FieldWarper plainWarper(configOf(PixelFormat::Rgb8, AutoGainConfig{}));
+  const Image plain = fieldOf(plainWarper);
   // A gain that settles at once (no time constant), steering to 1.6 × the field's mean
   AutoGainConfig agc;
   agc.enabled = true;
@@ -39,7 +48,14 @@ TEST(FieldGain, TheGainMeasuredOnAFieldBrightensThatField) {
   const auto gainQ16 = static_cast<std::int32_t>(std::lround(1.6 * 65536.0));
   ASSERT_LT(agc.targetMeanLevel, 255.0);
 
-  const Image gained = fieldOf(PixelFormat::Rgb8, agc);
+  // The first field is converted before anything was measured: at unity gain
+  FieldWarper warper(configOf(PixelFormat::Rgb8, agc));
+  EXPECT_EQ(fieldOf(warper), plain);
+  EXPECT_EQ(warper.gain(), 1.0);
+  // The second field takes the gain measured on the first (exactly 1.6 only if the warper's
+  // mean, summed piece by piece as the field is written, is meanLuma's)
+  const Image gained = fieldOf(warper);
+  EXPECT_NEAR(warper.gain(), 1.6, 1e-9);
   int brighter = 0;
   for (std::size_t i = 0; i < plain.bytes().size(); ++i) {
     const int expected = std::min((plain.bytes()[i] * gainQ16 + (1 << 15)) >> 16, 255);
@@ -51,8 +67,8 @@ TEST(FieldGain, TheGainMeasuredOnAFieldBrightensThatField) {
   // In UYVY the gain is applied before the conversion, as to the RGB field
   Image expected(kW, plain.heightPx(), PixelFormat::Uyvy422);
   ASSERT_TRUE(convertPixelsReference(gained, expected));
-  const Image uyvy = fieldOf(PixelFormat::Uyvy422, agc);
-  EXPECT_EQ(uyvy, expected);
+  FieldWarper uyvyWarper(configOf(PixelFormat::Uyvy422, agc));
+  EXPECT_EQ(fieldOf(uyvyWarper, 1), expected);
 }
 
 }  // namespace

@@ -161,9 +161,10 @@ TEST(MeshMap, IsBilinearBetweenNodesAndExactAtThem) {
 
 TEST(Resample, RejectsMismatchedShapes) {
   const Image src = noiseImage(50, 40, PixelFormat::Grey8, 5);
-  EXPECT_TRUE(resampleShapesValid(src, FieldParity::Top, 11, Image(20, 6, PixelFormat::Grey8)));
-  EXPECT_FALSE(resampleShapesValid(src, FieldParity::Bottom, 11, Image(20, 6, PixelFormat::Grey8)));
-  EXPECT_FALSE(resampleShapesValid(src, FieldParity::Top, 11, Image(20, 6, PixelFormat::Rgb8)));
+  Image grey(20, 6, PixelFormat::Grey8), rgb(20, 6, PixelFormat::Rgb8);
+  EXPECT_TRUE(resampleShapesValid(src, FieldParity::Top, 11, grey));
+  EXPECT_FALSE(resampleShapesValid(src, FieldParity::Bottom, 11, grey));
+  EXPECT_FALSE(resampleShapesValid(src, FieldParity::Top, 11, rgb));
 }
 
 }  // namespace

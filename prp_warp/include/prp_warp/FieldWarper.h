@@ -3,6 +3,7 @@
 // the pose at the field's display time, and the field's parity — warp, AGC, format conversion.
 // Everything is allocated at construction; produce() allocates nothing and never throws.
 
+#include <prp_warp/FieldAssembly.h>
 #include <prp_warp/FieldClock.h>
 #include <prp_warp/PostProcess.h>
 #include <prp_warp/Warp.h>
@@ -103,7 +104,7 @@ class FieldWarper {
   void setMirror(Mirror mirror) noexcept { mMirror.store(mirror, std::memory_order_relaxed); }
   Mirror mirror() const noexcept { return mMirror.load(std::memory_order_relaxed); }
   /// The gain the AGC applied to the last field (1 when off).
-  double gain() const noexcept { return mAutoGain.gain(); }
+  double gain() const noexcept { return mAppliedGain; }
 
  private:
   /// Reshapes `image` without allocating (its capacity was reserved); false if it cannot.
@@ -113,9 +114,9 @@ class FieldWarper {
   FieldWarperConfig mConfig;
   std::unique_ptr<Warp> mWarp;
   AutoGain mAutoGain;
-  Image mWork;  // the warped field in the frame's format, before conversion
-  std::size_t mWorkReserved = 0;
-  Image mFiltered;  // the flicker-filtered copy of the current frame
+  double mAppliedGain = 1.0;
+  FieldAssembly mAssembly;  // takes the warp's pieces into the output field
+  Image mFiltered;          // the flicker-filtered copy of the current frame
   std::uint64_t mFilteredFrameNumber = 0;
   TimePoint mFilteredPoseTime{};
   bool mHaveFiltered = false;

@@ -32,10 +32,14 @@ class AutoGain {
   /// field, without applying it (convertPixels applies it as it converts). Returns false, the gain
   /// unchanged, when disabled or for an empty or UYVY field. RT-safe.
   bool update(const Image& field, Nanoseconds elapsed) noexcept;
+  /// update() with the field's mean luma (0..255) measured by the caller, as meanLuma(field, 2)
+  /// does. Returns false, the gain unchanged, when disabled. RT-safe.
+  bool updateFromMean(double meanLuma, Nanoseconds elapsed) noexcept;
   /// update(), then the gain applied to `field` in place through a 256-entry table. RT-safe.
   void process(Image& field, Nanoseconds elapsed) noexcept;
-  /// The gain applied to the last field.
+  /// The gain as last updated.
   double gain() const noexcept { return mGain; }
+  bool enabled() const noexcept { return mConfig.enabled; }
   /// The gain as applied, in 1/65536 (65536 when disabled).
   std::int32_t gainQ16() const noexcept;
   void reset() noexcept;

@@ -8,6 +8,7 @@
 //    violation: it is counted and the sample is clamped to the nearest edge of the frame;
 //  - the source and the field image have the same pixel format (Grey8 or Rgb8).
 
+#include <prp_warp/FieldRows.h>
 #include <prp_warp/MeshMap.h>
 #include <prp_warp/WarpMaps.h>
 
@@ -40,34 +41,34 @@ class RowScratch {
 
 /// True when `dst` is the right shape for a field of `parity` of a raster `rasterHeightPx` high
 /// and `src` can be sampled (same format, Grey8 or Rgb8, at least 2 × 2). RT-safe.
-bool resampleShapesValid(const Image& src, FieldParity parity, int rasterHeightPx, const Image& dst) noexcept;
+bool resampleShapesValid(const Image& src, FieldParity parity, int rasterHeightPx, const FieldRows& dst) noexcept;
 
 /// The plain reference: evaluates the quadratic at every pixel and interpolates in double
 /// precision. Returns the margin violations. RT-safe.
 std::uint32_t resampleQuadraticReference(const Image& src, const QuadraticMap& map, FieldParity parity,
-                                         int rasterHeightPx, Image& dst) noexcept;
+                                         int rasterHeightPx, FieldRows dst) noexcept;
 
 /// The fast kernel: the quadratic evaluated along each run of a row in single precision in SIMD
 /// lanes (the same floats at every level), then fixed-point (8-bit) bilinear sampling. Matches
 /// the reference within one grey level. Returns the margin violations. RT-safe (scratch must be
 /// wide enough).
 std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, FieldParity parity, int rasterHeightPx,
-                                    Image& dst, RowScratch& scratch) noexcept;
+                                    FieldRows dst, RowScratch& scratch) noexcept;
 
 /// Homography resampling (one division per pixel), same sampling as the fast kernel. RT-safe.
 std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldParity parity, int rasterHeightPx,
-                                 Image& dst, RowScratch& scratch) noexcept;
+                                 FieldRows dst, RowScratch& scratch) noexcept;
 
 /// Depth-mesh reference: evaluates the bilinear cell map at every pixel and interpolates in
 /// double precision. Returns the margin violations. RT-safe.
 std::uint32_t resampleMeshReference(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx,
-                                    Image& dst) noexcept;
+                                    FieldRows dst) noexcept;
 
 /// Depth-mesh fast kernel: per cell, one linear function of u along the row (blended once from
 /// the cell's four nodes), then the shared fixed-point sampling. Matches the reference within
 /// one grey level. Returns the margin violations. RT-safe (scratch must be wide enough).
-std::uint32_t resampleMeshFast(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx, Image& dst,
-                               RowScratch& scratch) noexcept;
+std::uint32_t resampleMeshFast(const Image& src, const MeshMap& map, FieldParity parity, int rasterHeightPx,
+                               FieldRows dst, RowScratch& scratch) noexcept;
 
 /// Samples `src` at the given frame pixel coordinates for one row of `n` pixels into `dstRow`
 /// (bilinear in 1/256 px and 1/65536 of a grey level, edge clamp). Returns the margin

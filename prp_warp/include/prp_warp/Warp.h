@@ -7,6 +7,7 @@
 #include <fieldcast/Frame.h>
 #include <fieldcast/Image.h>
 #include <fieldcast/Pose.h>
+#include <prp_warp/FieldRows.h>
 
 #include <glm/vec2.hpp>
 
@@ -81,13 +82,14 @@ class Warp {
 
   virtual WarpKind kind() const noexcept = 0;
 
-  /// Warps frame `frame` to the pose `fieldPose` of a field and writes the rows of `parity` into
-  /// `out` (raster width × fieldRowCount rows, the frame's pixel format). `pixels` is the image
+  /// Warps frame `frame` to the pose `fieldPose` of a field and writes the rows of `parity` to
+  /// `out` (raster width × fieldRowCount rows, the frame's pixel format; an image, or a sink
+  /// that takes them a piece at a time). `pixels` is the image
   /// sampled: the frame's own, or a same-sized filtered copy of it. RT-safe, noexcept.
   WarpResult warp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                  Image& out) noexcept;
+                  FieldRows out) noexcept;
   /// warp() sampling the frame's own image. RT-safe.
-  WarpResult warp(const Frame& frame, const Pose& fieldPose, FieldParity parity, Image& out) noexcept {
+  WarpResult warp(const Frame& frame, const Pose& fieldPose, FieldParity parity, FieldRows out) noexcept {
     return warp(frame, frame.image, fieldPose, parity, out);
   }
 
@@ -102,7 +104,7 @@ class Warp {
  protected:
   /// The warp proper, called with validated shapes. RT-safe.
   virtual WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                            Image& out) noexcept = 0;
+                            FieldRows out) noexcept = 0;
 
  private:
   int mRasterWidthPx;

@@ -20,7 +20,7 @@ class HoldWarp final : public Warp {
 
  protected:
   WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                    Image& out) noexcept override;
+                    FieldRows out) noexcept override;
 
  private:
   RowScratch mScratch;
@@ -45,7 +45,7 @@ class QuadraticWarp final : public Warp {
 
  protected:
   WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                    Image& out) noexcept override;
+                    FieldRows out) noexcept override;
 
  private:
   ResampleKernel mKernel;
@@ -66,7 +66,7 @@ class HomographyWarp final : public Warp {
 
  protected:
   WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                    Image& out) noexcept override;
+                    FieldRows out) noexcept override;
 
  private:
   RowScratch mScratch;
@@ -85,7 +85,7 @@ class RotationWarp final : public Warp {
 
  protected:
   WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                    Image& out) noexcept override;
+                    FieldRows out) noexcept override;
 
  private:
   RowScratch mScratch;
@@ -118,7 +118,7 @@ class MeshWarp final : public Warp {
 
  protected:
   WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                    Image& out) noexcept override;
+                    FieldRows out) noexcept override;
 
  private:
   bool solveNodes(const Frame& frame, const Pose& fieldPose, const OutputGeometry& g) noexcept;
@@ -152,7 +152,7 @@ class Range3dWarp final : public Warp {
 
  protected:
   WarpResult doWarp(const Frame& frame, const Image& pixels, const Pose& fieldPose, FieldParity parity,
-                    Image& out) noexcept override;
+                    FieldRows out) noexcept override;
 
  private:
   void splat(const Frame& frame, const Pose& fieldPose, const OutputGeometry& g, FieldParity parity) noexcept;
