@@ -151,21 +151,9 @@ std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, F
 std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldParity parity, int rasterHeightPx,
                                  FieldRows dst, RowScratch& scratch) noexcept {
   if (!resampleShapesValid(src, parity, rasterHeightPx, dst) || scratch.capacityPx() < dst.widthPx()) return 0;
-  const std::array<double, 9>& h = map.h;
-  float* xs = scratch.x();
-  float* ys = scratch.y();
   return forEachStrip(dst, [&](int first, int n, int r, std::uint8_t* out) noexcept {
-    const double v = rasterRow(parity, r) + 0.5;
-    const double nx0 = h[1] * v + h[2], ny0 = h[4] * v + h[5], w0 = h[7] * v + h[8];
-    for (int i = 0; i < n; ++i) {
-      const double u = first + i + 0.5;
-      const double w = h[6] * u + w0;
-      // Behind the camera (w ≤ 0) there is nothing to sample: NaN counts as a violation
-      const double inv = w > 0.0 ? 1.0 / w : Homography::kNan;
-      xs[i] = static_cast<float>((h[0] * u + nx0) * inv);
-      ys[i] = static_cast<float>((h[3] * u + ny0) * inv);
-    }
-    return sampleRow(src, xs, ys, n, out);
+    mapping::homographyRow(map.h, first, rasterRow(parity, r) + 0.5, n, scratch.x(), scratch.y());
+    return sampleRow(src, scratch.x(), scratch.y(), n, out);
   });
 }
 

@@ -55,7 +55,8 @@ std::uint32_t resampleQuadraticReference(const Image& src, const QuadraticMap& m
 std::uint32_t resampleQuadraticFast(const Image& src, const QuadraticMap& map, FieldParity parity, int rasterHeightPx,
                                     FieldRows dst, RowScratch& scratch) noexcept;
 
-/// Homography resampling (one division per pixel), same sampling as the fast kernel. RT-safe.
+/// Homography resampling: the map along each run of a row in SIMD lanes (one division per pixel,
+/// single precision, mapping::homographyRow), then the fast kernel's sampling. RT-safe.
 std::uint32_t resampleHomography(const Image& src, const Homography& map, FieldParity parity, int rasterHeightPx,
                                  FieldRows dst, RowScratch& scratch) noexcept;
 
