@@ -66,6 +66,7 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
     stickUnitsPerQ = g.heightStepM / sticks->unitM();
     seeThrough = sticks->hasSeeThrough();
     stickReachQ = sticks->longestVox() / stickUnitsPerQ;
+    lookPastVoxelPx = plane_march::lookPastVoxelPx(geometry.intrinsics().widthPx);
   }
   for (int l = 0; l < levels; ++l) {
     levelWidth[static_cast<std::size_t>(l)] = g.levelWidthVox(l);

@@ -67,8 +67,11 @@ struct CasterFrame {
   bool seeThrough = false;      ///< some of them are complex: a ray may go on as a secondary ray
   double stickUnitsPerQ = 0.0;  ///< stick voxels (level 0) per height quantum
   double stickReachQ = 0.0;     ///< the tallest stick's length, height quanta (0: no sticks)
-  Image* image;                 ///< output pixels (or null)
-  float* rangeM;                ///< output range per pixel (or null)
+  /// The march looks past a crossing for terrain rising above the column plane's line where a
+  /// voxel spans at least this many pixels (lookPastVoxelPx in PlaneMarch.h)
+  double lookPastVoxelPx = 8.0;
+  Image* image;   ///< output pixels (or null)
+  float* rangeM;  ///< output range per pixel (or null)
 };
 
 /// Per-worker state: a tile pointer per level (most lookups are one compare) and counters.

@@ -166,8 +166,8 @@ __attribute__((always_inline)) inline int solveMinorLines(const MarchLine& line,
 /// Whether terrain past crossing x on a grid line (the plane's g = gA·minor + nZ·h + base along it,
 /// the camera's zc = zLine + minor·zMinor + h·fwdZ) could rise into the column where the march
 /// should look for it (lookPastCrossing): the plane leans so far that L_i takes more than half a
-/// voxel to climb the tallest stick's height, and a voxel spans kMinorLinesVoxelPx pixels or more
-/// (nearer than `minorLinesDepth`) at the crossing or as far along L_i as a stick on the
+/// voxel to climb the tallest stick's height, and a voxel spans f.lookPastVoxelPx pixels or more
+/// (nearer than `nearDepth`) at the crossing or as far along L_i as a stick on the
 /// crossing's ground could reach (the depth is linear along it; the scan may go farther where the
 /// ground rises). Farther, a voxel's worth of terrain passed over is a few pixels, and in a wood,
 /// where the next tree along nearly every line rises above it, casting those rows made the frames
@@ -175,12 +175,12 @@ __attribute__((always_inline)) inline int solveMinorLines(const MarchLine& line,
 /// than a bound per level, the lane march of every crossing it fills from.
 __attribute__((always_inline)) inline bool mayLookPastCrossing(const CasterFrame& f, double gA, double nZ, double base,
                                                                double zLine, double zMinor, double fwdZ,
-                                                               double minorLinesDepth, const Crossing& x) noexcept {
+                                                               double nearDepth, const Crossing& x) noexcept {
   const double reach = f.stickReachQ * std::abs(nZ);  // × gA: the voxels along L_i a stick reaches
   if (!(reach > 0.5 * gA)) return false;
-  if (x.depth < minorLinesDepth) return true;
+  if (x.depth < nearDepth) return true;
   const double mEnd = x.j + x.phi + (nZ > 0.0 ? -1.0 : 1.0) * (2.0 * reach / gA + 2.0);
-  return zLine + mEnd * zMinor - (gA * mEnd + base) / nZ * fwdZ < minorLinesDepth;
+  return zLine + mEnd * zMinor - (gA * mEnd + base) / nZ * fwdZ < nearDepth;
 }
 
 /// On a terrain with sticks, where mayLookPastCrossing says so: looks past crossing x on `line` for

@@ -55,6 +55,7 @@ struct BlockLine {
   double yMinor = 0, zMinor = 0;  // per level-L minor unit
   double switchDepth = 0;         // past this depth (stretched) a column's march takes the next level
   double minorLinesDepth = 0;     // nearer, fills are split at the minor axis's lines (PlaneMarch.cpp)
+  double lookPastLinesDepth = 0;  // nearer, a voxel spans f.lookPastVoxelPx pixels or more
   int majLast = 0, minLast = 0;   // the level's last line inside the grid, last minor segment
 };
 
@@ -99,6 +100,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
   const auto& majSizes = kXMajor ? f.levelWidth : f.levelHeight;
   const auto& minSizes = kXMajor ? f.levelHeight : f.levelWidth;
   const double minorLinesDepth0 = k.fxPx / (f.unitsPerM * kMinorLinesVoxelPx);
+  const double lookPastLinesDepth0 = k.fxPx / (f.unitsPerM * f.lookPastVoxelPx);
   const bool grazingLod = f.geo->grazingLod();
   const int sx = c0.sx;
   const int evenParity = sx > 0 ? 0 : 1;  // lines where the coarser level's line lies half a step ahead
@@ -123,6 +125,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
     b.zStep = c0.fwdMaj * sx * b.p;
     b.switchDepth = lv + 1 < f.levels ? f.geo->lodDepth0M() * b.p : std::numeric_limits<double>::infinity();
     b.minorLinesDepth = minorLinesDepth0 * b.p;
+    b.lookPastLinesDepth = lookPastLinesDepth0 * b.p;
     const int hullLast = sx > 0 ? floorToInt(levelIndex(c0.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
     b.majLast = sx > 0 ? std::min(hullLast, majSizes[static_cast<std::size_t>(lv)] - 1) : std::max(hullLast, 0);
     b.minLast = minSizes[static_cast<std::size_t>(lv)] - 2;
@@ -487,7 +490,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
         // Terrain past the crossing that rows see (lookPastCrossing); here only past a crossing that
         // bounds a fill or needed solving, not the rest of the line's
         if (kSticks && mayLookPastCrossing(f, line.gA[n], line.nZ[n], line.base[n], b.zLine, b.zMinor, c0.fwdZ,
-                                           b.minorLinesDepth, cur)) {
+                                           b.lookPastLinesDepth, cur)) {
           const MarchLine on{b.level,       b.i,     sx,      line.gA[n],  line.nZ[n], line.base[n],
                              s.baseStep[n], b.yLine, b.yStep, b.zLine,     b.zStep,    b.yMinor,
                              b.zMinor,      c0.upZ,  c0.fwdZ, lane.stretch};

@@ -81,6 +81,9 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
   const double minorLinesDepth0 = k.fxPx / (f.unitsPerM * kMinorLinesVoxelPx);
   double minorLinesDepth = 0;
   int majLast = 0, minLast = 0;
+  // Nearer than this a voxel of the level spans f.lookPastVoxelPx pixels or more
+  const double lookPastLinesDepth0 = k.fxPx / (f.unitsPerM * f.lookPastVoxelPx);
+  double lookPastLinesDepth = 0;
   // Crossings nearer than this may have terrain past them that rows see (mayLookPastCrossing): a
   // bound per level, so that farther crossings, nearly all of them, pay one compare
   double lookPastDepth = 0;
@@ -95,6 +98,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
     zStep = c.fwdMaj * sx * p;
     switchDepth = lv + 1 < f.levels ? lodDepth * p : std::numeric_limits<double>::infinity();
     minorLinesDepth = minorLinesDepth0 * p;
+    lookPastLinesDepth = lookPastLinesDepth0 * p;
     heights.reset();  // the register window belongs to the old level
     // Last grid line inside both the level's grid and the hull of the level-0 voxel centres.
     const int hullLast = sx > 0 ? floorToInt(levelIndex(c.majSize - 1, lv)) : ceilToInt(levelIndex(0.0, lv));
@@ -105,7 +109,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       // mayLookPastCrossing looks along
       const double reach = f.stickReachQ * std::abs(nZ);
       lookPastDepth =
-          reach > 0.5 * gA ? minorLinesDepth + (2.0 * reach / gA + 2.0) * std::abs(zMinor - gA / nZ * fwdZ) : -1.0;
+          reach > 0.5 * gA ? lookPastLinesDepth + (2.0 * reach / gA + 2.0) * std::abs(zMinor - gA / nZ * fwdZ) : -1.0;
     }
   };
   const double startMaj = c.xMajor ? start.x : start.y;
@@ -443,7 +447,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       }
     }
     if (kSticks && cur.depth < lookPastDepth &&
-        mayLookPastCrossing(f, gA, nZ, base, zLine, zMinor, fwdZ, minorLinesDepth, cur)) {
+        mayLookPastCrossing(f, gA, nZ, base, zLine, zMinor, fwdZ, lookPastLinesDepth, cur)) {
       const MarchLine line{level, i,     sx,    gA,     nZ,     base, baseStep, yLine,
                            yStep, zLine, zStep, yMinor, zMinor, upZ,  fwdZ,     stretch};
       lookPastCrossing(f, c, line, minLast, height, cur, q, sink.s, state.passedOver, steps);
