@@ -5,6 +5,7 @@
 #include "PixelConversion.h"
 
 #include <algorithm>
+#include <cassert>
 
 namespace fieldcast::warp {
 
@@ -28,6 +29,7 @@ FieldRows FieldAssembly::rows(PixelFormat format) noexcept {
 
 void FieldAssembly::take(int first, int n, int r, const std::uint8_t* pixels) noexcept {
   const int channels = mFormat == PixelFormat::Rgb8 ? 3 : 1;
+  assert(mOut->format() != PixelFormat::Uyvy422 || (first % 2 == 0 && n % 2 == 0));
   // Where the piece lands in the output: mirrored, row r shows the field's last row but r, and
   // the piece's columns run right to left from the mirror image of its first
   const int row = mirrorsRows(mMirror) ? mOut->heightPx() - 1 - r : r;

@@ -133,7 +133,7 @@ FieldStatus FieldWarper::produce(const Frame& frame, const Pose& pose, const Fie
   mAssembly.start(out.image, mirror, gainQ16, mAutoGain.enabled());
   const WarpResult r = mWarp->warp(frame, flickerFiltered(frame), pose, sampled, mAssembly.rows(workFormat));
   if (r.status != WarpStatus::Ok) return black(FieldStatus::BadFrame);
-  mAppliedGain = mAutoGain.enabled() ? mAutoGain.gain() : 1.0;
+  mAppliedGain = gainQ16 / 65536.0;
   if (r.fellBack) {
     mCounters.fitFallbacks.fetch_add(1, std::memory_order_relaxed);
     mCounters.fallbacksByReason[static_cast<int>(r.fallbackReason)].fetch_add(1, std::memory_order_relaxed);

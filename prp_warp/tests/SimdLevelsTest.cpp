@@ -390,7 +390,7 @@ TEST(SimdLevels, TheHomographysRowsAreTheScalarFormsFloats) {
 
 TEST(SimdLevels, TheHomographysRowsAreWithinAThousandthOfAPixelOfTheMap) {
   // A 1080i field's homography into a 2112 x 1188 frame (10 % margins): turned by 3°, zoomed by
-  // 2 %, seen from a camera that pitched and yawed a few degrees (the denominator varies by ±6 %)
+  // 2 %, seen from a camera that pitched and yawed a few degrees (the denominator varies from −2.6 % to +6 %)
   const double c = 1.02 * std::cos(0.052), s = 1.02 * std::sin(0.052);
   Homography h;
   h.h = {c, -s, 96.0 + 28.0, s, c, 54.0 - 41.0, 3.1e-5, -2.4e-5, 1.0};

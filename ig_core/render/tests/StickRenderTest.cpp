@@ -196,7 +196,7 @@ std::unique_ptr<MemoryTerrain> wood() {
 // The march looks past its crossings where a voxel spans as large a share of the frame's width as
 // 8 pixels of an 864-pixel-wide frame (lookPastVoxelPx), so the rows it casts again are about the
 // same share of a wide frame's pixels as of a narrow one's, and the looks cost a wide frame no more
-// per pixel (17.7% and 17.9% here). With 8 pixels at every width the 2304-pixel-wide frame cast
+// per pixel (17.9% and 17.7% here). With 8 pixels at every width the 2304-pixel-wide frame cast
 // 32.1% of its pixels again, and the bench's 2304-wide down view took 3.4× as long.
 TEST(StickRender, TheRowsCastAgainAreTheSameShareOfAWideFrame) {
   const auto terrain = wood();

@@ -21,8 +21,9 @@ class FieldAssembly final : public FieldPieceSink {
   /// Starts a field: the pieces a warp writes to rows() go into `out` (the field's rows, in the
   /// output format), mirrored by `mirror`, under the gain `gainQ16` (1/65536); with `measure`
   /// the luma of every 2nd pixel of every 2nd row of `out` (as meanLuma(out, 2) counts them) is
-  /// summed for meanLuma(). `out` must be no wider than the room reserved, and even in UYVY.
-  /// RT-safe.
+  /// summed for meanLuma(). `out` must be no wider than the room reserved, and even in UYVY,
+  /// where each piece must also start on an even column and be an even number of pixels wide
+  /// (a 4:2:2 pair shares its chroma): the warps' strips of 256 and whole rows are. RT-safe.
   void start(Image& out, Mirror mirror, std::int32_t gainQ16, bool measure) noexcept;
   /// Where a warp writes the field: `out`'s shape, in the frame's `format` (Rgb8 or Grey8).
   FieldRows rows(PixelFormat format) noexcept;

@@ -15,7 +15,8 @@ class FieldPieceSink {
  public:
   virtual ~FieldPieceSink() = default;
   /// `n` pixels of field row `r` from column `first`, in the field's working format (the
-  /// frame's). The bytes are valid during the call only. RT-safe.
+  /// frame's). The bytes are valid during the call only. A sink may ask more of the pieces
+  /// (FieldAssembly: for UYVY, even starts and widths). RT-safe.
   virtual void take(int first, int n, int r, const std::uint8_t* pixels) noexcept = 0;
 };
 

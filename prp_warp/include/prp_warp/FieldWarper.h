@@ -103,7 +103,8 @@ class FieldWarper {
   /// Mirrors the fields from the next one on. Any thread.
   void setMirror(Mirror mirror) noexcept { mMirror.store(mirror, std::memory_order_relaxed); }
   Mirror mirror() const noexcept { return mMirror.load(std::memory_order_relaxed); }
-  /// The gain the AGC applied to the last field (1 when off).
+  /// The gain the AGC applied to the last field warped, as applied (in steps of 1/65536; 1 when
+  /// off).
   double gain() const noexcept { return mAppliedGain; }
 
  private:
