@@ -331,6 +331,28 @@ TEST(SimdLevels, TheQuadraticsRowsAreTheScalarFormsFloats) {
   });
 }
 
+// The largest distance (px) between a map's rows as the kernels work them out,
+// rows(first, v, n, xs, ys), and the map itself, `exact`: every 7th row of a 1080i field, in the
+// longest runs the kernels ask.
+template <typename Rows, typename Map>
+double largestRowError(Rows&& rows, const Map& exact) {
+  double worst = 0.0;
+  constexpr int n = mapping::kMaxRunPx;
+  std::vector<float> xs(n), ys(n);
+  for (int row = 0; row < 1080; row += 7) {
+    const double v = row + 0.5;
+    for (int first = 0; first < 1920; first += n) {
+      rows(first, v, n, xs.data(), ys.data());
+      for (int i = 0; i < n && first + i < 1920; ++i) {
+        const glm::dvec2 p = exact({first + i + 0.5, v});
+        const auto k = static_cast<std::size_t>(i);
+        worst = std::max({worst, std::abs(xs[k] - p.x), std::abs(ys[k] - p.y)});
+      }
+    }
+  }
+  return worst;
+}
+
 TEST(SimdLevels, TheQuadraticsRowsAreWithinAThousandthOfAPixelOfTheMap) {
   // A 1080i field's map into a 2112 x 1188 frame (10 % margins): turned by 3°, zoomed by 2 %,
   // curved as a fast low pass makes it; every row's longest runs, as the kernels ask them
@@ -339,21 +361,12 @@ TEST(SimdLevels, TheQuadraticsRowsAreWithinAThousandthOfAPixelOfTheMap) {
   map.a = {96.0 + 28.0, c, -s, 2.1e-6, 3.7e-5, -1.9e-5};
   map.b = {54.0 - 41.0, s, c, -1.3e-6, 2.2e-5, 4.1e-5};
   fieldcast::testing::atEverySimdLevel([&] {
-    double worst = 0.0;
-    constexpr int n = mapping::kMaxRunPx;
-    std::vector<float> xs(n), ys(n);
-    for (int row = 0; row < 1080; row += 7) {
-      const double v = row + 0.5;
-      for (int first = 0; first < 1920; first += n) {
-        mapping::quadraticRow(map.a, first, v, n, xs.data());
-        mapping::quadraticRow(map.b, first, v, n, ys.data());
-        for (int i = 0; i < n && first + i < 1920; ++i) {
-          const glm::dvec2 p = map({first + i + 0.5, v});
-          const auto k = static_cast<std::size_t>(i);
-          worst = std::max({worst, std::abs(xs[k] - p.x), std::abs(ys[k] - p.y)});
-        }
-      }
-    }
+    const double worst = largestRowError(
+        [&](int first, double v, int n, float* xs, float* ys) {
+          mapping::quadraticRow(map.a, first, v, n, xs);
+          mapping::quadraticRow(map.b, first, v, n, ys);
+        },
+        map);
     std::printf("largest error of the map's rows: %.2g px\n", worst);
     EXPECT_LT(worst, 1e-3);
   });
@@ -395,20 +408,8 @@ TEST(SimdLevels, TheHomographysRowsAreWithinAThousandthOfAPixelOfTheMap) {
   Homography h;
   h.h = {c, -s, 96.0 + 28.0, s, c, 54.0 - 41.0, 3.1e-5, -2.4e-5, 1.0};
   fieldcast::testing::atEverySimdLevel([&] {
-    double worst = 0.0;
-    constexpr int n = mapping::kMaxRunPx;
-    std::vector<float> xs(n), ys(n);
-    for (int row = 0; row < 1080; row += 7) {
-      const double v = row + 0.5;
-      for (int first = 0; first < 1920; first += n) {
-        mapping::homographyRow(h.h, first, v, n, xs.data(), ys.data());
-        for (int i = 0; i < n && first + i < 1920; ++i) {
-          const glm::dvec2 p = h({first + i + 0.5, v});
-          const auto k = static_cast<std::size_t>(i);
-          worst = std::max({worst, std::abs(xs[k] - p.x), std::abs(ys[k] - p.y)});
-        }
-      }
-    }
+    const double worst = largestRowError(
+        [&](int first, double v, int n, float* xs, float* ys) { mapping::homographyRow(h.h, first, v, n, xs, ys); }, h);
     std::printf("largest error of the homography's rows: %.2g px\n", worst);
     EXPECT_LT(worst, 1e-3);
   });
