@@ -243,8 +243,8 @@ class ColumnCast {
     const int s = mSink.s;
     for (int n = 0; n < rows.count; ++n) {
       const RowsPassedOver::Span& span = rows.spans[n];
-      for (int q = span.hi / s * s + s - 1; q >= span.lo / s * s;
-           --q) {  // hi < rows·s: its pixel's top is in the frame
+      // Whole pixels: hi < rows·s, so its pixel's top sub-row is in the frame
+      for (int q = span.hi / s * s + s - 1; q >= span.lo / s * s; --q) {
         bool havePrev = false;
         glm::dvec2 prevHit{0.0};
         MarchHit hit;
