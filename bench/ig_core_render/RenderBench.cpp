@@ -266,6 +266,8 @@ void BM_RenderObjects(benchmark::State& state) {
   // Height samples per pixel: the objects' share of the extra work is the march's
   state.counters["steps_per_px"] = static_cast<double>(stats.steps) / static_cast<double>(stats.pixels);
   state.counters["bare_steps_per_px"] = static_cast<double>(bareStats.steps) / static_cast<double>(bareStats.pixels);
+  // Rays per pixel: above 1 where rows are cast again ray by ray (the look past crossings)
+  state.counters["rays_per_px"] = static_cast<double>(stats.rays) / static_cast<double>(stats.pixels);
 }
 
 // ---- Entities -------------------------------------------------------------------------------------
