@@ -14,7 +14,8 @@
 // render_objects: the four poses over a wood and over a village of the built-in terrain, the
 // furnished terrain against the same land bare (spec.objects = false), frames alternated in one
 // run, 720×486 on 2 threads: objects_ms, bare_ms (medians) and their ratio, the secondary rays
-// one furnished frame cast through complex sticks, and both frames' height samples per pixel.
+// one furnished frame cast through complex sticks, both frames' height samples per pixel, and the
+// furnished frame's rays per pixel (above 1 where the look past crossings casts rows again).
 //
 // render_entities: the four poses over the village with ten vans (config/models/van.vox) on the
 // ground in view, against the same frames without them, alternated: entities_ms, without_ms, ratio.

@@ -62,11 +62,7 @@ inline const StickVoxel& crossingStick(const CasterFrame& f, CasterThread& t, Ti
       x.stick = StickVoxel{};
       return x.stick;
     }
-    const auto stickOf = [&](std::size_t index) {
-      const std::uint32_t id = tile.stickId[index];
-      return id != 0 ? StickVoxel{id, tile.heightQ[index], x.level} : StickVoxel{};
-    };
-    x.stick = colouringStick(stickOf(index0), stickOf(index1));
+    x.stick = colouringStick(tileStick(tile, index0, x.level), tileStick(tile, index1, x.level));
     return x.stick;
   }
   x.stick = colouringStick(windowStick(f, t, w, x.level, vx, vy),

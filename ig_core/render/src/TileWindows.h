@@ -94,6 +94,13 @@ inline std::uint16_t windowHeight(const CasterFrame& f, CasterThread& t, TileWin
   return w.tile[l]->heightQ[((y - w.y0[l]) << f.tileShift) + (x - w.x0[l])];
 }
 
+/// The stick of voxel `index` (row-major) of `tile`, a tile of `level` with stick ids: none where its
+/// id is 0.
+inline StickVoxel tileStick(const TerrainTile& tile, std::size_t index, int level) noexcept {
+  const std::uint32_t id = tile.stickId[index];
+  return id != 0 ? StickVoxel{id, tile.heightQ[index], level} : StickVoxel{};
+}
+
 /// The stick of voxel (x, y) of `level` through the window (ray_march::stickAt).
 inline StickVoxel windowStick(const CasterFrame& f, CasterThread& t, TileWindows& w, int level, int x, int y) noexcept {
   if (!windowFor(f, t, w, level, x, y)) return ray_march::stickAt(f, t, level, x, y);
@@ -101,9 +108,7 @@ inline StickVoxel windowStick(const CasterFrame& f, CasterThread& t, TileWindows
   if (tile.stickId == nullptr) return {};
   const auto index = static_cast<std::size_t>(((y - w.y0[static_cast<std::size_t>(level)]) << f.tileShift) +
                                               (x - w.x0[static_cast<std::size_t>(level)]));
-  if (!tile.hasStick(index)) return {};
-  const std::uint32_t id = tile.stickId[index];
-  return id != 0 ? StickVoxel{id, tile.heightQ[index], level} : StickVoxel{};
+  return tile.hasStick(index) ? tileStick(tile, index, level) : StickVoxel{};
 }
 
 }  // namespace fieldcast::core
