@@ -128,6 +128,11 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
   };
   for (int restart = 0; restart < 16 && front.seeThrough; ++restart) {
     const glm::ivec2 start = columnOf(front.depthM);
+    // A start over its column's box may fall onto it; one inside it (the hit lies on the surface
+    // between voxel centres, which may dip under a box's top) did not enter it
+    const bool startAbove =
+        start.x >= 0 && start.y >= 0 && start.x < g.widthVox && start.y < g.heightVox &&
+        (eye.z + front.depthM * d.z - g.heightBaseM) / g.heightStepM >= view.sample(0, start.x, start.y).heightQ;
     glm::ivec2 last = start;
     int lastTexel = -1, free = 0;
     double depth = front.depthM + 0.5 * step;
@@ -147,7 +152,7 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
         last = at;
         lastTexel = -1;
       }
-      if (at == start && !complex) continue;  // the hit lies between voxel centres: not its box
+      if (at == start && !complex && !startAbove) continue;  // the hit lies between voxel centres: not its box
       if (!complex) {
         if (zQ < v.heightQ) {
           if (v.stickId == 0) return done(view.colourRgba(0, at.x, at.y), depth);

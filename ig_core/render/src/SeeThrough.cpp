@@ -131,13 +131,16 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
         if (const std::optional<SeenThrough> beyond = marchOn(s)) return *beyond;
         if (restarted) continue;  // on from a see-through texel further along
       }
-      // Solid below its top: entered through its side, or through its top on the way down. (Not
-      // the start column: the hit lies on the surface between voxel centres, which may dip under
-      // a box's top.)
+      // Solid below its top: entered through its side, or through its top on the way down. The
+      // start column only through its top, from a start above it: the hit lies on the surface
+      // between voxel centres, which may dip under a box's top, and a start inside the box did
+      // not enter it. (Past a stick's edge the hit lies at the height of the stick's cavity over
+      // the ground beside it: the ray falls onto that ground, not through it.)
       double sHit = inf;
-      if (!first && zAt(s) < top) {
+      const bool above = zAt(s) >= top;
+      if (!above && !first) {
         sHit = s;
-      } else if (!first && gz < 0.0 && zAt(sOut) < top) {
+      } else if (above && gz < 0.0 && zAt(sOut) < top) {
         sHit = std::max(s, sAtZ(top));
       }
       if (sHit <= sOut) {
