@@ -152,7 +152,7 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
         last = at;
         lastTexel = -1;
       }
-      if (at == start && !complex && !startAbove) continue;  // the hit lies between voxel centres: not its box
+      if (at == start && !complex && !startAbove) continue;  // a start inside its box: not its box's hit
       if (!complex) {
         if (zQ < v.heightQ) {
           if (v.stickId == 0) return done(view.colourRgba(0, at.x, at.y), depth);

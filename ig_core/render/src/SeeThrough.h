@@ -4,11 +4,13 @@
 // from its hit as a secondary ray. Near objects the height field cannot say what lies under a
 // crown or a deck, so the secondary ray walks level-0 voxel columns as boxes (Amanatides & Woo):
 // a column is solid below its top where its stick's texel at that depth is opaque, and below a
-// complex stick's foot (the ground, in the voxel's colour); the column it starts in only through
-// its top, from a start above it (the hit lies on the surface between voxel centres, which may dip
-// under a box's top); semi-transparent texels are blended front to back. Two stick-free columns in a row, above the height field's surface there, and it
-// has left the objects: the per-ray march (RayMarch.h) takes it on from there over the terrain. Only level 0 sees
-// through (coarser levels' cavities are filled), so far objects cost no secondary ray. Private to ig_core.
+// complex stick's foot (the ground, in the voxel's colour); the column it starts in, unless it
+// holds a complex stick (whose texels are walked from the start), only through its top from a
+// start above it (the hit lies on the surface between voxel centres, which may dip under a box's
+// top); semi-transparent texels are blended front to back. Two stick-free columns in a row, above
+// the height field's surface there, and it has left the objects: the per-ray march (RayMarch.h)
+// takes it on from there over the terrain. Only level 0 sees through (coarser levels' cavities are
+// filled), so far objects cost no secondary ray. Private to ig_core.
 
 #include "ColumnCaster.h"
 #include "TileWindows.h"

@@ -151,10 +151,11 @@ TEST(SeeThrough, HazedAndLitByAnotherSunTheCasterStillSeesWhatTheReferenceSees) 
 }
 
 // How far below `groundM` the points of `frame` (each pixel's range along its ray) lie: the pixels
-// more than `toleranceM` below, and the deepest.
+// more than `toleranceM` below, and the deepest; and the pixels that see no terrain.
 struct UnderGround {
   int pixels = 0;
   double deepestM = 0.0;
+  int sky = 0;
 };
 UnderGround underGround(const Frame& frame, const TerrainGeometry& g, const RenderSettings& settings, double groundM,
                         double toleranceM) {
@@ -163,7 +164,10 @@ UnderGround underGround(const Frame& frame, const TerrainGeometry& g, const Rend
   for (int v = 0; v < frame.intrinsics.heightPx; ++v) {
     for (int u = 0; u < frame.intrinsics.widthPx; ++u) {
       const float range = frame.rangeM[static_cast<std::size_t>(v * frame.intrinsics.widthPx + u)];
-      if (std::isinf(range)) continue;
+      if (std::isinf(range)) {
+        ++under.sky;
+        continue;
+      }
       const glm::dvec3 p =
           frame.pose.positionM + static_cast<double>(range) * glm::normalize(geo.ray(u + 0.5, v + 0.5));
       under.pixels += p.z < groundM - toleranceM;
@@ -201,6 +205,7 @@ TEST(SeeThrough, PastTheDecksEdgeTheRayFallsOntoTheGroundBesideIt) {
     EXPECT_GT(stats.secondaryRays, 0u) << s.name;
     EXPECT_EQ(under.pixels, 0) << s.name;
     EXPECT_EQ(underRef.pixels, 0) << s.name;
+    EXPECT_EQ(under.sky + underRef.sky, 0) << s.name << ": every pixel looks down onto the terrain";
   }
 }
 
