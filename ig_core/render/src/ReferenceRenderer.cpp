@@ -126,26 +126,26 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
     return glm::ivec2{static_cast<int>(std::floor((p.x - g.originM.x) / g.spacingM + 0.5)),
                       static_cast<int>(std::floor((p.y - g.originM.y) / g.spacingM + 0.5))};
   };
+  const auto inGrid = [&](glm::ivec2 at) { return at.x >= 0 && at.y >= 0 && at.x < g.widthVox && at.y < g.heightVox; };
+  const auto heightQAt = [&](double depth) { return (eye.z + depth * d.z - g.heightBaseM) / g.heightStepM; };
   for (int restart = 0; restart < 16 && front.seeThrough; ++restart) {
     const glm::ivec2 start = columnOf(front.depthM);
     // A start over its column's box may fall onto it; one inside it (the hit lies on the surface
     // between voxel centres, which may dip under a box's top) did not enter it
-    const bool startAbove =
-        start.x >= 0 && start.y >= 0 && start.x < g.widthVox && start.y < g.heightVox &&
-        (eye.z + front.depthM * d.z - g.heightBaseM) / g.heightStepM >= view.sample(0, start.x, start.y).heightQ;
+    const bool startAbove = inGrid(start) && heightQAt(front.depthM) >= view.sample(0, start.x, start.y).heightQ;
     glm::ivec2 last = start;
     int lastTexel = -1, free = 0;
     double depth = front.depthM + 0.5 * step;
     bool handOff = false;
     for (; depth < front.depthM + 1e6; depth += step) {
       const glm::ivec2 at = columnOf(depth);
-      if (at.x < 0 || at.y < 0 || at.x >= g.widthVox || at.y >= g.heightVox) {
+      if (!inGrid(at)) {
         handOff = true;
         break;
       }
       const TerrainView::Sample v = view.sample(0, at.x, at.y);
       const glm::dvec3 p = eye + depth * d;
-      const double zQ = (p.z - g.heightBaseM) / g.heightStepM;
+      const double zQ = heightQAt(depth);
       const bool complex = v.stickId != 0 && table.entry(v.stickId).kind == StickKind::Complex;
       if (at != last) {
         free = v.stickId == 0 ? free + 1 : 0;
