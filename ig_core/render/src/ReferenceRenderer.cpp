@@ -128,11 +128,26 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
   };
   const auto inGrid = [&](glm::ivec2 at) { return at.x >= 0 && at.y >= 0 && at.x < g.widthVox && at.y < g.heightVox; };
   const auto heightQAt = [&](double depth) { return (eye.z + depth * d.z - g.heightBaseM) / g.heightStepM; };
+  const auto isComplex = [&](const TerrainView::Sample& v) {
+    return v.stickId != 0 && table.entry(v.stickId).kind == StickKind::Complex;
+  };
+  // Column `v` met at height zQ: a plain column's colour, or its stick's texel there
+  const auto solidAt = [&](const TerrainView::Sample& v, glm::ivec2 at, double zQ, double depth) {
+    if (v.stickId == 0) return done(view.colourRgba(0, at.x, at.y), depth);
+    return done(stickTexel(table.texels(v.stickId, 0),
+                           stickTexelCoordinate(StickVoxel{v.stickId, v.heightQ, 0}, zQ, unitsPerQ)),
+                depth);
+  };
   for (int restart = 0; restart < 16 && front.seeThrough; ++restart) {
     const glm::ivec2 start = columnOf(front.depthM);
-    // A start over its column's box may fall onto it; one inside it (the hit lies on the surface
-    // between voxel centres, which may dip under a box's top) did not enter it
-    const bool startAbove = inGrid(start) && heightQAt(front.depthM) >= view.sample(0, start.x, start.y).heightQ;
+    // A start over its column's box may fall onto it. One inside it (the hit lies on the surface
+    // between voxel centres, which may dip under a box's top) did not enter it and passes through,
+    // unless it leaves the column under that surface or, going down, never leaves it: then it is
+    // met where it starts.
+    const TerrainView::Sample startColumn = inGrid(start) ? view.sample(0, start.x, start.y) : TerrainView::Sample{};
+    const double startQ = heightQAt(front.depthM);
+    const bool insideStart = inGrid(start) && !isComplex(startColumn) && startQ < startColumn.heightQ;
+    bool inStart = true;
     glm::ivec2 last = start;
     int lastTexel = -1, free = 0;
     double depth = front.depthM + 0.5 * step;
@@ -146,20 +161,26 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
       const TerrainView::Sample v = view.sample(0, at.x, at.y);
       const glm::dvec3 p = eye + depth * d;
       const double zQ = heightQAt(depth);
-      const bool complex = v.stickId != 0 && table.entry(v.stickId).kind == StickKind::Complex;
+      const bool complex = isComplex(v);
       if (at != last) {
         free = v.stickId == 0 ? free + 1 : 0;
         last = at;
         lastTexel = -1;
       }
-      if (at == start && !complex && !startAbove) continue;  // a start inside its box: not its box's hit
-      if (!complex) {
-        if (zQ < v.heightQ) {
-          if (v.stickId == 0) return done(view.colourRgba(0, at.x, at.y), depth);
-          return done(stickTexel(table.texels(v.stickId, 0),
-                                 stickTexelCoordinate(StickVoxel{v.stickId, v.heightQ, 0}, zQ, unitsPerQ)),
-                      depth);
+      if (zQ > 65535.0 && d.z > 0.0) {  // above every height, climbing (a ray straight up never leaves its column)
+        handOff = true;
+        break;
+      }
+      const bool leaving = inStart && at != start;  // the first sample past the start column
+      inStart = inStart && at == start;
+      if (insideStart) {
+        if (inStart && zQ >= 0.0) continue;  // not its box's hit
+        if (inStart || (leaving && p.z < view.heightAtM(p.x, p.y, 0))) {
+          return solidAt(startColumn, start, startQ, front.depthM);
         }
+      }
+      if (!complex) {
+        if (zQ < v.heightQ) return solidAt(v, at, zQ, depth);
         if (free >= 2 && p.z > view.heightAtM(p.x, p.y, 0)) {
           handOff = true;
           break;

@@ -84,6 +84,12 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
     return a + fy * (b - a);
   };
 
+  // The sky or base plane a ray that meets nothing more sees
+  const auto missedAll = [&] {
+    float range;
+    const Rgb missed = f.missed(d.z, length, range);
+    return finish(missed, range);
+  };
   // The per-ray march from depth `from` on. Done: what it meets, or the sky or base plane it
   // misses to. Not done: it went back before `from` (it retraces a start under the surface, and
   // its grid line before the start can lie on the slope of an object just passed), or it met a
@@ -93,11 +99,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   const auto marchOn = [&](double from) -> std::optional<SeenThrough> {
     if (onGrid < 0) onGrid = setupLine(f, d, line) ? 1 : 0;
     const MarchHit h = onGrid != 0 ? march(f, t, line, from * line.aMaj) : MarchHit{};
-    if (!h.hit) {
-      float range;
-      const Rgb missed = f.missed(d.z, length, range);
-      return finish(missed, range);
-    }
+    if (!h.hit) return missedAll();
     const double depth = h.m / line.aMaj;
     if (depth < from * (1.0 - 1e-9)) return std::nullopt;
     std::uint32_t texel = 0xFF000000u;
@@ -133,18 +135,23 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
         if (restarted) continue;  // on from a see-through texel further along
       }
       // Solid below its top: entered through its side, or through its top on the way down. The
-      // start column only through its top, from a start above it: the hit lies on the surface
-      // between voxel centres, which may dip under a box's top, and a start inside the box did
-      // not enter it. (Past a stick's edge the hit lies at the height of the stick's cavity over
-      // the ground beside it: the ray falls onto that ground, not through it.)
+      // start column through its top from a start above it (past a stick's edge the hit lies at
+      // the height of the stick's cavity over the ground beside it: the ray falls onto that
+      // ground, not through it). A start inside its box (the hit lies on the surface between voxel
+      // centres, which may dip under a box's top) did not enter it and passes through, unless it
+      // would leave the column under that surface (steeply down on a slope; a vertical ray never
+      // leaves): then it is met where it starts, not on a side metres under the ground.
       double sHit = inf;
       const bool above = zAt(s) >= top;
       if (!above && !first) {
         sHit = s;
-      } else if (above && gz < 0.0 && zAt(sOut) < top) {
+      } else if (!above) {
+        const bool leavesAbove = sOut < inf ? zAt(sOut) >= surfaceAt(sOut) : gz > 0.0;
+        if (!leavesAbove) sHit = s;
+      } else if (gz < 0.0 && zAt(sOut) < top) {
         sHit = std::max(s, sAtZ(top));
       }
-      if (sHit <= sOut) {
+      if (sHit < inf) {
         if (stick.id == 0) return solid(sHit, windowColour(f, t, window, 0, i, j));
         const double zHit = std::min(zAt(sHit), top);
         return solid(sHit, stickTexel(f.sticks->texels(stick.id, stick.level),
@@ -177,7 +184,9 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
         }
       }
     }
-    // The next column
+    // The next column. A vertical ray has none: going down it has met its column, going up it
+    // climbs clear of the terrain.
+    if (sOut == inf) return missedAll();
     if (nextX < nextY) {
       s = nextX;
       nextX += dsX;

@@ -1,7 +1,10 @@
 // Complex sticks drawn by both renderers: a red deck on a cavity (a bridge, a table) and a block
 // of half-transparent glass, in front of a blue wall. Through the cavity and the glass the rays go
 // on as secondary rays; far away the cavities are filled and no ray goes through.
+#include "ColumnCaster.h"
 #include "RenderTestUtil.h"
+#include "SeeThrough.h"
+#include "TileWindows.h"
 
 #include <ig_core/MemoryTerrain.h>
 #include <ig_core/Renderer.h>
@@ -30,8 +33,9 @@ constexpr double kGroundM = 100.0;
 // 256² voxels at 2 m, flat at 100 m, 64-voxel tiles. A deck of 8 × 8 voxels at (100..107,
 // 120..127) — world x 200..214, y 240..254 —, 6 m tall: 1 m of red over a 5 m cavity. A glass
 // pane of 6 × 1 at (140..145, 120), 8 m, every texel half transparent. A blue wall 20 m
-// tall along y 300..302 (voxels 60..199, 150..151) behind both.
-std::unique_ptr<MemoryTerrain> deckAndGlass(double groundM = kGroundM) {
+// tall along y 300..302 (voxels 60..199, 150..151) behind both. The ground may slope, rising
+// `riseX` and `riseY` metres a voxel east and north from `groundM` at voxel (0, 0).
+std::unique_ptr<MemoryTerrain> deckAndGlass(double groundM = kGroundM, double riseX = 0.0, double riseY = 0.0) {
   constexpr int kSide = 256;
   TerrainGeometry g;
   g.widthVox = g.heightVox = kSide;
@@ -39,7 +43,12 @@ std::unique_ptr<MemoryTerrain> deckAndGlass(double groundM = kGroundM) {
   g.heightStepM = 0.05;
   g.tileShift = 6;
   g.levels = 0;  // as many as fit: 256, 128, 64
-  std::vector<std::uint16_t> heightQ(kSide * kSide, static_cast<std::uint16_t>(groundM / g.heightStepM));
+  const auto groundQ = [&](int i, int j, double aboveM) {
+    return static_cast<std::uint16_t>(std::lround((groundM + riseX * i + riseY * j + aboveM) / g.heightStepM));
+  };
+  std::vector<std::uint16_t> heightQ(kSide * kSide);
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) heightQ[static_cast<std::size_t>(j * kSide + i)] = groundQ(i, j, 0.0);
   std::vector<std::uint32_t> colour(kSide * kSide, kGround);
   std::vector<std::uint32_t> stickId(kSide * kSide, 0);
   std::vector<std::uint32_t> deck{kRed, kRed};
@@ -52,7 +61,7 @@ std::unique_ptr<MemoryTerrain> deckAndGlass(double groundM = kGroundM) {
     for (int j = j0; j < j0 + h; ++j)
       for (int i = i0; i < i0 + w; ++i) {
         const auto k = static_cast<std::size_t>(j * kSide + i);
-        heightQ[k] = static_cast<std::uint16_t>((groundM + heightM) / g.heightStepM);
+        heightQ[k] = groundQ(i, j, heightM);
         stickId[k] = id;  // the voxel's colour stays the ground's: what shows below a complex stick
       }
   };
@@ -150,15 +159,17 @@ TEST(SeeThrough, HazedAndLitByAnotherSunTheCasterStillSeesWhatTheReferenceSees) 
   }
 }
 
-// How far below `groundM` the points of `frame` (each pixel's range along its ray) lie: the pixels
-// more than `toleranceM` below, and the deepest; and the pixels that see no terrain.
+// How far below the ground the points of `frame` (each pixel's range along its ray) lie: the pixels
+// more than `toleranceM` below, and the deepest; and the pixels that see no terrain. The ground is
+// `groundM` at voxel (0, 0), rising `riseX` and `riseY` metres a voxel east and north (a plane: its
+// bilinear surface between voxel centres is the plane itself).
 struct UnderGround {
   int pixels = 0;
   double deepestM = 0.0;
   int sky = 0;
 };
 UnderGround underGround(const Frame& frame, const TerrainGeometry& g, const RenderSettings& settings, double groundM,
-                        double toleranceM) {
+                        double toleranceM, double riseX = 0.0, double riseY = 0.0) {
   const ViewGeometry geo(frame.pose, frame.intrinsics, g, settings);
   UnderGround under;
   for (int v = 0; v < frame.intrinsics.heightPx; ++v) {
@@ -170,8 +181,10 @@ UnderGround underGround(const Frame& frame, const TerrainGeometry& g, const Rend
       }
       const glm::dvec3 p =
           frame.pose.positionM + static_cast<double>(range) * glm::normalize(geo.ray(u + 0.5, v + 0.5));
-      under.pixels += p.z < groundM - toleranceM;
-      under.deepestM = std::max(under.deepestM, groundM - p.z);
+      const double ground =
+          groundM + riseX * (p.x - g.originM.x) / g.spacingM + riseY * (p.y - g.originM.y) / g.spacingM;
+      under.pixels += p.z < ground - toleranceM;
+      under.deepestM = std::max(under.deepestM, ground - p.z);
     }
   }
   return under;
@@ -206,6 +219,83 @@ TEST(SeeThrough, PastTheDecksEdgeTheRayFallsOntoTheGroundBesideIt) {
     EXPECT_EQ(under.pixels, 0) << s.name;
     EXPECT_EQ(underRef.pixels, 0) << s.name;
     EXPECT_EQ(under.sky + underRef.sky, 0) << s.name << ": every pixel looks down onto the terrain";
+  }
+}
+
+// The deck on ground sloping up to the north-east. Past its uphill edges a ray meets the surface
+// between the deck's edge voxel and the ground voxel beside it at the height of the cavity, below
+// that ground voxel's top where the slope falls away across the ray (the surface between voxel
+// centres dips under a box's top). The secondary ray starts inside the ground voxel's box; going
+// steeply down it leaves that box under the ground, and the next column it meets is not what the
+// ray sees (the walk once met its side metres down). No pixel may lie under the sloping ground.
+TEST(SeeThrough, OnASlopeARayStartingInsideTheGroundsBoxStaysOnTheGround) {
+  constexpr double kRiseX = 0.5, kRiseY = 1.0;
+  const auto terrain = deckAndGlass(kGroundM, kRiseX, kRiseY);
+  const TerrainView& view = terrain->view();
+  RenderSettings settings;
+  settings.rangeImage = true;
+  settings.hazeRangeM = 0.0;
+  Renderer renderer(view, settings, 2);
+  const ReferenceRenderer reference(view);
+  // Over the deck's north-east corner (voxel 107, 127: ground 280.5 m), looking down
+  const double cornerGroundM = kGroundM + kRiseX * 107 + kRiseY * 127;
+  for (const double pitchDeg : {-70.0, -89.0, -90.0}) {
+    ViewRequest request;
+    request.pose.positionM = {215.0, 255.0, cornerGroundM + 40.0};
+    request.pose.headingRad = radians(200.0);
+    request.pose.pitchRad = radians(pitchDeg);
+    request.display = Intrinsics::fromHorizontalFov(161, 121, radians(50.0));
+    RenderStats stats;
+    const Frame fast = renderer.render(request, &stats);
+    const Frame ref = reference.render(request, settings);
+    // The walk's boxes have flat tops: on this slope a box's top lies up to (0.5 + 1.0) / 2 m under
+    // the plane at its corners. Allowed that, and 1 cm (the caster) or the reference's sample step.
+    const UnderGround under = underGround(fast, view.geometry(), settings, kGroundM, 0.76, kRiseX, kRiseY);
+    const UnderGround underRef = underGround(ref, view.geometry(), settings, kGroundM, 0.8, kRiseX, kRiseY);
+    std::printf("pitch %5.1f %llu secondary rays; under the ground: %d pixels, deepest %.3f m (reference %d, %.3f m)\n",
+                pitchDeg, static_cast<unsigned long long>(stats.secondaryRays), under.pixels, under.deepestM,
+                underRef.pixels, underRef.deepestM);
+    EXPECT_GT(stats.secondaryRays, 0u) << pitchDeg;
+    EXPECT_EQ(under.pixels, 0) << pitchDeg;
+    EXPECT_EQ(underRef.pixels, 0) << pitchDeg;
+    EXPECT_EQ(under.sky + underRef.sky, 0) << pitchDeg << ": every pixel looks down onto the terrain";
+  }
+}
+
+// A secondary ray straight down or up never leaves the column it starts in. Started inside the
+// box of a ground voxel on the slope (voxel 108, 127: its top 281 m; the start 0.5 m under it):
+// going down it is met where it starts, in the ground's colour; going up it climbs clear into the
+// sky. (A walk that waited for the ray to leave the column returned an infinite range for both.)
+TEST(SeeThrough, AVerticalSecondaryRayEndsInItsOwnColumn) {
+  const auto terrain = deckAndGlass(kGroundM, 0.5, 1.0);
+  const TerrainView& view = terrain->view();
+  RenderSettings settings;
+  settings.hazeRangeM = 0.0;
+  const Intrinsics k = Intrinsics::fromHorizontalFov(161, 121, radians(50.0));
+  const glm::dvec2 start{215.4, 253.4};  // over voxel (107.7, 126.7): column (108, 127)
+  const double startZ = 280.5;
+  for (const double dz : {-1.0, 1.0}) {
+    Pose pose;
+    pose.positionM = {start.x, start.y, startZ - 40.0 * dz};
+    pose.pitchRad = radians(90.0 * dz);
+    const ViewGeometry geo(pose, k, view.geometry(), settings);
+    const CasterFrame f(view, geo, settings, terrainCeilingQ(view), basePlaneColour(view), nullptr, nullptr);
+    CasterThread t;
+    TileWindows window;
+    const SeenThrough seen = seeThrough(f, t, glm::dvec3{0.0, 0.0, dz}, 40.0, window);
+    const Rgb c = seen.colour;
+    std::printf("straight %s: range %.2f m, colour %.0f %.0f %.0f\n", dz < 0 ? "down" : "up", seen.rangeM, c.v[0],
+                c.v[1], c.v[2]);
+    if (dz < 0) {
+      EXPECT_FLOAT_EQ(seen.rangeM, 40.0f) << "met where it starts";
+      const Rgb ground = unpackRgb(kGround);
+      for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(c.v[ch], ground.v[ch], 30.0f) << "the ground's colour, lit";
+    } else {
+      EXPECT_TRUE(std::isinf(seen.rangeM)) << "the sky";
+      float skyRange = 0.0f;
+      const Rgb sky = f.missed(1.0, 1.0, skyRange);
+      for (int ch = 0; ch < 3; ++ch) EXPECT_FLOAT_EQ(c.v[ch], sky.v[ch]) << "the sky straight up";
+    }
   }
 }
 
