@@ -41,6 +41,15 @@ inline unsigned flagBits(const std::uint8_t* flags) noexcept {
   return static_cast<unsigned>((bytes * 0x0102040810204080ull) >> 56);
 }
 
+// The bits set in an 8-bit mask. (std::popcount is a library call on the baseline SSE2 target,
+// which has no popcnt instruction: 2% of a frame's time.)
+constexpr unsigned bitsSet8(unsigned x) noexcept {
+  x -= (x >> 1) & 0x55u;
+  x = (x & 0x33u) + ((x >> 2) & 0x33u);
+  return (x + (x >> 4)) & 0x0Fu;
+}
+static_assert(bitsSet8(0) == 0 && bitsSet8(0xFF) == 8 && bitsSet8(0xA5) == 4 && bitsSet8(0x80) == 1);
+
 // The grid line the block is on, and what the lanes share there: the camera's axes and position
 // are the same for every column, so a point's camera coordinates (yc, zc) are too.
 struct BlockLine {
@@ -439,7 +448,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
       for (int w = 0; w < kLaneColumns / 8; ++w) {
         const unsigned inWord = (marchingLanes >> (8 * w)) & 0xFFu;  // the word's marching lanes
         const unsigned solved = flagBits(line.solved + 8 * w);
-        stepsOfLines += 2 * static_cast<std::uint64_t>(std::popcount(solved & inWord));
+        stepsOfLines += 2 * static_cast<std::uint64_t>(bitsSet8(solved & inWord));
         events |= ((~solved | flagBits(line.fills + 8 * w) | flagBits(line.overTerrain + 8 * w)) & inWord) << (8 * w);
       }
       for (; events != 0; events &= events - 1) {
