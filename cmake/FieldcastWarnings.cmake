@@ -18,5 +18,9 @@ add_library(fieldcast::arch ALIAS fieldcast_arch)
 # the golden images would differ between a native and a portable build.
 target_compile_options(fieldcast_arch INTERFACE -ffp-contract=off)
 if(FIELDCAST_NATIVE)
+  # Highway 1.0.3 (Debian 12) leaves AVX3_DL out of its dynamic targets even when the baseline has
+  # it (a Zen 4 or Ice Lake's -march=native) and stops with "best baseline should be included in
+  # dynamic targets"; asking for AVX3_DL puts it back.
   target_compile_options(fieldcast_arch INTERFACE -march=native)
+  target_compile_definitions(fieldcast_arch INTERFACE HWY_WANT_AVX3_DL)
 endif()

@@ -16,9 +16,12 @@ struct NamedLevel {
   const char* name;
   std::int64_t targets;  // Highway's targets of this level
 };
-// One lane is HWY_SCALAR with GCC before 12.3 (which cannot build EMU128), else HWY_EMU128
+// AVX-512: Highway's AVX3, or its AVX3_DL where that is the baseline (a -march=native build on a
+// CPU that has it carries no other target). One lane is HWY_SCALAR with GCC before 12.3 (which
+// cannot build EMU128), else HWY_EMU128.
+constexpr std::int64_t kAvx512 = HWY_AVX3 | HWY_AVX3_DL;
 constexpr NamedLevel kLevels[] = {
-    {"avx512", HWY_AVX3},
+    {"avx512", kAvx512},
     {"avx2", HWY_AVX2},
     {"sse4", HWY_SSE4},
     {"ssse3", HWY_SSSE3},
@@ -74,7 +77,7 @@ bool simdVbmiEnabled() noexcept {
 
 std::string simdLevel() {
   const std::int64_t targets = runnableTargets();
-  if ((lowestBit(targets) & HWY_AVX3) && simdVbmiEnabled()) return kVbmiLevel;
+  if ((lowestBit(targets) & kAvx512) && simdVbmiEnabled()) return kVbmiLevel;
   for (const NamedLevel& level : kLevels)
     if (lowestBit(targets) & level.targets) return level.name;
   return hwy::TargetName(lowestBit(targets));  // a target without a name here
@@ -83,7 +86,7 @@ std::string simdLevel() {
 std::vector<std::string> simdLevels() {
   const std::int64_t available = availableTargets();
   std::vector<std::string> names;
-  if ((available & HWY_AVX3) && cpuHasVbmi()) names.emplace_back(kVbmiLevel);
+  if ((available & kAvx512) && cpuHasVbmi()) names.emplace_back(kVbmiLevel);
   for (const NamedLevel& level : kLevels)
     if (available & level.targets) names.emplace_back(level.name);
   return names;
@@ -96,8 +99,8 @@ void forceSimdLevel(std::string_view level) {
     gVbmiAllowed.store(true, std::memory_order_relaxed);
     return;
   }
-  if (level == kVbmiLevel && (available & HWY_AVX3) && cpuHasVbmi()) {
-    disableTargets(lowestBit(available & HWY_AVX3) - 1);
+  if (level == kVbmiLevel && (available & kAvx512) && cpuHasVbmi()) {
+    disableTargets(lowestBit(available & kAvx512) - 1);
     gVbmiAllowed.store(true, std::memory_order_relaxed);
     return;
   }
