@@ -20,7 +20,8 @@ target_compile_options(fieldcast_arch INTERFACE -ffp-contract=off)
 if(FIELDCAST_NATIVE)
   # Highway 1.0.3 (Debian 12) leaves AVX3_DL out of its dynamic targets even when the baseline has
   # it (a Zen 4 or Ice Lake's -march=native) and stops with "best baseline should be included in
-  # dynamic targets"; asking for AVX3_DL puts it back.
+  # dynamic targets"; asking for AVX3_DL puts it back (on a CPU without it, a target compiled and
+  # never run).
   target_compile_options(fieldcast_arch INTERFACE -march=native)
   target_compile_definitions(fieldcast_arch INTERFACE HWY_WANT_AVX3_DL)
 endif()

@@ -14,7 +14,7 @@ namespace fieldcast::HWY_NAMESPACE {
 const char* CompiledLevel() {
   switch (HWY_TARGET) {
     case HWY_AVX3:
-    case HWY_AVX3_DL:                                      // a native build's only target, on a CPU that has it
+    case HWY_AVX3_DL:                                      // only in a native build for a CPU that has it
       return simdVbmiEnabled() ? "avx512vbmi" : "avx512";  // VBMI: the kernels' own choice
     case HWY_AVX2: return "avx2";
     case HWY_SSE4: return "sse4";

@@ -59,7 +59,8 @@ std::int64_t availableTargets() {
 std::int64_t lowestBit(std::int64_t bits) { return bits & -bits; }
 
 // "avx512vbmi": Highway's AVX-512 target with the kernels' VBMI paths on. Highway 1.0 has no
-// target of its own for it (its AVX3_DL asks for AVX-VNNI too, which AMD's AVX-512 CPUs lack).
+// target of its own for it: its AVX3_DL asks for VNNI, VBMI2, VAES and more besides, and is
+// compiled only into a native build for a CPU that has them.
 constexpr const char* kVbmiLevel = "avx512vbmi";
 std::atomic<bool> gVbmiAllowed{true};  // off while a level below avx512vbmi is forced
 

@@ -42,7 +42,7 @@ inline unsigned flagBits(const std::uint8_t* flags) noexcept {
 }
 
 // The bits set in an 8-bit mask. (std::popcount is a library call on the baseline SSE2 target,
-// which has no popcnt instruction: 2% of a frame's time.)
+// which has no popcnt instruction: 1.4% of an HD horizon frame's profile samples.)
 constexpr unsigned bitsSet8(unsigned x) noexcept {
   x -= (x >> 1) & 0x55u;
   x = (x & 0x33u) + ((x >> 2) & 0x33u);

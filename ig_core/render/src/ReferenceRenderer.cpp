@@ -154,19 +154,8 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
     bool handOff = false;
     for (; depth < front.depthM + 1e6; depth += step) {
       const glm::ivec2 at = columnOf(depth);
-      if (!inGrid(at)) {
-        handOff = true;
-        break;
-      }
-      const TerrainView::Sample v = view.sample(0, at.x, at.y);
       const glm::dvec3 p = eye + depth * d;
       const double zQ = heightQAt(depth);
-      const bool complex = isComplex(v);
-      if (at != last) {
-        free = v.stickId == 0 ? free + 1 : 0;
-        last = at;
-        lastTexel = -1;
-      }
       if (zQ > 65535.0 && d.z > 0.0) {  // above every height, climbing (a ray straight up never leaves its column)
         handOff = true;
         break;
@@ -178,6 +167,17 @@ std::pair<Rgb, float> marchSeeThrough(const TerrainView& view, const Shading& sh
         if (inStart || (leaving && p.z < view.heightAtM(p.x, p.y, 0))) {
           return solidAt(startColumn, start, startQ, front.depthM);
         }
+      }
+      if (!inGrid(at)) {
+        handOff = true;
+        break;
+      }
+      const TerrainView::Sample v = view.sample(0, at.x, at.y);
+      const bool complex = isComplex(v);
+      if (at != last) {
+        free = v.stickId == 0 ? free + 1 : 0;
+        last = at;
+        lastTexel = -1;
       }
       if (!complex) {
         if (zQ < v.heightQ) return solidAt(v, at, zQ, depth);

@@ -59,8 +59,7 @@ SeenThrough seeThrough(const CasterFrame& f, CasterThread& t, const glm::dvec3& 
   const int width = f.levelWidth[0], height = f.levelHeight[0];
   // The walk: its depth s, column (i, j), the depths of the next column boundaries, the column it
   // started in (its hit lies on the surface between voxel centres, which may dip under a box's
-  // top: that box is tested only from a start above its top), and the stick-free columns in a row
-  // just walked.
+  // top: that box has rules of its own, below), and the stick-free columns in a row just walked.
   double s = 0.0, nextX = inf, nextY = inf;
   int i = 0, j = 0, startI = 0, startJ = 0, free = 0;
   bool restarted = false;  // the walk was started again further along (marchOn)

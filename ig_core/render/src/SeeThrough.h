@@ -7,7 +7,9 @@
 // complex stick's foot (the ground, in the voxel's colour); the column it starts in, unless it
 // holds a complex stick (whose texels are walked from the start), only through its top from a
 // start above it (the hit lies on the surface between voxel centres, which may dip under a box's
-// top); semi-transparent texels are blended front to back. Two stick-free columns in a row, above
+// top) — a start inside that box passes through it, but is met where it starts when it would
+// leave the column under that surface or, going down, never leave it (a vertical ray);
+// semi-transparent texels are blended front to back. Two stick-free columns in a row, above
 // the height field's surface there, and it has left the objects: the per-ray march (RayMarch.h)
 // takes it on from there over the terrain. Only level 0 sees through (coarser levels' cavities are
 // filled), so far objects cost no secondary ray. Private to ig_core.
