@@ -21,7 +21,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 void RgbToUyvyRow(const std::uint8_t* HWY_RESTRICT in, int widthPx, std::int32_t gainQ16,
                   std::uint8_t* HWY_RESTRICT out) {
   int x = 0;
-#if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL  // AVX3_DL: a native build for a CPU with it
+#if FIELDCAST_HWY_TARGET_IS_AVX512
   // At level avx512vbmi: byte permutes and 16-bit multiply-adds (PixelConversionVbmi.h)
   if (simdVbmiEnabled()) x = rgbToUyvyBlocksVbmi(in, widthPx, gainQ16, out);
 #endif

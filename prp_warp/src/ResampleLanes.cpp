@@ -40,7 +40,7 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
                         std::uint8_t* HWY_RESTRICT dst) {
   std::uint32_t violations = 0;
   int i = 0;
-#if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL  // AVX3_DL: a native build for a CPU with it
+#if FIELDCAST_HWY_TARGET_IS_AVX512
   // At level avx512vbmi: the frame's bytes staged in registers instead of gathered where they fit
   // (SampleBlockVbmi.h). A run whose blocks all fit ends here, before the gathers' constants are
   // made (returning here took the NTSC kernel from 300 to 287 µs, with six runs a row then).
@@ -85,7 +85,7 @@ std::uint32_t SampleRow(const Source& src, const float* HWY_RESTRICT xs, const f
   };
 #endif
   for (; i + lanes <= n; i += lanes) {
-#if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL  // AVX3_DL: a native build for a CPU with it
+#if FIELDCAST_HWY_TARGET_IS_AVX512
     if (offerNext) {
       // The staged blocks from here on, up to one it refuses: that one is gathered below
       i += sampleBlocksVbmi(src, C, xs + i, ys + i, n - i, dst + C * i, violations);

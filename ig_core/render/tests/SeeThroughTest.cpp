@@ -159,17 +159,21 @@ TEST(SeeThrough, HazedAndLitByAnotherSunTheCasterStillSeesWhatTheReferenceSees) 
   }
 }
 
+// The deck scene's ground: a plane, `atOriginM` at voxel (0, 0), rising `riseX` and `riseY` metres
+// a voxel east and north (its bilinear surface between voxel centres is the plane itself).
+struct GroundPlane {
+  double atOriginM = kGroundM, riseX = 0.0, riseY = 0.0;
+};
+
 // How far below the ground the points of `frame` (each pixel's range along its ray) lie: the pixels
-// more than `toleranceM` below, and the deepest; and the pixels that see no terrain. The ground is
-// `groundM` at voxel (0, 0), rising `riseX` and `riseY` metres a voxel east and north (a plane: its
-// bilinear surface between voxel centres is the plane itself).
+// more than `toleranceM` below, and the deepest; and the pixels that see no terrain.
 struct UnderGround {
   int pixels = 0;
   double deepestM = 0.0;
   int sky = 0;
 };
-UnderGround underGround(const Frame& frame, const TerrainGeometry& g, const RenderSettings& settings, double groundM,
-                        double toleranceM, double riseX = 0.0, double riseY = 0.0) {
+UnderGround underGround(const Frame& frame, const TerrainGeometry& g, const RenderSettings& settings,
+                        const GroundPlane& ground, double toleranceM) {
   const ViewGeometry geo(frame.pose, frame.intrinsics, g, settings);
   UnderGround under;
   for (int v = 0; v < frame.intrinsics.heightPx; ++v) {
@@ -181,13 +185,36 @@ UnderGround underGround(const Frame& frame, const TerrainGeometry& g, const Rend
       }
       const glm::dvec3 p =
           frame.pose.positionM + static_cast<double>(range) * glm::normalize(geo.ray(u + 0.5, v + 0.5));
-      const double ground =
-          groundM + riseX * (p.x - g.originM.x) / g.spacingM + riseY * (p.y - g.originM.y) / g.spacingM;
-      under.pixels += p.z < ground - toleranceM;
-      under.deepestM = std::max(under.deepestM, ground - p.z);
+      const double groundM = ground.atOriginM + ground.riseX * (p.x - g.originM.x) / g.spacingM +
+                             ground.riseY * (p.y - g.originM.y) / g.spacingM;
+      under.pixels += p.z < groundM - toleranceM;
+      under.deepestM = std::max(under.deepestM, groundM - p.z);
     }
   }
   return under;
+}
+
+// Renders `request` with both renderers (range images, no haze) and expects secondary rays, every
+// pixel on the terrain, and no pixel of the caster more than `toleranceM` (the reference
+// `toleranceRefM`) under `ground`.
+void expectNothingUnderTheGround(const TerrainView& view, const ViewRequest& request, const std::string& name,
+                                 const GroundPlane& ground, double toleranceM, double toleranceRefM) {
+  RenderSettings settings;
+  settings.rangeImage = true;
+  settings.hazeRangeM = 0.0;
+  Renderer renderer(view, settings, 2);
+  RenderStats stats;
+  const Frame fast = renderer.render(request, &stats);
+  const Frame ref = ReferenceRenderer(view).render(request, settings);
+  const UnderGround under = underGround(fast, view.geometry(), settings, ground, toleranceM);
+  const UnderGround underRef = underGround(ref, view.geometry(), settings, ground, toleranceRefM);
+  std::printf("%-13s %llu secondary rays; under the ground: %d pixels, deepest %.3f m (reference %d, %.3f m)\n",
+              name.c_str(), static_cast<unsigned long long>(stats.secondaryRays), under.pixels, under.deepestM,
+              underRef.pixels, underRef.deepestM);
+  EXPECT_GT(stats.secondaryRays, 0u) << name;
+  EXPECT_EQ(under.pixels, 0) << name;
+  EXPECT_EQ(underRef.pixels, 0) << name;
+  EXPECT_EQ(under.sky + underRef.sky, 0) << name << ": every pixel looks down onto the terrain";
 }
 
 // Looking down past the deck's edge, a ray meets the surface between an edge voxel of the deck and
@@ -197,28 +224,10 @@ UnderGround underGround(const Frame& frame, const TerrainGeometry& g, const Rend
 // under the ground. On the flat ground no pixel of either renderer may lie below it.
 TEST(SeeThrough, PastTheDecksEdgeTheRayFallsOntoTheGroundBesideIt) {
   const auto terrain = deckAndGlass();
-  const TerrainView& view = terrain->view();
-  RenderSettings settings;
-  settings.rangeImage = true;
-  settings.hazeRangeM = 0.0;
-  Renderer renderer(view, settings, 2);
-  const ReferenceRenderer reference(view);
   for (const DeckView& s : {kViews[2], DeckView{"straight down", 207.0, 247.0, 40.0, 30.0, -89.0, 160, 120}}) {
-    const ViewRequest request = requestFor(s);
-    RenderStats stats;
-    const Frame fast = renderer.render(request, &stats);
-    const Frame ref = reference.render(request, settings);
     // The caster's walk meets a box's top exactly; the reference samples the ray every 1/16 stick
     // voxel (3.1 cm here) and keeps the first sample inside
-    const UnderGround under = underGround(fast, view.geometry(), settings, kGroundM, 0.005);
-    const UnderGround underRef = underGround(ref, view.geometry(), settings, kGroundM, 0.04);
-    std::printf("%-13s %llu secondary rays; under the ground: %d pixels, deepest %.3f m (reference %d, %.3f m)\n",
-                s.name, static_cast<unsigned long long>(stats.secondaryRays), under.pixels, under.deepestM,
-                underRef.pixels, underRef.deepestM);
-    EXPECT_GT(stats.secondaryRays, 0u) << s.name;
-    EXPECT_EQ(under.pixels, 0) << s.name;
-    EXPECT_EQ(underRef.pixels, 0) << s.name;
-    EXPECT_EQ(under.sky + underRef.sky, 0) << s.name << ": every pixel looks down onto the terrain";
+    expectNothingUnderTheGround(terrain->view(), requestFor(s), s.name, GroundPlane{}, 0.005, 0.04);
   }
 }
 
@@ -229,37 +238,21 @@ TEST(SeeThrough, PastTheDecksEdgeTheRayFallsOntoTheGroundBesideIt) {
 // steeply down it leaves that box under the ground, and the next column it meets is not what the
 // ray sees (the walk once met its side metres down). No pixel may lie under the sloping ground.
 TEST(SeeThrough, OnASlopeARayStartingInsideTheGroundsBoxStaysOnTheGround) {
-  constexpr double kRiseX = 0.5, kRiseY = 1.0;
-  const auto terrain = deckAndGlass(kGroundM, kRiseX, kRiseY);
-  const TerrainView& view = terrain->view();
-  RenderSettings settings;
-  settings.rangeImage = true;
-  settings.hazeRangeM = 0.0;
-  Renderer renderer(view, settings, 2);
-  const ReferenceRenderer reference(view);
+  const GroundPlane slope{kGroundM, 0.5, 1.0};
+  const auto terrain = deckAndGlass(slope.atOriginM, slope.riseX, slope.riseY);
   // Over the deck's north-east corner (voxel 107, 127: ground 280.5 m), looking down
-  const double cornerGroundM = kGroundM + kRiseX * 107 + kRiseY * 127;
+  const double cornerGroundM = slope.atOriginM + slope.riseX * 107 + slope.riseY * 127;
   for (const double pitchDeg : {-70.0, -89.0, -90.0}) {
     ViewRequest request;
     request.pose.positionM = {215.0, 255.0, cornerGroundM + 40.0};
     request.pose.headingRad = radians(200.0);
     request.pose.pitchRad = radians(pitchDeg);
     request.display = Intrinsics::fromHorizontalFov(161, 121, radians(50.0));
-    RenderStats stats;
-    const Frame fast = renderer.render(request, &stats);
-    const Frame ref = reference.render(request, settings);
     // The walk's boxes have flat tops: on this slope a box's top lies up to (0.5 + 1.0) / 2 m under
     // the plane at its corners. Allowed that, and 1 cm (the caster) or 5 cm (the reference, whose
     // samples are 3.1 cm apart).
-    const UnderGround under = underGround(fast, view.geometry(), settings, kGroundM, 0.76, kRiseX, kRiseY);
-    const UnderGround underRef = underGround(ref, view.geometry(), settings, kGroundM, 0.8, kRiseX, kRiseY);
-    std::printf("pitch %5.1f %llu secondary rays; under the ground: %d pixels, deepest %.3f m (reference %d, %.3f m)\n",
-                pitchDeg, static_cast<unsigned long long>(stats.secondaryRays), under.pixels, under.deepestM,
-                underRef.pixels, underRef.deepestM);
-    EXPECT_GT(stats.secondaryRays, 0u) << pitchDeg;
-    EXPECT_EQ(under.pixels, 0) << pitchDeg;
-    EXPECT_EQ(underRef.pixels, 0) << pitchDeg;
-    EXPECT_EQ(under.sky + underRef.sky, 0) << pitchDeg << ": every pixel looks down onto the terrain";
+    expectNothingUnderTheGround(terrain->view(), request, "pitch " + std::to_string(static_cast<int>(pitchDeg)), slope,
+                                0.76, 0.8);
   }
 }
 

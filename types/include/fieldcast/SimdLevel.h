@@ -16,6 +16,10 @@
 #include <string_view>
 #include <vector>
 
+/// In a kernel's Highway per-target code: compiled for AVX-512, where its avx512vbmi paths may run
+/// (Highway's AVX3; or AVX3_DL, which only a FIELDCAST_NATIVE build for a CPU that has it carries).
+#define FIELDCAST_HWY_TARGET_IS_AVX512 (HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL)
+
 namespace fieldcast {
 
 /// The level the kernels dispatch to now.
