@@ -134,6 +134,37 @@ void BM_HubPublish(benchmark::State& state) {
 }
 BENCHMARK(BM_HubPublish)->ArgsProduct({{0, 1}, {1, 4}});  // one sink, four sinks
 
+// The field thread's cost with only a stills sink (the 1080i config's: a PNG every 300 fields):
+// the fields it passes over are not copied (FieldSink::wants), against BM_HubPublish's one copy.
+void BM_HubPublishStills(benchmark::State& state) {
+  const StreamFormat f = formatFor(state.range(0));
+  const auto dir = std::filesystem::temp_directory_path() / ("fieldcast_bench_stills_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  SinkHub hub(f, SinkHubOptions{3});
+  hub.add(std::make_unique<ImageFileSink>(ImageFileSinkOptions{dir, 300, ImageFileFormat::Png, "bench"}));
+  hub.start();
+  Field fields[2] = {fieldFor(f, 0), fieldFor(f, 1)};
+  std::uint64_t k = 0;
+  for (auto _ : state) {
+    Field& field = fields[k % 2];
+    field.fieldNumber = k++;
+    hub.publish(field);
+    if (field.fieldNumber % 300 == 0) {
+      // Fields come here far faster than at 59.94 Hz: let the still be written, untimed
+      state.PauseTiming();
+      while (hub.figures()[0].consumed < field.fieldNumber / 300 + 1) std::this_thread::yield();
+      state.ResumeTiming();
+    }
+  }
+  hub.stop();
+  const SinkFigures figures = hub.figures()[0];
+  std::filesystem::remove_all(dir);
+  state.SetLabel(f.widthPx == 720 ? "720x486i" : "1920x1080p");  // no bytes/s: most fields are not copied
+  state.counters["queued"] = static_cast<double>(figures.published - figures.passedOver);
+  state.counters["dropped"] = static_cast<double>(hub.droppedTotal());
+}
+BENCHMARK(BM_HubPublishStills)->Arg(0)->Arg(1)->Iterations(3000);  // 10 stills a run
+
 void BM_Y4m(benchmark::State& state) {
   const StreamFormat f = formatFor(state.range(0));
   Y4mSink sink({"/dev/null", state.range(1) == 420 ? Y4mChroma::C420 : Y4mChroma::C422});

@@ -7,6 +7,7 @@
 
 #include <fieldcast/Field.h>
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -30,6 +31,8 @@ class ContactSheetSink final : public FieldSink {
   std::string name() const override { return "contact_sheet"; }
   /// Creates the sheet's folder. Throws std::runtime_error naming it when it cannot.
   void open(const StreamFormat& format) override;
+  /// The run's first field (its time is the sheet's zero) and those on the sampling grid.
+  bool wants(const Field& field) const noexcept override;
   /// Keeps a thumbnail of `field` when its number falls on the sampling grid. Not RT-safe.
   SinkStatus consume(const Field& field) override;
   /// Writes the sheet when there is anything on it.
@@ -47,10 +50,12 @@ class ContactSheetSink final : public FieldSink {
     std::uint64_t fieldNumber = 0;
     double secondsFromStart = 0.0;
   };
+  bool onGrid(const Field& field) const noexcept;  // its number a multiple of keepEveryNth
+
   ContactSheetOptions mOptions;
   TimePoint mFirstDisplayTime{};
-  bool mHaveFirst = false;
-  std::vector<std::uint8_t> mRgb;  // the field being thumbnailed, as RGB
+  std::atomic<bool> mHaveFirst{false};  // written by consume(), read by wants() on the field thread
+  std::vector<std::uint8_t> mRgb;       // the field being thumbnailed, as RGB
   std::vector<Thumbnail> mCandidates;
 };
 

@@ -34,6 +34,14 @@ class FieldSink {
   /// on the worker thread before the first field. Throws with a message naming the resource and
   /// what went wrong; the hub then refuses to start.
   virtual void open(const StreamFormat& format) = 0;
+  /// Whether the sink takes `field` at all. Asked on the field thread before the field is queued,
+  /// so a sink that keeps only some fields (a still every N fields) costs no copy between them and
+  /// cannot lose the ones it keeps to a queue filled with fields it would pass over. Must be
+  /// RT-safe and read only what consume() does not write, or atomics. The default takes every field.
+  virtual bool wants(const Field& field) const noexcept {
+    (void)field;
+    return true;
+  }
   /// Emits one field (which matches the format given to open()). May block; must not throw for
   /// a consumer going away: return Ended and say why in endReason().
   virtual SinkStatus consume(const Field& field) = 0;

@@ -37,6 +37,8 @@ class ImageFileSink final : public FieldSink {
 
   std::string name() const override { return "images"; }
   void open(const StreamFormat& format) override;
+  /// Only the fields it writes: every Nth, and the next one after requestSnapshot().
+  bool wants(const Field& field) const noexcept override;
   SinkStatus consume(const Field& field) override;
   void close() override;
 
@@ -51,6 +53,8 @@ class ImageFileSink final : public FieldSink {
   std::string fileName(const Field& field) const;
 
  private:
+  bool due(const Field& field) const noexcept;  // its number a multiple of everyNth
+
   ImageFileSinkOptions mOptions;
   StreamFormat mFormat;
   std::vector<std::uint8_t> mRgb;

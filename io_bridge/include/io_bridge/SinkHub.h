@@ -1,7 +1,8 @@
 #pragma once
 // The fan-out from the field thread to the sinks. publish() copies the field once into a free
 // slot of a preallocated pool, queues that slot on each sink's bounded queue and wakes that sink's
-// worker; it never waits, never allocates and never fails. A sink whose queue is full loses that field (counted); a
+// worker; it never waits, never allocates and never fails. A field no sink wants
+// (FieldSink::wants) is not copied. A sink whose queue is full loses that field (counted); a
 // sink that ends (broken pipe) is logged once and skipped from then on, and the service carries on.
 
 #include <io_bridge/FieldSink.h>
@@ -20,6 +21,7 @@ namespace fieldcast::io {
 struct SinkFigures {
   std::string name;
   std::uint64_t published = 0;     ///< fields offered to the sink
+  std::uint64_t passedOver = 0;    ///< fields it did not want (FieldSink::wants): neither queued nor lost
   std::uint64_t consumed = 0;      ///< fields the sink has finished with
   std::uint64_t droppedFull = 0;   ///< fields lost because the sink's queue was full
   std::uint64_t rejected = 0;      ///< fields that did not match the stream format
@@ -58,8 +60,9 @@ class SinkHub {
   /// per sink and waits until every sink has opened. If any open() throws, all
   /// workers are stopped and std::runtime_error names each sink that failed and why.
   void start();
-  /// Offers a field to every live sink. Field thread only. RT-safe: no lock, no allocation, no
-  /// wait; costs one copy of the field, whatever the number of sinks.
+  /// Offers a field to every live sink that wants it. Field thread only. RT-safe: no lock, no
+  /// allocation, no wait; costs one copy of the field, whatever the number of sinks, and none when
+  /// no sink wants it.
   void publish(const Field& field) noexcept;
   /// Tells every sink, before the first field it consumes, that the schedule starts at field
   /// `firstField` (FieldSink::scheduleStarted). Field thread, before its first publish(). RT-safe.

@@ -26,12 +26,20 @@ void ContactSheetSink::open(const StreamFormat&) {
   if (error) throw std::runtime_error(mOptions.path.parent_path().string() + ": cannot create: " + error.message());
 }
 
+bool ContactSheetSink::wants(const Field& field) const noexcept {
+  return !mHaveFirst.load(std::memory_order_relaxed) || onGrid(field);
+}
+
+bool ContactSheetSink::onGrid(const Field& field) const noexcept {
+  return field.fieldNumber % static_cast<std::uint64_t>(mOptions.keepEveryNth) == 0;
+}
+
 SinkStatus ContactSheetSink::consume(const Field& field) {
-  if (!mHaveFirst) {
+  if (!mHaveFirst.load(std::memory_order_relaxed)) {
     mFirstDisplayTime = field.displayTime;
-    mHaveFirst = true;
+    mHaveFirst.store(true, std::memory_order_relaxed);
   }
-  if (field.fieldNumber % static_cast<std::uint64_t>(mOptions.keepEveryNth) != 0 || field.image.empty()) {
+  if (!onGrid(field) || field.image.empty()) {
     return SinkStatus::Ok;
   }
   const int w = field.image.widthPx(), h = field.image.heightPx();

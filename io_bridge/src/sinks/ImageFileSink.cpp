@@ -63,9 +63,16 @@ std::string ImageFileSink::fileName(const Field& field) const {
          (mOptions.format == ImageFileFormat::Png ? ".png" : ".exr");
 }
 
+bool ImageFileSink::due(const Field& field) const noexcept {
+  return mOptions.everyNth > 0 && field.fieldNumber % static_cast<std::uint64_t>(mOptions.everyNth) == 0;
+}
+
+bool ImageFileSink::wants(const Field& field) const noexcept {
+  return due(field) || mSnapshot.load(std::memory_order_relaxed);
+}
+
 SinkStatus ImageFileSink::consume(const Field& field) {
-  const bool due = mOptions.everyNth > 0 && field.fieldNumber % static_cast<std::uint64_t>(mOptions.everyNth) == 0;
-  if (!due && !mSnapshot.exchange(false, std::memory_order_relaxed)) return SinkStatus::Ok;
+  if (!due(field) && !mSnapshot.exchange(false, std::memory_order_relaxed)) return SinkStatus::Ok;
 
   const int w = field.image.widthPx(), h = field.image.heightPx();
   for (int r = 0; r < h; ++r) {

@@ -64,7 +64,7 @@ struct SinkHub::Lane {
   std::atomic<bool> ended{false};
 
   // Figures: written by one thread each, read by anyone.
-  std::atomic<std::uint64_t> published{0}, droppedFull{0}, rejected{0};
+  std::atomic<std::uint64_t> published{0}, passedOver{0}, droppedFull{0}, rejected{0};
   std::atomic<std::uint64_t> consumed{0}, maxConsumeNs{0}, totalConsumeNs{0};
   mutable std::mutex reasonMutex;
   std::string endReason;
@@ -252,7 +252,7 @@ void SinkHub::start() {
 void SinkHub::publish(const Field& field) noexcept {
   if (!mPool) return;
   const bool fits = mFormat.accepts(field);
-  // Which sinks take this field: live, matching, with room in their ring
+  // Which sinks take this field: live, matching, wanting it, with room in their ring
   std::uint32_t takers = 0;
   for (std::size_t i = 0; i < mLanes.size(); ++i) {
     Lane& lane = *mLanes[i];
@@ -261,6 +261,8 @@ void SinkHub::publish(const Field& field) noexcept {
     lane.published.fetch_add(1, std::memory_order_relaxed);
     if (!fits) {
       lane.rejected.fetch_add(1, std::memory_order_relaxed);
+    } else if (!lane.sink->wants(field)) {
+      lane.passedOver.fetch_add(1, std::memory_order_relaxed);
     } else if (lane.head.load(std::memory_order_relaxed) - lane.tail.load(std::memory_order_acquire) >=
                lane.ring.size()) {
       lane.droppedFull.fetch_add(1, std::memory_order_relaxed);
@@ -315,6 +317,7 @@ std::vector<SinkFigures> SinkHub::figures() const {
     SinkFigures f;
     f.name = lane->name;
     f.published = lane->published.load(std::memory_order_relaxed);
+    f.passedOver = lane->passedOver.load(std::memory_order_relaxed);
     f.consumed = lane->consumed.load(std::memory_order_relaxed);
     f.droppedFull = lane->droppedFull.load(std::memory_order_relaxed);
     f.rejected = lane->rejected.load(std::memory_order_relaxed);
@@ -344,8 +347,10 @@ std::string SinkHub::summary() const {
   for (const SinkFigures& f : figures()) {
     const double meanMs =
         f.consumed ? static_cast<double>(f.totalConsumeNs) / static_cast<double>(f.consumed) * 1e-6 : 0.0;
-    s << f.name << ": " << f.consumed << " fields, " << f.droppedFull << " dropped (queue full), " << f.rejected
-      << " rejected, mean " << meanMs << " ms, max " << static_cast<double>(f.maxConsumeNs) * 1e-6 << " ms";
+    s << f.name << ": " << f.consumed << " fields, ";
+    if (f.passedOver != 0) s << f.passedOver << " passed over, ";
+    s << f.droppedFull << " dropped (queue full), " << f.rejected << " rejected, mean " << meanMs << " ms, max "
+      << static_cast<double>(f.maxConsumeNs) * 1e-6 << " ms";
     if (f.ended) s << ", ENDED: " << f.endReason;
     s << '\n';
   }

@@ -47,6 +47,20 @@ TEST(ContactSheetSink, SpreadsThumbnailsOverTheRunAndWritesAPngAtClose) {
   std::filesystem::remove_all(path.parent_path());
 }
 
+// The hub asks before it queues a field: the first (the sheet's zero time), then only those on
+// the grid.
+TEST(ContactSheetSink, WantsTheFirstFieldThenOnlyThoseOnItsGrid) {
+  const auto path = std::filesystem::temp_directory_path() / "fieldcast_contact_sheet_wants" / "sheet.png";
+  ContactSheetSink sheet({path, 4, 2, 32, 10});
+  EXPECT_TRUE(sheet.wants(greyField(7, 50)));  // nothing consumed yet: the run's first field
+  ASSERT_EQ(sheet.consume(greyField(7, 50)), SinkStatus::Ok);
+  std::vector<std::uint64_t> wanted;
+  for (std::uint64_t k = 8; k < 35; ++k) {
+    if (sheet.wants(greyField(k, 50))) wanted.push_back(k);
+  }
+  EXPECT_EQ(wanted, (std::vector<std::uint64_t>{10, 20, 30}));
+}
+
 TEST(ContactSheetSink, EmptySheetIsAnErrorNamingThePathAndCloseWritesNothing) {
   ContactSheetSink sheet({"/tmp/never.png"});
   sheet.close();

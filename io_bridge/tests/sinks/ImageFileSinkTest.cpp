@@ -55,6 +55,31 @@ TEST(ImageFileSink, WritesEveryNthFieldAsPng) {
   fs::remove_all(dir);
 }
 
+// The hub asks before it queues a field: only the fields the sink writes, so the ones between
+// cost no copy and a slow write cannot fill its queue with fields it would pass over.
+TEST(ImageFileSink, WantsOnlyTheFieldsItWrites) {
+  const fs::path dir = scratchDir("wants");
+  const StreamFormat f = testFormat(64, 16);
+  ImageFileSink sink({dir, 3, ImageFileFormat::Png, "field"});
+  sink.open(f);
+  std::vector<std::uint64_t> wanted;
+  for (std::uint64_t k = 0; k < 10; ++k) {
+    if (sink.wants(makeField(f, k))) wanted.push_back(k);
+  }
+  EXPECT_EQ(wanted, (std::vector<std::uint64_t>{0, 3, 6, 9}));
+  // A snapshot asked for: the next field is wanted, and stays wanted until one is written
+  sink.requestSnapshot();
+  EXPECT_TRUE(sink.wants(makeField(f, 10)));
+  EXPECT_TRUE(sink.wants(makeField(f, 10)));
+  sink.consume(makeField(f, 10));
+  EXPECT_EQ(sink.filesWritten(), 1u);
+  EXPECT_FALSE(sink.wants(makeField(f, 11)));
+  ImageFileSink onDemand({dir, 0, ImageFileFormat::Png, "snap"});
+  onDemand.open(f);
+  EXPECT_FALSE(onDemand.wants(makeField(f, 0)));  // every_nth 0: only on demand
+  fs::remove_all(dir);
+}
+
 TEST(ImageFileSink, OnDemandSnapshotAsExr) {
   const fs::path dir = scratchDir("exr");
   const StreamFormat f = testFormat(32, 8, ScanMode::Progressive, PixelFormat::Rgb8);

@@ -60,10 +60,12 @@ struct GateState {
 
 class GateSink final : public FieldSink {
  public:
-  explicit GateSink(std::shared_ptr<GateState> s, std::string name = "gate")
-      : mS(std::move(s)), mName(std::move(name)) {}
+  /// `wantEvery`: the sink wants only fields whose number is a multiple of it (FieldSink::wants).
+  explicit GateSink(std::shared_ptr<GateState> s, std::string name = "gate", std::uint64_t wantEvery = 1)
+      : mS(std::move(s)), mName(std::move(name)), mWantEvery(wantEvery) {}
   std::string name() const override { return mName; }
   void open(const StreamFormat& format) override { mFormat = format; }
+  bool wants(const Field& field) const noexcept override { return field.fieldNumber % mWantEvery == 0; }
   SinkStatus consume(const Field& field) override {
     std::unique_lock lock(mS->m);
     ++mS->entered;
@@ -93,6 +95,7 @@ class GateSink final : public FieldSink {
  private:
   std::shared_ptr<GateState> mS;
   std::string mName;
+  std::uint64_t mWantEvery;
   StreamFormat mFormat;
 };
 
@@ -139,6 +142,37 @@ TEST(SinkHub, SlowSinkNeverBlocksPublishAndDropsAreCounted) {
     }
     EXPECT_EQ(state->firstBytes[i], makeField(format, state->seen[i]).image.bytes()[0]);
   }
+}
+
+// A sink that keeps one field in five (a still every N fields) and is stuck writing the first: the
+// fields it passes over never fill its queue, so none it wants is lost, and a field no sink wants
+// is not copied into the pool (the stuck sink's held fields stay intact).
+TEST(SinkHub, FieldsASinkDoesNotWantNeitherQueueNorDrop) {
+  const StreamFormat format = testFormat(64, 16);
+  auto state = std::make_shared<GateState>();
+  SinkHub hub(format, SinkHubOptions{4});
+  hub.add(std::make_unique<GateSink>(state, "stills", 5));
+  hub.start();
+  hub.publish(makeField(format, 0));
+  {
+    std::unique_lock lock(state->m);
+    state->cv.wait(lock, [&] { return state->entered == 1; });
+  }
+  for (std::uint64_t k = 1; k < 20; ++k) hub.publish(makeField(format, k));
+  const auto held = hub.figures()[0];
+  EXPECT_EQ(held.published, 20u);
+  EXPECT_EQ(held.passedOver, 16u);
+  EXPECT_EQ(held.droppedFull, 0u);  // field 0 in hand, 5, 10 and 15 waiting: the queue's 4
+  {
+    std::lock_guard lock(state->m);
+    state->open = true;
+  }
+  state->cv.notify_all();
+  hub.stop();
+  EXPECT_EQ(state->seen, (std::vector<std::uint64_t>{0, 5, 10, 15}));
+  EXPECT_EQ(state->corrupted, 0);
+  EXPECT_EQ(hub.droppedTotal(), 0u);
+  EXPECT_NE(hub.summary().find("16 passed over"), std::string::npos) << hub.summary();
 }
 
 // One copy per publish is shared by all sinks: a stuck sink holding its fields must neither
