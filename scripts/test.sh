@@ -41,8 +41,8 @@ if [[ "$mode" != "--fast" ]]; then
   cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFIELDCAST_SANITIZE=thread \
     -DFIELDCAST_BUILD_BENCH=OFF -DFIELDCAST_FUZZ=OFF >/dev/null
   cmake --build build-tsan -j "$jobs" --target fieldcast_types_tests fieldcast_terrain_tests fieldcast_warp_tests \
-    fieldcast_render_tests fieldcast_motion_tests fieldcast_service_tests fieldcast_io_lock_tests
+    fieldcast_render_tests fieldcast_motion_tests fieldcast_service_tests fieldcast_io_lock_tests fieldcast_io_sinks_tests
   TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
     ctest --test-dir build-tsan -j "$jobs" --output-on-failure --timeout 900 \
-      -R '^(SeqLock|TileCacheTest|TripleBuffer|RenderPool|FlightModel|HostMotion|DurationHistogram|FieldLockLink)\.'
+      -R '^(SeqLock|TileCacheTest|TripleBuffer|RenderPool|FlightModel|HostMotion|DurationHistogram|FieldLockLink|SinkHub)\.'
 fi

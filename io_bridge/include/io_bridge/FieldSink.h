@@ -18,9 +18,9 @@ enum class SinkStatus : std::uint8_t {
   Ended,  ///< the sink is finished for good (broken pipe, consumer gone); see endReason()
 };
 
-/// A field output. All calls come from the one worker thread that owns the sink, in the order
-/// open → [scheduleStarted] → consume* → [scheduleEnded] → close; a sink therefore needs no
-/// locking of its own.
+/// A field output. All calls but wants() come from the one worker thread that owns the sink, in
+/// the order open → [scheduleStarted] → consume* → [scheduleEnded] → close; a sink therefore needs
+/// no locking of its own beyond what wants() reads.
 class FieldSink {
  public:
   virtual ~FieldSink() = default;
@@ -36,8 +36,9 @@ class FieldSink {
   virtual void open(const StreamFormat& format) = 0;
   /// Whether the sink takes `field` at all. Asked on the field thread before the field is queued,
   /// so a sink that keeps only some fields (a still every N fields) costs no copy between them and
-  /// cannot lose the ones it keeps to a queue filled with fields it would pass over. Must be
-  /// RT-safe and read only what consume() does not write, or atomics. The default takes every field.
+  /// cannot lose the ones it keeps to a queue filled with fields it would pass over. Runs on the
+  /// field thread beside the worker: must be RT-safe and read only what the constructor set, or
+  /// atomics. The default takes every field.
   virtual bool wants(const Field& field) const noexcept {
     (void)field;
     return true;

@@ -37,7 +37,8 @@ class ImageFileSink final : public FieldSink {
 
   std::string name() const override { return "images"; }
   void open(const StreamFormat& format) override;
-  /// Only the fields it writes: every Nth, and the next one after requestSnapshot().
+  /// Only the fields it writes: every Nth, and after requestSnapshot() every field until one is
+  /// written (the worker may still be on an earlier one).
   bool wants(const Field& field) const noexcept override;
   SinkStatus consume(const Field& field) override;
   void close() override;

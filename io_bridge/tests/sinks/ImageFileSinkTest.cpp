@@ -71,7 +71,7 @@ TEST(ImageFileSink, WantsOnlyTheFieldsItWrites) {
   sink.requestSnapshot();
   EXPECT_TRUE(sink.wants(makeField(f, 10)));
   EXPECT_TRUE(sink.wants(makeField(f, 10)));
-  sink.consume(makeField(f, 10));
+  ASSERT_EQ(sink.consume(makeField(f, 10)), SinkStatus::Ok);
   EXPECT_EQ(sink.filesWritten(), 1u);
   EXPECT_FALSE(sink.wants(makeField(f, 11)));
   ImageFileSink onDemand({dir, 0, ImageFileFormat::Png, "snap"});

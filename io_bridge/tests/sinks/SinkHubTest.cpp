@@ -1,9 +1,11 @@
+#include <io_bridge/ImageFileSink.h>
 #include <io_bridge/SinkHub.h>
 #include <io_bridge/Y4mSink.h>
 
 #include "TestFields.h"
 
 #include <gtest/gtest.h>
+#include <spdlog/spdlog.h>
 
 #include <pthread.h>
 #include <sched.h>
@@ -12,10 +14,16 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
 #include <new>
 #include <optional>
 #include <thread>
+
+// spdlog's registry is built on first use; two sink workers logging their first drop at once would
+// both build it, and ThreadSanitizer cannot see the guard inside the uninstrumented libspdlog. The
+// service logs from its main thread before any worker starts; so does this test binary.
+[[maybe_unused]] const bool gLoggerBuilt = spdlog::default_logger_raw() != nullptr;
 
 // Counts heap allocations made by the thread that sets gCountAllocations (the "field thread").
 namespace {
@@ -99,6 +107,21 @@ class GateSink final : public FieldSink {
   StreamFormat mFormat;
 };
 
+// Waits until the gate's sink has begun its first consume() (it holds that field from then on).
+void waitUntilHeld(GateState& s) {
+  std::unique_lock lock(s.m);
+  s.cv.wait(lock, [&] { return s.entered >= 1; });
+}
+
+// Lets the gate's sink finish every consume(), held or to come.
+void openGate(GateState& s) {
+  {
+    std::lock_guard lock(s.m);
+    s.open = true;
+  }
+  s.cv.notify_all();
+}
+
 class FailingOpenSink final : public FieldSink {
  public:
   std::string name() const override { return "broken"; }
@@ -116,20 +139,12 @@ TEST(SinkHub, SlowSinkNeverBlocksPublishAndDropsAreCounted) {
   // The sink is stuck in its first consume(): publishing 20 fields must still return, with the
   // queue (3) plus the field in hand kept and the rest counted as dropped.
   hub.publish(makeField(format, 0));
-  {
-    // Wait until the worker holds field 0, so the count below is exact.
-    std::unique_lock lock(state->m);
-    state->cv.wait(lock, [&] { return state->entered == 1; });
-  }
+  waitUntilHeld(*state);  // the worker holds field 0, so the count below is exact
   for (std::uint64_t k = 1; k < 20; ++k) hub.publish(makeField(format, k));
   const auto before = hub.figures()[0];
   EXPECT_EQ(before.published, 20u);
   EXPECT_EQ(before.droppedFull, 17u);  // 3 slots: field 0 in hand, 2 waiting; 17 of 19 lost
-  {
-    std::lock_guard lock(state->m);
-    state->open = true;
-  }
-  state->cv.notify_all();
+  openGate(*state);
   hub.stop();
   const auto after = hub.figures()[0];
   EXPECT_EQ(after.consumed + after.droppedFull, 20u);
@@ -145,34 +160,59 @@ TEST(SinkHub, SlowSinkNeverBlocksPublishAndDropsAreCounted) {
 }
 
 // A sink that keeps one field in five (a still every N fields) and is stuck writing the first: the
-// fields it passes over never fill its queue, so none it wants is lost, and a field no sink wants
-// is not copied into the pool (the stuck sink's held fields stay intact).
-TEST(SinkHub, FieldsASinkDoesNotWantNeitherQueueNorDrop) {
+// fields it passes over never fill its queue, so none it wants is lost.
+TEST(SinkHub, UnwantedFieldsAreNeitherQueuedNorDropped) {
   const StreamFormat format = testFormat(64, 16);
   auto state = std::make_shared<GateState>();
   SinkHub hub(format, SinkHubOptions{4});
   hub.add(std::make_unique<GateSink>(state, "stills", 5));
   hub.start();
   hub.publish(makeField(format, 0));
-  {
-    std::unique_lock lock(state->m);
-    state->cv.wait(lock, [&] { return state->entered == 1; });
-  }
+  waitUntilHeld(*state);
   for (std::uint64_t k = 1; k < 20; ++k) hub.publish(makeField(format, k));
   const auto held = hub.figures()[0];
   EXPECT_EQ(held.published, 20u);
   EXPECT_EQ(held.passedOver, 16u);
   EXPECT_EQ(held.droppedFull, 0u);  // field 0 in hand, 5, 10 and 15 waiting: the queue's 4
-  {
-    std::lock_guard lock(state->m);
-    state->open = true;
-  }
-  state->cv.notify_all();
+  openGate(*state);
   hub.stop();
   EXPECT_EQ(state->seen, (std::vector<std::uint64_t>{0, 5, 10, 15}));
   EXPECT_EQ(state->corrupted, 0);
   EXPECT_EQ(hub.droppedTotal(), 0u);
   EXPECT_NE(hub.summary().find("16 passed over"), std::string::npos) << hub.summary();
+}
+
+// The image files' snapshot asked for from a third thread while the field thread publishes: the
+// hub asks the sink (field thread) as its worker writes (worker thread); one file, of a field
+// published after the request. Run under ThreadSanitizer by scripts/test.sh.
+TEST(SinkHub, ASnapshotAskedFromAnotherThreadIsWrittenOnce) {
+  const StreamFormat format = testFormat(64, 16);
+  const auto dir = std::filesystem::temp_directory_path() / ("fieldcast_hub_snapshot_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  SinkHub hub(format, SinkHubOptions{3});
+  auto owned = std::make_unique<ImageFileSink>(ImageFileSinkOptions{dir, 0, ImageFileFormat::Png, "snap"});
+  ImageFileSink* images = owned.get();
+  hub.add(std::move(owned));
+  hub.start();
+  std::uint64_t k = 0;
+  for (; k < 50; ++k) hub.publish(makeField(format, k));  // none wanted: every_nth 0
+  std::atomic<bool> asked{false};
+  std::thread operatorThread([&] {
+    images->requestSnapshot();
+    asked.store(true, std::memory_order_release);
+  });
+  for (; !asked.load(std::memory_order_acquire); ++k) hub.publish(makeField(format, k));
+  const std::uint64_t firstAfterAsking = k;  // the snapshot was pending when this one was asked
+  for (; k < firstAfterAsking + 100; ++k) hub.publish(makeField(format, k));
+  operatorThread.join();
+  hub.stop();
+  EXPECT_EQ(images->filesWritten(), 1u);
+  const std::string written = images->lastPath().filename().string();
+  const std::uint64_t number = std::stoull(written.substr(5, 8));  // snap_<8 digits>_<parity>.png
+  EXPECT_GE(number, 50u) << written;
+  EXPECT_LE(number, firstAfterAsking) << written;
+  std::filesystem::remove_all(dir);
 }
 
 // One copy per publish is shared by all sinks: a stuck sink holding its fields must neither
@@ -191,11 +231,7 @@ TEST(SinkHub, AStuckSinkNeitherStarvesNorCorrupts) {
     // let the fast sink finish each field, so none of its fields is dropped
     while (hub.figures()[1].consumed < k + 1) std::this_thread::yield();
   }
-  {
-    std::lock_guard lock(stuck->m);
-    stuck->open = true;
-  }
-  stuck->cv.notify_all();
+  openGate(*stuck);
   hub.stop();
   const auto figures = hub.figures();
   EXPECT_EQ(figures[1].consumed, 50u);
@@ -220,11 +256,7 @@ TEST(SinkHub, TheScheduleReachesEachSinkBeforeItsFirstFieldAndAfterItsLast) {
     hub.beginSchedule(2);
     for (std::uint64_t k = 4; k < 7; ++k) hub.publish(makeField(format, k));
     hub.endSchedule(9);
-    {
-      std::lock_guard lock(held->m);
-      held->open = true;
-    }
-    held->cv.notify_all();
+    openGate(*held);
     hub.stop();
   }
   for (const auto& s : {held, told}) {
@@ -264,11 +296,7 @@ TEST(SinkHub, PublishNeverAllocates) {
   hub.publish(wrong);
   gCountAllocations = false;
   EXPECT_EQ(gAllocations.load(), 0);
-  {
-    std::lock_guard lock(slow->m);
-    slow->open = true;
-  }
-  slow->cv.notify_all();
+  openGate(*slow);
   hub.stop();
 }
 
