@@ -79,7 +79,8 @@ class SinkHub {
   std::vector<SinkFigures> figures() const;
   /// Total fields lost over all sinks (queue full or rejected). Any thread, RT-safe.
   std::uint64_t droppedTotal() const noexcept;
-  /// One line per sink for the log: "y4m: 600 fields, 0 dropped, max 1.2 ms".
+  /// One line per sink for the log: "images: 12 fields, 3584 passed over, 0 dropped (queue full),
+  /// 0 rejected, mean 66 ms, max 114 ms" (passed over only when some were).
   std::string summary() const;
   const StreamFormat& format() const noexcept { return mFormat; }
 

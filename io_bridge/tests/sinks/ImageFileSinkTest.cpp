@@ -70,7 +70,7 @@ TEST(ImageFileSink, WantsOnlyTheFieldsItWrites) {
   // A snapshot asked for: the next field is wanted, and stays wanted until one is written
   sink.requestSnapshot();
   EXPECT_TRUE(sink.wants(makeField(f, 10)));
-  EXPECT_TRUE(sink.wants(makeField(f, 10)));
+  EXPECT_TRUE(sink.wants(makeField(f, 10)));  // asking does not clear it: only a write does
   ASSERT_EQ(sink.consume(makeField(f, 10)), SinkStatus::Ok);
   EXPECT_EQ(sink.filesWritten(), 1u);
   EXPECT_FALSE(sink.wants(makeField(f, 11)));
