@@ -48,7 +48,8 @@ RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
   frame.tiles = mTiles;
   if (mTiles != nullptr) {
     const Pose ahead = mMotion.poseAt(poseTime + std::chrono::milliseconds(100));
-    mTiles->prefetch(request.pose, (ahead.positionM - request.pose.positionM) * 10.0, mDisplay);
+    mTiles->prefetch(request.pose, (ahead.positionM - request.pose.positionM) * 10.0, mDisplay,
+                     mRenderer.settings().quality);
     frame.lease = mTiles->lease();
   }
   if (mPacing.hazeRangeM != nullptr) {

@@ -102,11 +102,12 @@ double referenceNsPerPixel(int pose, int size) {
   return cache[key] = ns / count;
 }
 
-// Pages in everything a view needs, and holds it: the figures are of rendering, not of loading.
-FrameLease pageIn(const ViewRequest& request) {
+// Pages in everything a view needs at quality knob `quality`, and holds it: the figures are of
+// rendering, not of loading.
+FrameLease pageIn(const ViewRequest& request, double quality) {
   if (!terrain().cache) return {};
   const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
-  terrain().cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame);
+  terrain().cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame, quality);
   terrain().cache->waitIdle(std::chrono::seconds(120));
   return terrain().cache->lease();
 }
@@ -122,7 +123,7 @@ void BM_Render(benchmark::State& state) {
   const double refNs = referenceNsPerPixel(pose, size);  // the reference with the rule off
   Renderer renderer(terrain().view(), settings, threads);
   const ViewRequest request = requestFor(pose, size);
-  const FrameLease lease = pageIn(request);
+  const FrameLease lease = pageIn(request, settings.quality);
   RenderStats stats;
   Frame frame = renderer.render(request, &stats);  // warm up
   std::vector<double> seconds;
@@ -156,7 +157,9 @@ void BM_RenderHeld(benchmark::State& state) {
   FrameTimeController controller(config);
   Renderer renderer(terrain().view(), RenderSettings{}, 2);
   const ViewRequest request = requestFor(pose, 0);
-  const FrameLease lease = pageIn(request);
+  // The knob goes where the controller takes it: paged in for its finest (a coarser knob reads
+  // nothing more)
+  const FrameLease lease = pageIn(request, config.minQuality);
   Frame frame;
   const auto renderOnce = [&] {
     const auto start = std::chrono::steady_clock::now();

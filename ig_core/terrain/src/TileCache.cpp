@@ -278,7 +278,8 @@ void TileCache::loaderMain() {
 // ---------------------------------------------------------------------------------------------
 // Requests
 
-void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera) {
+void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera,
+                               double quality) {
   const TerrainGeometry& g = geometry();
   mScratch.clear();
   if (mPinnedFromLevel == 0 || camera.widthPx <= 0 || camera.heightPx <= 0) return;
@@ -313,13 +314,17 @@ void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, 
   std::vector<glm::dvec2>& hull = mFootprintScratch;
   convexHull(points, hull);
 
+  // Level L is drawn out to where its voxels project to `quality` pixels, r(L)/quality, r(L) where a
+  // level-L voxel spans a pixel. Out to r(L) at least: a knob raised under load comes back to 1.
+  // And from the camera on: the first-hit descent reads every level's maximum heights along each
+  // ray from the camera, and a raised knob or the grazing-angle rule draws coarse levels near it
+  // (a band from r(L−1) left an HD frame's knob, raised under load, reading coarser levels than
+  // it asked for near the camera: ten million answers a second, for seconds).
+  const double reachScale = 1.0 / std::clamp(quality, 1e-3, 1.0);
   for (int level = 0; level < mPinnedFromLevel; ++level) {
-    // Level L is drawn where its voxels project to about a pixel: between r(L−1) and r(L).
     const double scale = static_cast<double>(1 << level);
     const double rHi = g.spacingM * scale / pixelAngle;
-    const double lo = level == 0 ? 0.0 : 0.5 * rHi * (1.0 - mOptions.lodMargin);
-    const double hi = std::min(rHi * (1.0 + mOptions.lodMargin), range);
-    if (lo >= hi) continue;
+    const double hi = std::min(rHi * (1.0 + mOptions.lodMargin) * reachScale, range);
     const double tileM = g.tileSizeVox() * scale * g.spacingM;
     const double x0 = g.originM.x - 0.5 * g.spacingM;  // west edge of level-0 voxel 0
     const double y0 = g.originM.y - 0.5 * g.spacingM;
@@ -335,16 +340,14 @@ void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, 
       for (int tx = tx0; tx <= tx1; ++tx) {
         const glm::dvec2 rlo{x0 + tx * tileM, y0 + ty * tileM};
         const glm::dvec2 rhi = rlo + tileM;
-        const auto band = [&](const glm::dvec2& p, double& nearest) {
+        const auto within = [&](const glm::dvec2& p, double& nearest) {
           const double dn = distanceToRect(p, rlo, rhi);
-          const double df = farthestInRect(p, rlo, rhi);
           nearest = std::sqrt(dn * dn + aboveM * aboveM);
-          const double farthest = std::sqrt(df * df + aboveM * aboveM);
-          return nearest <= hi && farthest >= lo;
+          return nearest <= hi;
         };
         double dNow = 0.0, dAhead = 0.0;
-        const bool wantedNow = band(now, dNow);
-        const bool wantedAhead = band(ahead, dAhead);
+        const bool wantedNow = within(now, dNow);
+        const bool wantedAhead = within(ahead, dAhead);
         if (!wantedNow && !wantedAhead) continue;
         if (!polygonTouchesRect(hull, rlo, rhi)) continue;
         // Nearest first within the current view; the view ahead after it.
@@ -355,8 +358,8 @@ void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, 
   }
 }
 
-void TileCache::prefetch(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera) {
-  computeRequest(pose, velocityMps, camera);
+void TileCache::prefetch(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera, double quality) {
+  computeRequest(pose, velocityMps, camera, quality);
   std::uint64_t hits = 0;
   for (const TileKey& k : mScratch) {
     if (mView->tile(k.level, k.tx, k.ty) != nullptr) ++hits;

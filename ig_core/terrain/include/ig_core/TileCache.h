@@ -2,7 +2,7 @@
 // Paging (DESIGN.md §2): a tile cache over a terrain database that publishes tiles into a
 // TerrainView. A loader thread reads tiles by priority; prefetch() turns the camera's pose,
 // velocity and field of view into the tiles the next frames need (the view footprint, extended in
-// the direction of motion, each level where its voxels project to about a pixel). The coarse
+// the direction of motion, each level out to where its voxels project to about a pixel). The coarse
 // levels stay resident, so a renderer asking for a missing tile gets the best resident coarser
 // level (the miss is counted in TerrainView::missCount) and never waits for I/O.
 //
@@ -72,7 +72,7 @@ struct TileCacheOptions {
   double coarseShare = 0.25;   ///< at most this share of the budget is pinned to coarse levels (top level always)
   double lookaheadS = 2.0;     ///< prefetch where the camera will be this many seconds ahead
   double maxRangeM = 40000.0;  ///< farthest distance the view can need terrain
-  double lodMargin = 0.3;      ///< fetch each level over its distance band widened by this fraction (level blending)
+  double lodMargin = 0.3;      ///< fetch each level this fraction farther than it is drawn (level blending)
   int footprintRays = 9;       ///< rays per image side sampled to find the view footprint
   std::chrono::milliseconds retireGrace{1000};  ///< see the reclamation rule above
 };
@@ -146,9 +146,10 @@ class TileCache {
   double heightAtM(double xM, double yM, int level = 0) const noexcept { return mView->heightAtM(xM, yM, level); }
 
   /// Asks for the tiles a camera at `pose` moving at `velocityMps` (world m/s) with intrinsics
-  /// `camera` will need; replaces the previous request. Call once per frame from one thread.
-  /// Never blocks on I/O (takes a mutex the loader holds only to swap request lists).
-  void prefetch(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera);
+  /// `camera` will need, for frames of quality knob `quality` (RenderSettings::quality); replaces
+  /// the previous request. Call once per frame from one thread. Never blocks on I/O (takes a mutex
+  /// the loader holds only to swap request lists).
+  void prefetch(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera, double quality = 1.0);
   /// Same, for a horizontal field of view in radians (4:3 image, 1024 pixels wide).
   void prefetch(const Pose& pose, const glm::dvec3& velocityMps, double hfovRad);
 
@@ -183,7 +184,7 @@ class TileCache {
   void evict(std::size_t level, std::size_t index);
   void reclaim(bool force);
   std::size_t slotIndex(int level, int tx, int ty) const noexcept;
-  void computeRequest(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera);
+  void computeRequest(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera, double quality);
 
   std::unique_ptr<TileSource> mSource;
   std::unique_ptr<TerrainView> mView;
