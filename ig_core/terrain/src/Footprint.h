@@ -25,4 +25,11 @@ inline double distanceToRect(const glm::dvec2& p, const glm::dvec2& lo, const gl
   return std::sqrt(dx * dx + dy * dy);
 }
 
+/// Distance from `p` to the farthest corner of the rectangle [lo, hi].
+inline double farthestInRect(const glm::dvec2& p, const glm::dvec2& lo, const glm::dvec2& hi) noexcept {
+  const double dx = std::max(std::fabs(p.x - lo.x), std::fabs(p.x - hi.x));
+  const double dy = std::max(std::fabs(p.y - lo.y), std::fabs(p.y - hi.y));
+  return std::sqrt(dx * dx + dy * dy);
+}
+
 }  // namespace fieldcast::core

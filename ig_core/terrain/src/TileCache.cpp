@@ -19,6 +19,7 @@ struct TileCache::Entry {
   TerrainTile tile;
   int level = 0, tx = 0, ty = 0;
   std::uint64_t lastWanted = 0;  // loader batch that last wanted it (eviction is least recently wanted)
+  double priority = 0.0;         // its priority in that batch (TileKey::priority, lower is sooner)
   bool pinned = false;
 };
 
@@ -203,26 +204,33 @@ void TileCache::reclaim(bool force) {
   mRetiredCount.store(mRetired.size(), std::memory_order_relaxed);
 }
 
-bool TileCache::makeRoom(std::size_t bytes, std::uint64_t batch) {
+bool TileCache::makeRoom(std::size_t bytes, std::uint64_t batch, double priority) {
   // The budget bounds the live tiles. Evicted tiles still held for readers are freed within a
   // grace period (reclaim()); they overshoot the budget only that briefly.
   while (mResidentBytesLoader + bytes > mOptions.budgetBytes) {
-    // Least recently wanted tile that the current batch does not want.
+    // The least recently wanted tile that the current batch does not want; else the one it wants
+    // least, if that is less than the tile to load (so the budget ends up holding the batch's
+    // first tiles, whatever order they were loaded in by earlier batches).
+    const Entry* best = nullptr;
     std::size_t bestLevel = 0, bestIndex = 0;
-    std::uint64_t oldest = std::numeric_limits<std::uint64_t>::max();
+    const auto evictsBefore = [batch](const Entry& a, const Entry& b) {
+      const bool aWanted = a.lastWanted == batch, bWanted = b.lastWanted == batch;
+      if (aWanted != bWanted) return !aWanted;
+      return aWanted ? a.priority > b.priority : a.lastWanted < b.lastWanted;
+    };
     for (std::size_t level = 0; level < mResident.size(); ++level) {
       const auto& tiles = mResident[level];
       for (std::size_t k = 0; k < tiles.size(); ++k) {
         const Entry* e = tiles[k].get();
-        if (e != nullptr && !e->pinned && e->lastWanted < batch && e->lastWanted < oldest) {
-          oldest = e->lastWanted;
+        if (e != nullptr && !e->pinned && (best == nullptr || evictsBefore(*e, *best))) {
+          best = e;
           bestLevel = level;
           bestIndex = k;
         }
       }
     }
-    // Every tile is wanted: the budget is full, load nothing more.
-    if (oldest == std::numeric_limits<std::uint64_t>::max()) return false;
+    // Every tile is wanted at least as much: the budget is full, load nothing more.
+    if (best == nullptr || (best->lastWanted == batch && !(best->priority > priority))) return false;
     evict(bestLevel, bestIndex);
   }
   return true;
@@ -253,7 +261,10 @@ void TileCache::loaderMain() {
                      [](const TileKey& a, const TileKey& b) { return a.priority < b.priority; });
     for (const TileKey& k : work) {
       Entry* e = mResident[static_cast<std::size_t>(k.level)][slotIndex(k.level, k.tx, k.ty)].get();
-      if (e != nullptr) e->lastWanted = batch;
+      if (e != nullptr) {
+        e->lastWanted = batch;
+        e->priority = k.priority;
+      }
     }
     for (const TileKey& k : work) {
       {
@@ -263,9 +274,12 @@ void TileCache::loaderMain() {
       const std::size_t index = slotIndex(k.level, k.tx, k.ty);
       if (mResident[static_cast<std::size_t>(k.level)][index] != nullptr) continue;
       if (mFailed[static_cast<std::size_t>(k.level)][index] != 0) continue;
-      if (!makeRoom(mTileBytes, batch)) break;  // the budget holds only wanted tiles
+      // Sorted by priority: once no room is left for one tile, none is left for the rest
+      if (!makeRoom(mTileBytes, batch, k.priority)) break;
       if (loadTile(k.level, k.tx, k.ty, false)) {
-        mResident[static_cast<std::size_t>(k.level)][index]->lastWanted = batch;
+        Entry& e = *mResident[static_cast<std::size_t>(k.level)][index];
+        e.lastWanted = batch;
+        e.priority = k.priority;
       }
     }
     reclaim(false);
@@ -315,16 +329,19 @@ void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, 
   convexHull(points, hull);
 
   // Level L is drawn out to where its voxels project to `quality` pixels, r(L)/quality, r(L) where a
-  // level-L voxel spans a pixel. Out to r(L) at least: a knob raised under load comes back to 1.
-  // And from the camera on: the first-hit descent reads every level's maximum heights along each
-  // ray from the camera, and a raised knob or the grazing-angle rule draws coarse levels near it
-  // (a band from r(L−1) left an HD frame's knob, raised under load, reading coarser levels than
-  // it asked for near the camera: ten million answers a second, for seconds).
+  // level-L voxel spans a pixel: fetched out to r(L) at least (a knob raised under load comes back
+  // to 1). And from the camera on: the first-hit descent reads every level's maximum heights along
+  // each ray from the camera, and a raised knob or the grazing-angle rule draws coarse levels near
+  // it (a band from r(L−1) left an HD frame's knob, raised under load, reading coarser levels than
+  // it asked for near the camera: ten million answers a second, for seconds). Nearer than where
+  // the level is drawn, from r(L−1)/quality, a tile comes after those drawn (a coarser level
+  // answers the descent as well, if not as fast).
   const double reachScale = 1.0 / std::clamp(quality, 1e-3, 1.0);
   for (int level = 0; level < mPinnedFromLevel; ++level) {
     const double scale = static_cast<double>(1 << level);
     const double rHi = g.spacingM * scale / pixelAngle;
     const double hi = std::min(rHi * (1.0 + mOptions.lodMargin) * reachScale, range);
+    const double drawnFrom = level == 0 ? 0.0 : 0.5 * rHi * (1.0 - mOptions.lodMargin) / std::max(quality, 1.0);
     const double tileM = g.tileSizeVox() * scale * g.spacingM;
     const double x0 = g.originM.x - 0.5 * g.spacingM;  // west edge of level-0 voxel 0
     const double y0 = g.originM.y - 0.5 * g.spacingM;
@@ -350,8 +367,11 @@ void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, 
         const bool wantedAhead = within(ahead, dAhead);
         if (!wantedNow && !wantedAhead) continue;
         if (!polygonTouchesRect(hull, rlo, rhi)) continue;
-        // Nearest first within the current view; the view ahead after it.
-        const double priority = wantedNow ? dNow / hi : 1.0 + dAhead / hi;
+        const double df = farthestInRect(now, rlo, rhi);
+        const bool drawnNow = wantedNow && std::sqrt(df * df + aboveM * aboveM) >= drawnFrom;
+        // Nearest first within what the current view draws; then what only its first-hit descent
+        // reads, and the view ahead.
+        const double priority = drawnNow ? dNow / hi : 1.0 + (wantedNow ? dNow : dAhead) / hi;
         mScratch.push_back({level, tx, ty, priority});
       }
     }

@@ -114,14 +114,19 @@ TEST_F(TileCacheTest, ScriptedFlightWithASmallBudget) {
   EXPECT_EQ(s.loadFailures, 0u);
 }
 
-// A source that blocks on fine tiles until released: a loader slower than any disk.
+// A source that blocks on fine tiles (or on one tile) until released: a loader slower than any disk.
 class StuckSource final : public TileSource {
  public:
   StuckSource(const std::filesystem::path& path, int stuckBelowLevel) : mInner(path), mStuckBelow(stuckBelowLevel) {}
+  // Blocks on tile (level, tx, ty) alone
+  StuckSource(const std::filesystem::path& path, int level, int tx, int ty)
+      : mInner(path), mStuckBelow(level + 1), mOnlyTx(tx), mOnlyTy(ty) {}
   const TerrainGeometry& geometry() const override { return mInner.geometry(); }
   std::string name() const override { return mInner.name(); }
   void readTile(int level, int tx, int ty, TileBuffers& out) override {
-    if (level < mStuckBelow) {
+    const bool stuck =
+        level < mStuckBelow && (mOnlyTx < 0 || (level == mStuckBelow - 1 && tx == mOnlyTx && ty == mOnlyTy));
+    if (stuck) {
       std::unique_lock lock(mMutex);
       ++mWaiting;
       mChanged.notify_all();
@@ -142,11 +147,42 @@ class StuckSource final : public TileSource {
  private:
   DatabaseTileSource mInner;
   int mStuckBelow;
+  int mOnlyTx = -1, mOnlyTy = -1;
   std::mutex mMutex;
   std::condition_variable mChanged;
   int mWaiting = 0;
   bool mReleased = false;
 };
+
+// With the budget full of tiles a batch wants, a tile it wants more than some of them still comes
+// in (in place of the one it wants least), and one it wants less does not.
+TEST_F(TileCacheTest, AFullBudgetKeepsTheTilesWantedMost) {
+  TileCacheOptions options;
+  options.budgetBytes = 16 * tileBytes();  // the top level pinned, room for 14 more
+  options.retireGrace = std::chrono::milliseconds(0);
+  auto source = std::make_unique<StuckSource>(dbPath(), 0, 15, 15);  // reading (0, 15, 15) waits
+  StuckSource* stuck = source.get();
+  TileCache cache(std::move(source), options);
+  for (int tx = 0; tx < 16; ++tx) cache.request(0, tx, 0, 5.0);
+  ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
+  int resident = 0;
+  for (int tx = 0; tx < 16; ++tx) resident += cache.view().tile(0, tx, 0) != nullptr ? 1 : 0;
+  ASSERT_GT(resident, 0);
+  ASSERT_LT(resident, 16);  // the budget is full
+  // One batch (gathered while the loader waits on a read) wants the row and the tile it waits on
+  // as before, (0, 7, 9) more and (0, 8, 9) less
+  cache.request(0, 15, 15, 5.0);
+  stuck->waitUntilStuck();
+  for (int tx = 0; tx < 16; ++tx) cache.request(0, tx, 0, 5.0);
+  cache.request(0, 15, 15, 5.0);
+  cache.request(0, 7, 9, 1.0);
+  cache.request(0, 8, 9, 9.0);
+  stuck->release();
+  ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(30)));
+  EXPECT_NE(cache.view().tile(0, 7, 9), nullptr);
+  EXPECT_EQ(cache.view().tile(0, 8, 9), nullptr);
+  EXPECT_LE(cache.stats().residentBytes, options.budgetBytes);
+}
 
 TEST_F(TileCacheTest, AStuckLoaderNeverBlocksAQuery) {
   TileCacheOptions options;

@@ -180,7 +180,7 @@ class TileCache {
 
   void loaderMain();
   bool loadTile(int level, int tx, int ty, bool pinned);
-  bool makeRoom(std::size_t bytes, std::uint64_t batch);
+  bool makeRoom(std::size_t bytes, std::uint64_t batch, double priority);
   void evict(std::size_t level, std::size_t index);
   void reclaim(bool force);
   std::size_t slotIndex(int level, int tx, int ty) const noexcept;
