@@ -49,7 +49,7 @@ RenderLoop::InFlight RenderLoop::submitNext(TimePoint now) {
   if (mTiles != nullptr) {
     const Pose ahead = mMotion.poseAt(poseTime + std::chrono::milliseconds(100));
     mTiles->prefetch(request.pose, (ahead.positionM - request.pose.positionM) * 10.0, mDisplay,
-                     mRenderer.settings().quality);
+                     core::prefetchLod(mRenderer.settings()));
     frame.lease = mTiles->lease();
   }
   if (mPacing.hazeRangeM != nullptr) {

@@ -102,12 +102,12 @@ double referenceNsPerPixel(int pose, int size) {
   return cache[key] = ns / count;
 }
 
-// Pages in everything a view needs at quality knob `quality`, and holds it: the figures are of
-// rendering, not of loading.
-FrameLease pageIn(const ViewRequest& request, double quality) {
+// Pages in everything a view needs at the levels of detail `lod`, and holds it: the figures are
+// of rendering, not of loading.
+FrameLease pageIn(const ViewRequest& request, const PrefetchLod& lod) {
   if (!terrain().cache) return {};
   const FrameLayout layout = layoutFrame(request.display, 0.1, 0.0);
-  terrain().cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame, quality);
+  terrain().cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame, lod);
   terrain().cache->waitIdle(std::chrono::seconds(120));
   return terrain().cache->lease();
 }
@@ -123,7 +123,7 @@ void BM_Render(benchmark::State& state) {
   const double refNs = referenceNsPerPixel(pose, size);  // the reference with the rule off
   Renderer renderer(terrain().view(), settings, threads);
   const ViewRequest request = requestFor(pose, size);
-  const FrameLease lease = pageIn(request, settings.quality);
+  const FrameLease lease = pageIn(request, prefetchLod(settings));
   RenderStats stats;
   Frame frame = renderer.render(request, &stats);  // warm up
   std::vector<double> seconds;
@@ -159,7 +159,7 @@ void BM_RenderHeld(benchmark::State& state) {
   const ViewRequest request = requestFor(pose, 0);
   // The knob goes where the controller takes it: paged in for its finest (a coarser knob reads
   // nothing more)
-  const FrameLease lease = pageIn(request, config.minQuality);
+  const FrameLease lease = pageIn(request, PrefetchLod{config.minQuality, 1.0});
   Frame frame;
   const auto renderOnce = [&] {
     const auto start = std::chrono::steady_clock::now();

@@ -190,7 +190,7 @@ int run(const Options& options) {
     for (int pose = 0; pose < static_cast<int>(kPoses.size()); ++pose) {
       const ViewRequest request = benchRequest(view, pose, size);
       const FrameLayout layout = layoutFrame(request.display, settings.marginFraction, 0.0);
-      cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame, settings.quality);
+      cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame, prefetchLod(settings));
       cache->waitIdle(std::chrono::seconds(120));
       const FrameLease lease = cache->lease();
       const ViewGeometry geometry(request.pose, layout.frame, view.geometry(), settings);

@@ -248,7 +248,7 @@ int run(int argc, char** argv) {
   if (cache) {
     // One frame, no hurry: page in what this view needs before rendering it.
     const core::FrameLayout layout = core::layoutFrame(request.display, settings.marginFraction, request.pose.rollRad);
-    cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame, settings.quality);
+    cache->prefetch(request.pose, glm::dvec3{0.0}, layout.frame, core::prefetchLod(settings));
     cache->waitIdle(std::chrono::seconds(60));
     request.pose.positionM.z = p[2] + (agl ? view->heightAtM(p[0], p[1]) : 0.0);
   }

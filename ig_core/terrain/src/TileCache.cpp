@@ -208,15 +208,17 @@ bool TileCache::makeRoom(std::size_t bytes, std::uint64_t batch, double priority
   // The budget bounds the live tiles. Evicted tiles still held for readers are freed within a
   // grace period (reclaim()); they overshoot the budget only that briefly.
   while (mResidentBytesLoader + bytes > mOptions.budgetBytes) {
-    // The least recently wanted tile that the current batch does not want; else the one it wants
-    // least, if that is less than the tile to load (so the budget ends up holding the batch's
-    // first tiles, whatever order they were loaded in by earlier batches).
+    // The least recently wanted non-pinned tile that the current batch does not want (of those,
+    // the one wanted least then); else the one it wants least, if that is clearly less than the
+    // tile to load (so the budget ends up holding the batch's first tiles, whatever order earlier
+    // batches loaded them in).
     const Entry* best = nullptr;
     std::size_t bestLevel = 0, bestIndex = 0;
     const auto evictsBefore = [batch](const Entry& a, const Entry& b) {
       const bool aWanted = a.lastWanted == batch, bWanted = b.lastWanted == batch;
       if (aWanted != bWanted) return !aWanted;
-      return aWanted ? a.priority > b.priority : a.lastWanted < b.lastWanted;
+      if (aWanted || a.lastWanted == b.lastWanted) return a.priority > b.priority;
+      return a.lastWanted < b.lastWanted;
     };
     for (std::size_t level = 0; level < mResident.size(); ++level) {
       const auto& tiles = mResident[level];
@@ -229,8 +231,11 @@ bool TileCache::makeRoom(std::size_t bytes, std::uint64_t batch, double priority
         }
       }
     }
-    // Every tile is wanted at least as much: the budget is full, load nothing more.
-    if (best == nullptr || (best->lastWanted == batch && !(best->priority > priority))) return false;
+    // Every tile is wanted at least about as much: the budget is full, load nothing more. (Not
+    // for a hair's difference: priorities move a little every frame, and tiles at the edge of
+    // the budget would swap places, a load each.)
+    constexpr double kHysteresis = 0.1;
+    if (best == nullptr || (best->lastWanted == batch && !(best->priority > priority + kHysteresis))) return false;
     evict(bestLevel, bestIndex);
   }
   return true;
@@ -261,7 +266,7 @@ void TileCache::loaderMain() {
                      [](const TileKey& a, const TileKey& b) { return a.priority < b.priority; });
     for (const TileKey& k : work) {
       Entry* e = mResident[static_cast<std::size_t>(k.level)][slotIndex(k.level, k.tx, k.ty)].get();
-      if (e != nullptr) {
+      if (e != nullptr && e->lastWanted != batch) {  // sorted: a tile asked for twice keeps its first priority
         e->lastWanted = batch;
         e->priority = k.priority;
       }
@@ -293,7 +298,7 @@ void TileCache::loaderMain() {
 // Requests
 
 void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera,
-                               double quality) {
+                               const PrefetchLod& lod) {
   const TerrainGeometry& g = geometry();
   mScratch.clear();
   if (mPinnedFromLevel == 0 || camera.widthPx <= 0 || camera.heightPx <= 0) return;
@@ -328,20 +333,22 @@ void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, 
   std::vector<glm::dvec2>& hull = mFootprintScratch;
   convexHull(points, hull);
 
-  // Level L is drawn out to where its voxels project to `quality` pixels, r(L)/quality, r(L) where a
-  // level-L voxel spans a pixel: fetched out to r(L) at least (a knob raised under load comes back
-  // to 1). And from the camera on: the first-hit descent reads every level's maximum heights along
-  // each ray from the camera, and a raised knob or the grazing-angle rule draws coarse levels near
-  // it (a band from r(L−1) left an HD frame's knob, raised under load, reading coarser levels than
-  // it asked for near the camera: ten million answers a second, for seconds). Nearer than where
-  // the level is drawn, from r(L−1)/quality, a tile comes after those drawn (a coarser level
-  // answers the descent as well, if not as fast).
-  const double reachScale = 1.0 / std::clamp(quality, 1e-3, 1.0);
+  // At knob q level L is drawn out to where its voxels project to q pixels, r(L)/q (r(L): where a
+  // level-L voxel spans a pixel): fetched out to r(L) at least, as a knob raised under load comes
+  // back to 1. And from the camera on: the first-hit descent reads every level's maximum heights
+  // from the camera out to where the level is drawn, and a raised knob or the grazing-angle rule
+  // draws coarse levels near the camera (fetched only from about r(L−1), an HD frame's knob raised
+  // under load read coarser levels than it asked for there: ten million answers a second, for
+  // seconds). A tile nearer than where the level is drawn, from r(L−1)/q (the grazing rule's
+  // stretch times nearer), comes after the drawn ones: a coarser level answers the descent too.
+  const double quality = std::clamp(lod.quality, 1e-3, 64.0);
+  const double reachScale = 1.0 / std::min(quality, 1.0);
+  const double nearScale = 1.0 / (std::max(quality, 1.0) * std::max(lod.grazingStretch, 1.0));
   for (int level = 0; level < mPinnedFromLevel; ++level) {
     const double scale = static_cast<double>(1 << level);
     const double rHi = g.spacingM * scale / pixelAngle;
     const double hi = std::min(rHi * (1.0 + mOptions.lodMargin) * reachScale, range);
-    const double drawnFrom = level == 0 ? 0.0 : 0.5 * rHi * (1.0 - mOptions.lodMargin) / std::max(quality, 1.0);
+    const double drawnFrom = level == 0 ? 0.0 : 0.5 * rHi * (1.0 - mOptions.lodMargin) * nearScale;
     const double tileM = g.tileSizeVox() * scale * g.spacingM;
     const double x0 = g.originM.x - 0.5 * g.spacingM;  // west edge of level-0 voxel 0
     const double y0 = g.originM.y - 0.5 * g.spacingM;
@@ -369,8 +376,8 @@ void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, 
         if (!polygonTouchesRect(hull, rlo, rhi)) continue;
         const double df = farthestInRect(now, rlo, rhi);
         const bool drawnNow = wantedNow && std::sqrt(df * df + aboveM * aboveM) >= drawnFrom;
-        // Nearest first within what the current view draws; then what only its first-hit descent
-        // reads, and the view ahead.
+        // Nearest first within the band drawn now or at quality 1; then what only the first-hit
+        // descent reads, and the view ahead.
         const double priority = drawnNow ? dNow / hi : 1.0 + (wantedNow ? dNow : dAhead) / hi;
         mScratch.push_back({level, tx, ty, priority});
       }
@@ -378,8 +385,9 @@ void TileCache::computeRequest(const Pose& pose, const glm::dvec3& velocityMps, 
   }
 }
 
-void TileCache::prefetch(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera, double quality) {
-  computeRequest(pose, velocityMps, camera, quality);
+void TileCache::prefetch(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera,
+                         const PrefetchLod& lod) {
+  computeRequest(pose, velocityMps, camera, lod);
   std::uint64_t hits = 0;
   for (const TileKey& k : mScratch) {
     if (mView->tile(k.level, k.tx, k.ty) != nullptr) ++hits;

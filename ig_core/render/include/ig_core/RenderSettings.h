@@ -2,6 +2,7 @@
 // What the ray caster is asked to do: quality knob, outputs, sky and haze, frame margins.
 
 #include <ig_core/Entities.h>
+#include <ig_core/PrefetchLod.h>
 
 #include <fieldcast/Frame.h>
 #include <fieldcast/Intrinsics.h>
@@ -65,6 +66,11 @@ struct RenderSettings {
   double marginFraction = 0.10;  ///< frame margin on each side, fraction of each display dimension
   int controlPointsPerSide = 3;  ///< control points: a perSide × perSide grid over the display
 };
+
+/// The levels of detail frames rendered with `settings` draw, for TileCache::prefetch.
+inline PrefetchLod prefetchLod(const RenderSettings& settings) noexcept {
+  return {settings.quality, settings.maxAnisotropy > 0.0 ? settings.maxLodStretch : 1.0};
+}
 
 /// The frame the IG renders for a display window: same focal length, larger by the margin, and
 /// grown so that it also covers the display window rotated by the roll (the warp applies roll).

@@ -12,6 +12,7 @@
 //   every lease taken before its withdrawal has ended AND a grace period (default 1 s) has passed.
 //   A reader without a lease is safe as long as it holds no tile pointer longer than the grace period.
 
+#include <ig_core/PrefetchLod.h>
 #include <ig_core/TerrainDatabase.h>
 #include <ig_core/TerrainView.h>
 
@@ -72,8 +73,11 @@ struct TileCacheOptions {
   double coarseShare = 0.25;   ///< at most this share of the budget is pinned to coarse levels (top level always)
   double lookaheadS = 2.0;     ///< prefetch where the camera will be this many seconds ahead
   double maxRangeM = 40000.0;  ///< farthest distance the view can need terrain
-  double lodMargin = 0.3;      ///< fetch each level this fraction farther than it is drawn (level blending)
-  int footprintRays = 9;       ///< rays per image side sampled to find the view footprint
+  /// Each level is fetched this fraction farther than it is drawn and counted as drawn from this
+  /// fraction nearer: the renderer switches levels on depth along the view axis, the prefetch
+  /// measures distance from the camera
+  double lodMargin = 0.3;
+  int footprintRays = 9;                        ///< rays per image side sampled to find the view footprint
   std::chrono::milliseconds retireGrace{1000};  ///< see the reclamation rule above
 };
 
@@ -146,15 +150,18 @@ class TileCache {
   double heightAtM(double xM, double yM, int level = 0) const noexcept { return mView->heightAtM(xM, yM, level); }
 
   /// Asks for the tiles a camera at `pose` moving at `velocityMps` (world m/s) with intrinsics
-  /// `camera` will need, for frames of quality knob `quality` (RenderSettings::quality); replaces
-  /// the previous request. Call once per frame from one thread. Never blocks on I/O (takes a mutex
-  /// the loader holds only to swap request lists).
-  void prefetch(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera, double quality = 1.0);
+  /// `camera` will need, for frames drawn at the levels of detail `lod`; replaces the previous
+  /// request. Call once per frame from one thread. Never blocks on I/O (takes a mutex the loader
+  /// holds only to swap request lists).
+  void prefetch(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera, const PrefetchLod& lod = {});
   /// Same, for a horizontal field of view in radians (4:3 image, 1024 pixels wide).
   void prefetch(const Pose& pose, const glm::dvec3& velocityMps, double hfovRad);
 
   /// Asks for one tile explicitly (lower priority value = sooner), after the current request.
-  /// The next prefetch() replaces requests not yet served.
+  /// The next prefetch() replaces requests not yet served. The priority is weighed against
+  /// prefetch()'s, for the order of loads and for eviction: below 1 the tiles the view draws
+  /// (nearest first), 1 to 2 those only its first-hit descent reads and those only ahead; a
+  /// negative priority comes before all of them.
   void request(int level, int tx, int ty, double priority = 0.0);
 
   /// Waits until the loader has nothing left to load (or `timeout`); true when idle. For tools and tests.
@@ -184,7 +191,8 @@ class TileCache {
   void evict(std::size_t level, std::size_t index);
   void reclaim(bool force);
   std::size_t slotIndex(int level, int tx, int ty) const noexcept;
-  void computeRequest(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera, double quality);
+  void computeRequest(const Pose& pose, const glm::dvec3& velocityMps, const Intrinsics& camera,
+                      const PrefetchLod& lod);
 
   std::unique_ptr<TileSource> mSource;
   std::unique_ptr<TerrainView> mView;
