@@ -69,6 +69,63 @@ INSTANTIATE_TEST_SUITE_P(Kinds, EveryWarp,
                                            WarpKind::Homography, WarpKind::Mesh, WarpKind::Range3d),
                          [](const auto& p) { return std::string(toString(p.param)); });
 
+// A frame for a display rolled 20°, as ig_core lays one out: 60 px margins (room for the turned
+// window), and the footprint the renderer draws — the window grown by 16 / 12 px, turned by 20°.
+Frame rolledFrame() {
+  Frame f = test::renderFrame(kPose, kW, kH, MarginPx{60, 60}, radians(60.0), PixelFormat::Rgb8, 1, true);
+  FrameFootprint& fp = f.footprint;
+  fp.whole = false;
+  fp.cosRoll = std::cos(radians(20.0));
+  fp.sinRoll = std::sin(radians(20.0));
+  fp.cxPx = f.intrinsics.cxPx, fp.cyPx = f.intrinsics.cyPx, fp.fxPx = f.intrinsics.fxPx, fp.fyPx = f.intrinsics.fyPx;
+  fp.xMin = (-kW / 2.0 - 16) / fp.fxPx, fp.xMax = (kW / 2.0 + 16) / fp.fxPx;
+  fp.yMin = (-kH / 2.0 - 12) / fp.fyPx, fp.yMax = (kH / 2.0 + 12) / fp.fyPx;
+  fp.widthPx = f.intrinsics.widthPx, fp.heightPx = f.intrinsics.heightPx;
+  return f;
+}
+
+class PoseWarp : public ::testing::TestWithParam<WarpKind> {};
+
+TEST_P(PoseWarp, ARolledFramesViolationsAreTheSamplesOutsideItsFootprint) {
+  const Frame frame = rolledFrame();
+  auto warp = makeWarp(GetParam(), kW, kH);
+  Image out(kW, kH / 2, PixelFormat::Rgb8);
+  Pose pose = frame.pose;
+  pose.rollRad = radians(20.0);  // the roll the frame was laid out for: inside its footprint
+  ASSERT_EQ(warp->warp(frame, pose, FieldParity::Top, out).status, WarpStatus::Ok);
+  EXPECT_EQ(warp->warp(frame, pose, FieldParity::Top, out).marginViolations, 0u);
+  // 25° further: the window's corners leave the footprint, though not the frame
+  pose.rollRad = radians(45.0);
+  for (const FieldParity parity : {FieldParity::Top, FieldParity::Bottom}) {
+    const WarpResult r = warp->warp(frame, pose, parity, out);
+    ASSERT_EQ(r.status, WarpStatus::Ok);
+    std::uint32_t outsideFootprint = 0, outsideFrame = 0;
+    for (int row = 0; row < kH / 2; ++row) {
+      for (int i = 0; i < kW; ++i) {
+        const std::optional<glm::dvec2> p = warp->sourcePx({i + 0.5, rasterRow(parity, row) + 0.5});
+        ASSERT_TRUE(p.has_value());
+        outsideFootprint += frame.footprint.contains(*p) ? 0 : 1;
+        outsideFrame += p->x >= 0 && p->x <= frame.intrinsics.widthPx && p->y >= 0 && p->y <= frame.intrinsics.heightPx
+                            ? 0
+                            : 1;
+      }
+    }
+    EXPECT_EQ(outsideFrame, 0u);
+    EXPECT_GT(outsideFootprint, 200u);
+    // Rows taken as straight between their inside ends: within a pixel a row of the count by point
+    EXPECT_NEAR(static_cast<double>(r.marginViolations), outsideFootprint, kH / 2.0) << toString(GetParam());
+  }
+  // The same frame without its footprint counts only what falls outside the frame: nothing
+  Frame whole = frame;
+  whole.footprint = FrameFootprint{};
+  EXPECT_EQ(warp->warp(whole, pose, FieldParity::Top, out).marginViolations, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Kinds, PoseWarp,
+                         ::testing::Values(WarpKind::Rotation, WarpKind::Quadratic, WarpKind::Homography,
+                                           WarpKind::Mesh, WarpKind::Range3d),
+                         [](const auto& p) { return std::string(toString(p.param)); });
+
 TEST(FieldRows, EachParityCarriesItsOwnRasterRowsForBothFieldOrders) {
   // A frame whose every display row has its own grey level
   Frame f;

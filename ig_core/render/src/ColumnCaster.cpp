@@ -3,6 +3,7 @@
 // march (RayMarch.h), the rest by the column-plane march (PlaneMarch.h), the columns of a staging
 // block in step, and the rows the plane march leaves by the per-ray march again.
 #include "ColumnCaster.h"
+#include "FrameAssembly.h"
 #include "LaneMarch.h"
 #include "PlaneMarch.h"
 #include "RayMarch.h"
@@ -48,7 +49,8 @@ std::uint32_t basePlaneColour(const TerrainView& view) noexcept {
 }
 
 CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, const RenderSettings& settings,
-                         std::uint16_t ceiling, std::uint32_t baseRgba, Image* img, float* range) noexcept
+                         std::uint16_t ceiling, std::uint32_t baseRgba, Image* img, float* range,
+                         const FrameFootprint* pixels) noexcept
     : view(&v),
       geo(&geometry),
       shading(settings),
@@ -59,8 +61,13 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
       blend(settings.blendLevels),
       laneMarch(settings.laneMarch),
       sticks(v.sticks()),
+      footprint(pixels != nullptr ? *pixels : FrameFootprint{}),
       image(img),
       rangeM(range) {
+  if (footprint.whole) {
+    footprint.widthPx = geometry.intrinsics().widthPx;
+    footprint.heightPx = geometry.intrinsics().heightPx;
+  }
   const TerrainGeometry& g = v.geometry();
   if (sticks != nullptr) {
     stickUnitsPerQ = g.heightStepM / sticks->unitM();
@@ -104,7 +111,7 @@ SeenThrough shadedHit(const CasterFrame& f, CasterThread& t, const RayLine& r, c
 // Rays that missed the terrain in sub-rows q = qFrom ... qTo of the column at camera-space x `xc`:
 // sky, or the base plane beyond the edge (a descending ray). A ray's world z and length are linear
 // / quadratic in the camera-space yc of the row.
-void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double xc, int qFrom, int qTo = 0) noexcept {
+void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double xc, int qFrom, int qTo) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const CameraAxes& ax = f.geo->axes();
   const double invS = 1.0 / sink.s;
@@ -126,7 +133,8 @@ void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double
 // offset could put the start past terrain the ray has not been tested against).
 int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double uc, int qFrom, bool untilHit,
                    bool& havePrev, glm::dvec2& prevHit, MarchHit& hitOut, RayLine& lineOut,
-                   const PlaneStop* resume = nullptr, int qTo = 0) noexcept {
+                   const PlaneStop* resume = nullptr, int qTo = -1) noexcept {
+  if (qTo < 0) qTo = sink.qEnd;
   const Intrinsics& k = f.geo->intrinsics();
   const double xc = (uc - k.cxPx) / k.fxPx;
   for (int q = qFrom; q >= qTo; --q) {
@@ -176,19 +184,25 @@ inline double finiteOrZero(double x) noexcept { return std::isfinite(x) ? x : 0.
 // depth, see castColumns) and the rows the march leaves.
 class ColumnCast {
  public:
-  ColumnCast(const CasterFrame& f, int u, std::uint8_t* columnPixels, float* columnRanges) noexcept
-      : mSink(f, f.supersample, columnPixels, columnRanges), mUc(u + 0.5) {}
+  // Column u casts the rows `rows` of the frame (its footprint's).
+  ColumnCast(const CasterFrame& f, int u, RowRun rows, std::uint8_t* columnPixels, float* columnRanges) noexcept
+      : mSink(f, f.supersample, columnPixels, columnRanges), mUc(u + 0.5), mRows(rows) {
+    mSink.qEnd = f.supersample * rows.first;
+  }
 
   // The bottom rays, one by one until one hits (the first by descending the max pyramid).
   void castBottomRays(const CasterFrame& f, CasterThread& t) noexcept {
-    const Intrinsics& k = f.geo->intrinsics();
-    mQ = castRowsPerRay(f, t, mSink, mUc, f.supersample * k.heightPx - 1, true, mHavePrev, mPrevHit, mHit, mLine);
-    if (mQ < 0) return;
+    mQ = castRowsPerRay(f, t, mSink, mUc, f.supersample * mRows.end - 1, true, mHavePrev, mPrevHit, mHit, mLine);
+    if (mQ < mSink.qEnd) {
+      mQ = -1;  // the hit was the column's top sub-row
+      return;
+    }
     mPlane = columnPlane(f, mUc);
     mDepth = finiteOrZero(mHit.m / mLine.aMaj);
   }
 
   bool done() const noexcept { return mQ < 0; }
+  RowRun rows() const noexcept { return mRows; }
   // Depth of the last terrain the column saw (its march pauses past a depth). Finite: a column
   // castColumns could not order would never be marched.
   double depth() const noexcept { return mDepth; }
@@ -223,14 +237,14 @@ class ColumnCast {
   }
 
   void castRowsUnmarched(const CasterFrame& f, CasterThread& t, int q) noexcept {
-    if (q < 0) return;
+    if (q < mSink.qEnd) return;
     // Above all the terrain, the rows left see the sky. Otherwise (the march left the grid, or
     // could not start) they are cast one by one: a row may look over the terrain's edge and a
     // tilted column come back over it, and a row above the horizon may still meet a slope that
     // rises above the camera. The per-ray march ends the column with sky at the first climbing ray
     // that misses.
     if (mStopped.overTerrain) {
-      castSkyRows(f, t, mSink, mPlane.xc, q);
+      castSkyRows(f, t, mSink, mPlane.xc, q, mSink.qEnd);
       return;
     }
     castRowsPerRay(f, t, mSink, mUc, q, false, mHavePrev, mPrevHit, mHit, mLine, &mStopped);
@@ -256,6 +270,7 @@ class ColumnCast {
 
   ColumnSink mSink;
   double mUc;
+  RowRun mRows;
   int mQ = -1;  // the sub-row the march started from (it resumes from its state); −1 once done
   bool mHavePrev = false;
   glm::dvec2 mPrevHit{0.0};
@@ -319,8 +334,8 @@ void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept
     double nearest = std::numeric_limits<double>::infinity();  // depth of the column furthest behind
     for (int u = b0; u < b1; ++u) {
       const auto c = static_cast<std::size_t>(u - b0) * static_cast<std::size_t>(rows);
-      ColumnCast& column = block[static_cast<std::size_t>(u - b0)].emplace(f, u, t.columnPixels.data() + c * bpp,
-                                                                           t.columnRanges.data() + c);
+      ColumnCast& column = block[static_cast<std::size_t>(u - b0)].emplace(
+          f, u, f.footprint.rows(u), t.columnPixels.data() + c * bpp, t.columnRanges.data() + c);
       column.castBottomRays(f, t);
       if (!column.done()) nearest = std::min(nearest, column.depth());
     }
@@ -358,6 +373,12 @@ void castColumns(const CasterFrame& f, int u0, int u1, CasterThread& t) noexcept
         if (!column->done()) nearest = std::min(nearest, column->depth());
       }
     }
+    for (int u = b0; u < b1; ++u) {
+      const auto c = static_cast<std::size_t>(u - b0) * static_cast<std::size_t>(rows);
+      repeatColumnEnds(f.image != nullptr ? t.columnPixels.data() + c * bpp : nullptr, bpp, bpp,
+                       f.rangeM != nullptr ? t.columnRanges.data() + c : nullptr, 1, rows,
+                       block[static_cast<std::size_t>(u - b0)]->rows());
+    }
     flushStaging(f, t, b0, b1 - b0, rows);
   }
 }
@@ -371,7 +392,8 @@ void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) no
     bool sky = false;
     bool havePrev = false;
     glm::dvec2 prevHit{0.0};  // level-0 units of the ray below's hit
-    for (int v = k.heightPx - 1; v >= 0; --v) {
+    const RowRun run = f.footprint.rows(u);
+    for (int v = run.end - 1; v >= run.first; --v) {
       Rgb sum;
       float rangePx = std::numeric_limits<float>::infinity();
       for (int sub = s - 1; sub >= 0; --sub) {
@@ -403,6 +425,10 @@ void castColumnsPerRay(const CasterFrame& f, int u0, int u1, CasterThread& t) no
       if (f.rangeM != nullptr)
         f.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(k.widthPx) + u] = rangePx;
     }
+    const std::size_t bpp = f.image != nullptr ? static_cast<std::size_t>(f.shading.bytesPerPixel()) : 0;
+    repeatColumnEnds(f.image != nullptr ? f.image->bytes().data() + static_cast<std::size_t>(u) * bpp : nullptr, bpp,
+                     f.image != nullptr ? f.image->strideBytes() : 0, f.rangeM != nullptr ? f.rangeM + u : nullptr,
+                     static_cast<std::size_t>(k.widthPx), k.heightPx, run);
   }
 }
 

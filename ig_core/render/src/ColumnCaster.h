@@ -28,8 +28,10 @@ std::uint32_t basePlaneColour(const TerrainView& view) noexcept;
 
 /// Everything one frame's columns need, read-only while the columns are cast.
 struct CasterFrame {
+  /// Casts the frame's `footprint` (null: every pixel).
   CasterFrame(const TerrainView& view, const ViewGeometry& geometry, const RenderSettings& settings,
-              std::uint16_t ceilingQ, std::uint32_t baseColourRgba, Image* image, float* rangeM) noexcept;
+              std::uint16_t ceilingQ, std::uint32_t baseColourRgba, Image* image, float* rangeM,
+              const FrameFootprint* footprint = nullptr) noexcept;
 
   /// What a ray that missed the terrain sees (world z `dz`, `length` per metre of depth): the base
   /// plane, or the sky; `rangeOutM` gets the range (infinite for the sky). RT-safe.
@@ -70,7 +72,8 @@ struct CasterFrame {
   /// The march looks past a crossing for terrain rising above the column plane's line where a
   /// voxel spans at least this many pixels (lookPastVoxelPx in PlaneMarch.h)
   double lookPastVoxelPx = 8.0;
-  Image* image;   ///< output pixels (or null)
+  FrameFootprint footprint;  ///< the frame's pixels to cast; each column repeats its end pixels beyond
+  Image* image;              ///< output pixels (or null)
   float* rangeM;  ///< output range per pixel (or null)
 };
 

@@ -176,6 +176,8 @@ std::size_t drawEntities(std::span<const EntityInstance> entities, const ViewGeo
     for (int v = box.v0; v < box.v1; ++v) {
       std::uint8_t* row = frame.image.row(v);
       for (int u = box.u0; u < box.u1; ++u) {
+        const RowRun run = frame.footprint.rows(u);
+        if (v < run.first || v >= run.end) continue;  // outside the footprint (repeated below)
         const glm::dvec3 ray = geometry.ray(u + 0.5, v + 0.5);
         const double length = glm::length(ray);
         float& rangeM =
@@ -189,6 +191,9 @@ std::size_t drawEntities(std::span<const EntityInstance> entities, const ViewGeo
         shader.storePixel(row + (shading.grey() ? u : 3 * u), shader.terrain(lit, rangeM), 1.0f);
         ++drawn;
       }
+    }
+    if (!frame.footprint.whole) {
+      for (int u = box.u0; u < box.u1; ++u) repeatColumnEnds(frame, u, frame.footprint.rows(u));
     }
     // A control ray that meets the entity nearer than its terrain point records the entity's point
     for (ControlPoint& cp : frame.controlPoints) {

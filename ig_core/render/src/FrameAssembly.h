@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace fieldcast::core {
@@ -22,6 +23,7 @@ inline Frame frameShell(const ViewRequest& request, const RenderSettings& settin
   frame.controlPoints.clear();
   frame.intrinsics = layout.frame;
   frame.margin = layout.margin;
+  frame.footprint = layout.footprint;
   frame.pose = request.pose;
   frame.pose.rollRad = 0.0;
   frame.poseTime = request.poseTime;
@@ -40,6 +42,31 @@ inline Frame frameShell(const ViewRequest& request, const RenderSettings& settin
     frame.controlPoints.push_back(ControlPoint{px, {}, ControlPointKind::Missing});
   }
   return frame;
+}
+
+/// Repeats a column's end pixels over its rows outside `run` (FrameFootprint::rows): the rows
+/// above get row run.first's pixel and range, the rows below row run.end − 1's. `pixels` (row 0's
+/// pixel, `bytesPerPixel` each, `pixelStride` bytes from row to row) and `ranges` (row 0's,
+/// `rangeStride` floats apart) may be null. RT-safe.
+inline void repeatColumnEnds(std::uint8_t* pixels, std::size_t bytesPerPixel, std::size_t pixelStride, float* ranges,
+                             std::size_t rangeStride, int rows, RowRun run) noexcept {
+  const auto fill = [&](int from, int to, int source) {
+    const auto src = static_cast<std::size_t>(source);
+    for (auto v = static_cast<std::size_t>(from); v < static_cast<std::size_t>(to); ++v) {
+      if (pixels != nullptr) std::memcpy(pixels + v * pixelStride, pixels + src * pixelStride, bytesPerPixel);
+      if (ranges != nullptr) ranges[v * rangeStride] = ranges[src * rangeStride];
+    }
+  };
+  fill(0, run.first, run.first);
+  fill(run.end, rows, run.end - 1);
+}
+
+/// repeatColumnEnds on column u of `frame` (its image, and its range when it has one).
+inline void repeatColumnEnds(Frame& frame, int u, RowRun run) noexcept {
+  const std::size_t bpp = rowBytes(frame.image.format(), 1);
+  const auto w = static_cast<std::size_t>(frame.intrinsics.widthPx);
+  repeatColumnEnds(frame.image.bytes().data() + static_cast<std::size_t>(u) * bpp, bpp, frame.image.strideBytes(),
+                   frame.hasRange() ? frame.rangeM.data() + u : nullptr, w, frame.intrinsics.heightPx, run);
 }
 
 /// Records what the control ray through `cp.framePx` saw: a surface point, or the sky direction.

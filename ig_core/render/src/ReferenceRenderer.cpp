@@ -379,8 +379,9 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
     out.colour = shading.terrain(colour, out.rangeM);
     return out;
   };
-  for (int v = 0; v < frame.intrinsics.heightPx; ++v) {
-    for (int u = 0; u < w; ++u) {
+  for (int u = 0; u < w; ++u) {
+    const RowRun run = frame.footprint.rows(u);
+    for (int v = run.first; v < run.end; ++v) {
       Rgb sum;
       float rangePx = std::numeric_limits<float>::infinity();
       for (int sub = s - 1; sub >= 0; --sub) {
@@ -415,6 +416,7 @@ Frame ReferenceRenderer::render(const ViewRequest& request, const RenderSettings
       shading.store(frame.image.row(v), u, sum, 1.0f / static_cast<float>(s));
       frame.rangeM[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + u] = rangePx;
     }
+    repeatColumnEnds(frame, u, run);
   }
   for (ControlPoint& cp : frame.controlPoints) {
     const Hit h = cast(geo, cp.framePx.x, cp.framePx.y);

@@ -21,7 +21,7 @@ class Renderer::InFlight {
         frame(frameShell(request, s, s.rangeImage || !entities.empty(), std::move(recycle))),
         geometry(frame.pose, frame.intrinsics, r.mView->geometry(), s),
         caster(*r.mView, geometry, s, r.mCeilingQ, r.mBaseColourRgba, &frame.image,
-               frame.hasRange() ? frame.rangeM.data() : nullptr) {
+               frame.hasRange() ? frame.rangeM.data() : nullptr, &frame.footprint) {
     frame.renderStart = MonotonicClock::now();
     job.run = &InFlight::runColumns;
     job.context = this;

@@ -37,6 +37,7 @@ struct ColumnFill {
   PixelShader shading;
   float invS, cy, invFy, xc2;  ///< sub-row pitch, principal point row, 1/fy, 1 + xc²
   double invSd;                ///< the sub-row pitch in double (the march steps its row vq by it)
+  int qEnd = 0;                ///< the column's top sub-row (ColumnSink::qEnd): fills stop there
 };
 
 /// One sub-row's terrain: colour with haze, and range (m).
@@ -137,7 +138,7 @@ __attribute__((always_inline)) inline void forEachSpanRow(const CrossingSpan spa
   double vq = vqInOut;
   while (vq > vStop) {
     put(q, pixelOf(span, local, shading, q));
-    if (--q < 0) break;
+    if (--q < local.qEnd) break;
     vq -= local.invSd;
   }
   qInOut = q;
@@ -313,7 +314,7 @@ __attribute__((always_inline)) inline void fillLanes(const CrossingSpan span, co
     // reference's does, so both stop on the same sub-row.
     double vqLast = vq;
     int n = 1;
-    while (n < 4 && q - n >= 0) {
+    while (n < 4 && q - n >= local.qEnd) {
       const double next = vqLast - step;
       if (!(next > vStop)) break;
       vqLast = next;
@@ -321,8 +322,8 @@ __attribute__((always_inline)) inline void fillLanes(const CrossingSpan span, co
     }
     fourRows(q, n);
     q -= n;
-    if (q < 0) {
-      vq = vqLast;  // the reference stops before stepping past sub-row 0
+    if (q < local.qEnd) {
+      vq = vqLast;  // the reference stops before stepping past the column's top sub-row
       break;
     }
     vq = vqLast - step;
@@ -341,7 +342,7 @@ __attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, con
                                                     const ColumnPixels out, double vStop, int& qInOut,
                                                     double& vqInOut) noexcept {
 #if defined(__SSE2__)
-  assert(qInOut >= 0 && out.bytesPerPixel == (kGrey ? 1u : 3u));
+  assert(qInOut >= column.qEnd && out.bytesPerPixel == (kGrey ? 1u : 3u));
   if (vqInOut - vStop > 2.0 * column.invSd) {
     span_lanes::fillLanes<kGrey>(span, column, out, vStop, qInOut, vqInOut, span_lanes::TerrainLanes{span});
     return;
@@ -359,7 +360,7 @@ __attribute__((always_inline)) inline void fillStickSpan(const CrossingSpan span
                                                          const ColumnPixels out, double vStop, int& qInOut,
                                                          double& vqInOut, const StickSpan& stick) noexcept {
 #if defined(__SSE2__)
-  assert(qInOut >= 0 && out.bytesPerPixel == (kGrey ? 1u : 3u));
+  assert(qInOut >= column.qEnd && out.bytesPerPixel == (kGrey ? 1u : 3u));
   if (vqInOut - vStop > 2.0 * column.invSd) {
     span_lanes::fillLanes<kGrey>(span, column, out, vStop, qInOut, vqInOut, span_lanes::StickLanes{stick});
     return;

@@ -32,7 +32,37 @@ FrameLayout layoutFrame(const Intrinsics& display, double marginFraction, double
   MarginPx margin;
   margin.x = static_cast<int>(std::ceil(growX + fraction * display.widthPx - 1e-9));
   margin.y = static_cast<int>(std::ceil(growY + fraction * display.heightPx - 1e-9));
-  return FrameLayout{display.withMargin(margin.x, margin.y), margin};
+  const Intrinsics frame = display.withMargin(margin.x, margin.y);
+  return FrameLayout{frame, margin, footprintOf(display, frame, fraction, rollRad)};
+}
+
+FrameFootprint footprintOf(const Intrinsics& display, const Intrinsics& frame, double marginFraction,
+                           double rollRad) noexcept {
+  // The display window grown by the margins a level frame would have, in whole pixels
+  const double fraction = std::max(marginFraction, 0.0);
+  const double growX = std::ceil(fraction * display.widthPx - 1e-9);
+  const double growY = std::ceil(fraction * display.heightPx - 1e-9);
+  FrameFootprint f;
+  f.whole = false;
+  f.cosRoll = std::cos(rollRad);
+  f.sinRoll = std::sin(rollRad);
+  f.cxPx = frame.cxPx;
+  f.cyPx = frame.cyPx;
+  f.fxPx = frame.fxPx;
+  f.fyPx = frame.fyPx;
+  f.xMin = (-display.cxPx - growX) / display.fxPx;
+  f.xMax = (display.widthPx - display.cxPx + growX) / display.fxPx;
+  f.yMin = (-display.cyPx - growY) / display.fyPx;
+  f.yMax = (display.heightPx - display.cyPx + growY) / display.fyPx;
+  f.widthPx = frame.widthPx;
+  f.heightPx = frame.heightPx;
+  // Whole when it holds the frame's corners (a level frame; the tolerance absorbs rounding)
+  FrameFootprint grown = f;
+  constexpr double kTolerance = 1e-9;
+  grown.xMin -= kTolerance, grown.xMax += kTolerance, grown.yMin -= kTolerance, grown.yMax += kTolerance;
+  f.whole = grown.contains({0.0, 0.0}) && grown.contains({frame.widthPx, 0.0}) &&
+            grown.contains({0.0, frame.heightPx}) && grown.contains({frame.widthPx, frame.heightPx});
+  return f;
 }
 
 ViewGeometry::ViewGeometry(const Pose& pose, const Intrinsics& frame, const TerrainGeometry& terrain,

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
 namespace fieldcast::core {
 namespace {
 
@@ -34,6 +38,80 @@ TEST(FrameLayout, RollGrowsTheFrameToCoverTheRotatedWindow) {
     }
   }
   EXPECT_GE(small.margin.x, 40);
+}
+
+TEST(FrameFootprint, ALevelFrameIsWhole) {
+  const Intrinsics display = Intrinsics::fromHorizontalFov(720, 486, radians(60));
+  const FrameLayout l = layoutFrame(display, 0.10, 0.0);
+  EXPECT_TRUE(l.footprint.whole);
+  const RowRun run = l.footprint.rows(0);
+  EXPECT_EQ(run.first, 0);
+  EXPECT_EQ(run.end, l.frame.heightPx);
+  EXPECT_FALSE(layoutFrame(display, 0.10, radians(3.0)).footprint.whole);
+}
+
+// Every point of the turned, grown window that lies in the frame is in the footprint, with the
+// four pixels a bilinear sample there reads among its columns' rows; the rows rendered are those
+// pixels and at most a few rows more per column.
+TEST(FrameFootprint, HoldsTheTurnedWindowAndItsMarginsAndLittleMore) {
+  const Intrinsics display = Intrinsics::fromHorizontalFov(480, 270, radians(60));
+  for (const double rollDeg : {5.0, 30.0, 58.7, 90.0, 135.0, -40.0, 170.0}) {
+    const FrameLayout l = layoutFrame(display, 0.10, radians(rollDeg));
+    const FrameFootprint& fp = l.footprint;
+    ASSERT_FALSE(fp.whole) << rollDeg;
+    const int w = l.frame.widthPx, h = l.frame.heightPx;
+    std::vector<RowRun> runs;
+    for (int u = 0; u < w; ++u) runs.push_back(fp.rows(u));
+    const double c = std::cos(radians(rollDeg)), s = std::sin(radians(rollDeg));
+    // The window grown by 10% per side (48 and 27 px), sampled every 0.7 px (not on its edge)
+    for (double dx = -240.0 - 48.0 + 0.35; dx < 240.0 + 48.0; dx += 0.7) {
+      for (double dy = -135.0 - 27.0 + 0.35; dy < 135.0 + 27.0; dy += 0.7) {
+        const glm::dvec2 p{l.frame.cxPx + c * dx - s * dy, l.frame.cyPx + s * dx + c * dy};
+        if (p.x < 0.0 || p.x > w || p.y < 0.0 || p.y > h) continue;
+        ASSERT_TRUE(fp.contains(p)) << rollDeg << "° at " << p.x << "," << p.y;
+        const int u0 = static_cast<int>(std::floor(p.x - 0.5)), v0 = static_cast<int>(std::floor(p.y - 0.5));
+        for (int u = std::max(u0, 0); u <= std::min(u0 + 1, w - 1); ++u) {
+          for (int v = std::max(v0, 0); v <= std::min(v0 + 1, h - 1); ++v) {
+            ASSERT_TRUE(v >= runs[u].first && v < runs[u].end)
+                << rollDeg << "°: column " << u << " rows " << runs[u].first << "-" << runs[u].end << " miss " << v;
+          }
+        }
+      }
+    }
+    // Just outside the grown window: not in the footprint
+    EXPECT_FALSE(fp.contains({l.frame.cxPx + c * 290.0 - s * 0.0, l.frame.cyPx + s * 290.0}));
+    EXPECT_FALSE(fp.contains({std::nan(""), l.frame.cyPx}));
+    // Rows rendered against the footprint's pixels in the frame
+    std::size_t rendered = 0, inside = 0;
+    for (int u = 0; u < w; ++u) {
+      ASSERT_LT(runs[u].first, runs[u].end);
+      rendered += static_cast<std::size_t>(runs[u].end - runs[u].first);
+      for (int v = 0; v < h; ++v) inside += fp.contains({u + 0.5, v + 0.5}) ? 1 : 0;
+    }
+    EXPECT_LE(rendered, inside + 8 * static_cast<std::size_t>(w)) << rollDeg;
+    if (std::abs(rollDeg) >= 30.0 && std::abs(rollDeg) <= 135.0) {
+      EXPECT_LT(rendered, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3 / 4) << rollDeg;
+    }
+  }
+}
+
+// The side screen of a flat wall (README, Channels): its window lies wholly off the axis the roll
+// turns it about, so the frame grows to 4.5× its pixels at 30° of roll and 9× at 90°; the
+// footprint stays near the window and its margins (1.44× its pixels).
+TEST(FrameFootprint, AnOffAxisWindowRendersLittleMoreThanItsOwnPixelsWhenRolled) {
+  const Intrinsics display = Intrinsics::fromFrustum(720, 486, FrustumAngles{radians(26.57), radians(56.31),
+                                                                             radians(31.0), radians(-31.0)});
+  for (const double rollDeg : {30.0, 90.0}) {
+    const FrameLayout l = layoutFrame(display, 0.10, radians(rollDeg));
+    double rendered = 0.0;
+    for (int u = 0; u < l.frame.widthPx; ++u) rendered += l.footprint.rows(u).end - l.footprint.rows(u).first;
+    const double windowPx = 720.0 * 486.0;
+    const double framePx = static_cast<double>(l.frame.widthPx) * l.frame.heightPx;
+    std::printf("roll %.0f°: frame %dx%d = %.2f× the window's pixels, footprint %.2f×\n", rollDeg, l.frame.widthPx,
+                l.frame.heightPx, framePx / windowPx, rendered / windowPx);
+    EXPECT_GT(framePx / windowPx, 4.0);
+    EXPECT_LT(rendered / windowPx, 1.6);
+  }
 }
 
 }  // namespace

@@ -18,6 +18,7 @@ namespace {
 struct SweepPose {
   double headingDeg, pitchDeg, altitudeM, fovDeg;
   int displayWidthPx = 80;
+  double rollDeg = 0.0;  ///< a rolled frame renders only its footprint (FrameFootprint)
 };
 
 // Heading all round, pitch −2°..−89°, altitude 20 m..5 km, field of view 20°..90°; and the diagonals.
@@ -37,6 +38,10 @@ std::vector<SweepPose> sweep() {
   poses.push_back({225.0, -35.0, 200.0, 90.0, 81});
   poses.push_back({315.0, -5.0, 20.0, 20.0, 81});
   poses.push_back({44.99, -12.0, 60.0, 45.0, 81});
+  // Banked: the frame grows to the turned window's bounding box and renders the turned window
+  poses.push_back({70.0, -10.0, 60.0, 70.0, 80, 35.0});
+  poses.push_back({250.0, -25.0, 200.0, 45.0, 80, -60.0});
+  poses.push_back({160.0, -5.0, 20.0, 90.0, 80, 120.0});
   return poses;
 }
 
@@ -62,6 +67,7 @@ void sweepAgainstTheReference(const TerrainView& view, double maxAnisotropy, con
   for (const SweepPose& s : sweep()) {
     ViewRequest request;
     request.pose = poseAbove(view, 420.0, 380.0, s.altitudeM, s.headingDeg, s.pitchDeg);
+    request.pose.rollRad = radians(s.rollDeg);
     request.display = Intrinsics::fromHorizontalFov(s.displayWidthPx, 60, radians(s.fovDeg));
     request.entities = entities;
     RenderStats stats;
@@ -75,8 +81,8 @@ void sweepAgainstTheReference(const TerrainView& view, double maxAnisotropy, con
       const Frame without = renderer.render(bare);
       for (std::size_t k = 0; k < fast.rangeM.size(); ++k) entityPixels += fast.rangeM[k] != without.rangeM[k];
     }
-    std::printf("heading %6.1f pitch %6.1f alt %6.0f fov %4.0f: %.4f same (%d sky mismatches, %d at the edge)\n",
-                s.headingDeg, s.pitchDeg, s.altitudeM, s.fovDeg, a.fraction(), a.skyMismatch, a.atEdge);
+    std::printf("heading %6.1f pitch %6.1f roll %6.1f alt %6.0f fov %4.0f: %.4f same (%d sky mismatches, %d at the edge)\n",
+                s.headingDeg, s.pitchDeg, s.rollDeg, s.altitudeM, s.fovDeg, a.fraction(), a.skyMismatch, a.atEdge);
     EXPECT_GE(a.fraction(), bound.perPose) << "pose heading " << s.headingDeg << " pitch " << s.pitchDeg;
     total += a.pixels;
     same += a.same;

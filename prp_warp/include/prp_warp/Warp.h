@@ -64,7 +64,8 @@ enum class FallbackReason : std::uint8_t {
 /// What one field's warp did.
 struct WarpResult {
   WarpStatus status = WarpStatus::Ok;
-  std::uint32_t marginViolations = 0;  ///< output pixels whose source fell outside the frame
+  /// Output pixels whose source fell outside the frame (outside its footprint, for a rolled one)
+  std::uint32_t marginViolations = 0;
   bool fellBack = false;               ///< the warp could not be fitted and used its fallback (counted by the caller)
   FallbackReason fallbackReason = FallbackReason::None;  ///< why, when fellBack
 };
@@ -107,6 +108,12 @@ class Warp {
                             FieldRows out) noexcept = 0;
 
  private:
+  /// The pixels of the field just warped whose source (sourcePx) lies outside `footprint`. A row's
+  /// sources are taken to run straight between its inside ends (the convex footprint then holds all
+  /// between them): two map evaluations a row when none is outside, a bisection at each end of a
+  /// row that leaves it. RT-safe.
+  std::uint32_t countOutsideFootprint(const FrameFootprint& footprint, FieldParity parity, int rows) const noexcept;
+
   int mRasterWidthPx;
   int mRasterHeightPx;
 };

@@ -37,6 +37,35 @@ struct MarginPx {
   friend bool operator==(const MarginPx&, const MarginPx&) = default;
 };
 
+/// Rows [first, end) of one frame column.
+struct RowRun {
+  int first = 0;
+  int end = 0;
+};
+
+/// The part of a frame a rolled display samples. The IG renders without roll and the warp turns
+/// the frame (DESIGN.md §3), so the frame is the bounding box of the turned display window and
+/// its margins; near half of that box lies outside the turned window at a steep bank, and is never
+/// shown. A frame renders only its footprint — the display window grown by the margins on every
+/// side, turned by the roll, within the frame — and repeats each column's end pixels above and
+/// below it; a sample outside it is a margin violation. The default is the whole frame.
+struct FrameFootprint {
+  bool whole = true;  ///< every pixel of the frame (a level frame, or one not rendered here)
+  double cosRoll = 1.0, sinRoll = 0.0;
+  double cxPx = 0.0, cyPx = 0.0, fxPx = 1.0, fyPx = 1.0;  ///< the frame's principal point and focal lengths
+  /// The grown display window, in the display's normalised coordinates ((u − cx) / fx, (v − cy) / fy)
+  double xMin = 0.0, xMax = 0.0, yMin = 0.0, yMax = 0.0;
+  int widthPx = 0, heightPx = 0;  ///< the frame's size
+
+  /// Whether continuous frame pixel `px` (pixel centres at +0.5, as the warp samples) lies in the
+  /// footprint (false for NaN).
+  bool contains(glm::dvec2 px) const noexcept;
+  /// The rows column `u` renders: every row a bilinear sample at a point of the footprint reads
+  /// from this column. Never empty: a column the footprint misses gets the rows beside its nearest
+  /// corner, so it has pixels to repeat.
+  RowRun rows(int u) const noexcept;
+};
+
 /// One rendered frame. The display window occupies frame pixels
 /// [margin.x, margin.x + displayWidth) × [margin.y, margin.y + displayHeight).
 struct Frame {
@@ -55,6 +84,7 @@ struct Frame {
   TimePoint renderEnd{};      ///< when the frame became complete
   Intrinsics intrinsics;      ///< of the whole frame, margins included
   MarginPx margin;
+  FrameFootprint footprint;  ///< the pixels rendered; outside it each column repeats its end pixels
   std::uint64_t frameNumber = 0;
   std::vector<ControlPoint> controlPoints;
 

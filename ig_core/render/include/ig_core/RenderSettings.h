@@ -77,11 +77,18 @@ inline PrefetchLod prefetchLod(const RenderSettings& settings) noexcept {
 struct FrameLayout {
   Intrinsics frame;  ///< intrinsics of the whole frame (margins included)
   MarginPx margin;   ///< display window offset inside the frame
+  FrameFootprint footprint;  ///< the pixels the rolled display samples (footprintOf)
 };
 
 /// Frame layout for a display window, a margin fraction (of each display dimension, per side) and
 /// a roll angle (radians). Pure function, RT-safe.
 FrameLayout layoutFrame(const Intrinsics& display, double marginFraction, double rollRad) noexcept;
+
+/// The footprint (FrameFootprint) of frame `frame` laid out for `display` at `rollRad`: the
+/// display window grown by the margins of a level frame, in whole pixels, turned by the roll.
+/// Whole for a level frame. Pure function, RT-safe.
+FrameFootprint footprintOf(const Intrinsics& display, const Intrinsics& frame, double marginFraction,
+                           double rollRad) noexcept;
 
 }  // namespace fieldcast::core
 
