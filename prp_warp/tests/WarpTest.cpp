@@ -105,9 +105,8 @@ TEST_P(PoseWarp, ARolledFramesViolationsAreTheSamplesOutsideItsFootprint) {
         const std::optional<glm::dvec2> p = warp->sourcePx({i + 0.5, rasterRow(parity, row) + 0.5});
         ASSERT_TRUE(p.has_value());
         outsideFootprint += frame.footprint.contains(*p) ? 0 : 1;
-        outsideFrame += p->x >= 0 && p->x <= frame.intrinsics.widthPx && p->y >= 0 && p->y <= frame.intrinsics.heightPx
-                            ? 0
-                            : 1;
+        outsideFrame +=
+            p->x >= 0 && p->x <= frame.intrinsics.widthPx && p->y >= 0 && p->y <= frame.intrinsics.heightPx ? 0 : 1;
       }
     }
     EXPECT_EQ(outsideFrame, 0u);

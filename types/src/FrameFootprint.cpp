@@ -86,7 +86,8 @@ RowRun FrameFootprint::rows(int u) const noexcept {
   // A sample at y reads rows ⌊y − ½⌋ and the one after
   const double first = std::floor(std::clamp(y.lo, 0.0, static_cast<double>(heightPx)) - 0.5);
   const double last = std::floor(std::clamp(y.hi, 0.0, static_cast<double>(heightPx)) - 0.5) + 1.0;
-  RowRun run{static_cast<int>(std::max(first, 0.0)), static_cast<int>(std::min(last + 1.0, static_cast<double>(heightPx)))};
+  RowRun run{static_cast<int>(std::max(first, 0.0)),
+             static_cast<int>(std::min(last + 1.0, static_cast<double>(heightPx)))};
   if (run.end <= run.first) run = {std::min(run.first, heightPx - 1), std::min(run.first, heightPx - 1) + 1};
   return run;
 }

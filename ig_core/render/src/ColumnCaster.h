@@ -74,7 +74,7 @@ struct CasterFrame {
   double lookPastVoxelPx = 8.0;
   FrameFootprint footprint;  ///< the frame's pixels to cast; each column repeats its end pixels beyond
   Image* image;              ///< output pixels (or null)
-  float* rangeM;  ///< output range per pixel (or null)
+  float* rangeM;             ///< output range per pixel (or null)
 };
 
 /// Per-worker state: a tile pointer per level (most lookups are one compare) and counters.

@@ -99,8 +99,8 @@ TEST(FrameFootprint, HoldsTheTurnedWindowAndItsMarginsAndLittleMore) {
 // turns it about, so the frame grows to 4.5× its pixels at 30° of roll and 9× at 90°; the
 // footprint stays near the window and its margins (1.44× its pixels).
 TEST(FrameFootprint, AnOffAxisWindowRendersLittleMoreThanItsOwnPixelsWhenRolled) {
-  const Intrinsics display = Intrinsics::fromFrustum(720, 486, FrustumAngles{radians(26.57), radians(56.31),
-                                                                             radians(31.0), radians(-31.0)});
+  const Intrinsics display =
+      Intrinsics::fromFrustum(720, 486, FrustumAngles{radians(26.57), radians(56.31), radians(31.0), radians(-31.0)});
   for (const double rollDeg : {30.0, 90.0}) {
     const FrameLayout l = layoutFrame(display, 0.10, radians(rollDeg));
     double rendered = 0.0;

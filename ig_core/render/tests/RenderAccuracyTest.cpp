@@ -81,8 +81,9 @@ void sweepAgainstTheReference(const TerrainView& view, double maxAnisotropy, con
       const Frame without = renderer.render(bare);
       for (std::size_t k = 0; k < fast.rangeM.size(); ++k) entityPixels += fast.rangeM[k] != without.rangeM[k];
     }
-    std::printf("heading %6.1f pitch %6.1f roll %6.1f alt %6.0f fov %4.0f: %.4f same (%d sky mismatches, %d at the edge)\n",
-                s.headingDeg, s.pitchDeg, s.rollDeg, s.altitudeM, s.fovDeg, a.fraction(), a.skyMismatch, a.atEdge);
+    std::printf(
+        "heading %6.1f pitch %6.1f roll %6.1f alt %6.0f fov %4.0f: %.4f same (%d sky mismatches, %d at the edge)\n",
+        s.headingDeg, s.pitchDeg, s.rollDeg, s.altitudeM, s.fovDeg, a.fraction(), a.skyMismatch, a.atEdge);
     EXPECT_GE(a.fraction(), bound.perPose) << "pose heading " << s.headingDeg << " pitch " << s.pitchDeg;
     total += a.pixels;
     same += a.same;

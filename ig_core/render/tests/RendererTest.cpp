@@ -266,9 +266,9 @@ TEST(Renderer, ARolledFrameCastsOnlyItsFootprint) {
     const ViewGeometry geo(rolled.pose, rolled.intrinsics, view.geometry(), settings);
     CasterThread t;
     const int w = rolled.intrinsics.widthPx, h = rolled.intrinsics.heightPx;
-    castColumns(
-        CasterFrame(view, geo, settings, terrainCeilingQ(view), basePlaneColour(view), &whole.image, whole.rangeM.data()),
-        0, w, t);
+    castColumns(CasterFrame(view, geo, settings, terrainCeilingQ(view), basePlaneColour(view), &whole.image,
+                            whole.rangeM.data()),
+                0, w, t);
     std::size_t inside = 0, same = 0;
     for (int u = 0; u < w; ++u) {
       const RowRun run = rolled.footprint.rows(u);

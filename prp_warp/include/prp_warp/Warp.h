@@ -66,7 +66,7 @@ struct WarpResult {
   WarpStatus status = WarpStatus::Ok;
   /// Output pixels whose source fell outside the frame (outside its footprint, for a rolled one)
   std::uint32_t marginViolations = 0;
-  bool fellBack = false;               ///< the warp could not be fitted and used its fallback (counted by the caller)
+  bool fellBack = false;  ///< the warp could not be fitted and used its fallback (counted by the caller)
   FallbackReason fallbackReason = FallbackReason::None;  ///< why, when fellBack
 };
 

@@ -75,8 +75,8 @@ inline PrefetchLod prefetchLod(const RenderSettings& settings) noexcept {
 /// The frame the IG renders for a display window: same focal length, larger by the margin, and
 /// grown so that it also covers the display window rotated by the roll (the warp applies roll).
 struct FrameLayout {
-  Intrinsics frame;  ///< intrinsics of the whole frame (margins included)
-  MarginPx margin;   ///< display window offset inside the frame
+  Intrinsics frame;          ///< intrinsics of the whole frame (margins included)
+  MarginPx margin;           ///< display window offset inside the frame
   FrameFootprint footprint;  ///< the pixels the rolled display samples (footprintOf)
 };
 
