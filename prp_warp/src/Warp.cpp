@@ -2,6 +2,7 @@
 #include <prp_warp/Warp.h>
 #include <prp_warp/Warps.h>
 
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
@@ -46,10 +47,23 @@ std::uint32_t Warp::countOutsideFootprint(const FrameFootprint& footprint, Field
       const std::optional<glm::dvec2> p = sourcePx({i + 0.5, y});
       return !p || footprint.contains(*p);  // no sample: nothing read outside
     };
-    const bool left = inside(0), right = inside(w - 1);
-    if (left && right) continue;
-    // A pixel of the row inside, if any: the middle, or the first of a 16-pixel comb
-    int in = inside(w / 2) ? w / 2 : -1;
+    // The boundary between an inside pixel `in` and an outside one `out`: the last inside
+    const auto lastInside = [&](int in, int out) {
+      while (std::abs(out - in) > 1) {
+        const int mid = in + (out - in) / 2;
+        (inside(mid) ? in : out) = mid;
+      }
+      return in;
+    };
+    const bool left = inside(0), right = inside(w - 1), middle = inside(w / 2);
+    if (left && right) {
+      // A row bends too little to leave the convex footprint between three points inside it; a
+      // row leaving it between its ends (a turned footprint's corner) leaves it around its middle
+      if (!middle) outside += static_cast<std::uint32_t>(lastInside(w - 1, w / 2) - lastInside(0, w / 2) - 1);
+      continue;
+    }
+    // A pixel of the row inside, if any: an end, the middle, or the first of a 16-pixel comb
+    int in = left ? 0 : right ? w - 1 : middle ? w / 2 : -1;
     for (int i = 8; i < w && in < 0; i += 16) {
       if (inside(i)) in = i;
     }
@@ -57,26 +71,9 @@ std::uint32_t Warp::countOutsideFootprint(const FrameFootprint& footprint, Field
       outside += static_cast<std::uint32_t>(w);
       continue;
     }
-    // The first and last pixels inside, by bisection from `in`
-    int first = in, last = in;
-    if (!left) {
-      int lo = 0;  // outside
-      while (first - lo > 1) {
-        const int mid = lo + (first - lo) / 2;
-        (inside(mid) ? first : lo) = mid;
-      }
-    } else {
-      first = 0;
-    }
-    if (!right) {
-      int hi = w - 1;  // outside
-      while (hi - last > 1) {
-        const int mid = last + (hi - last) / 2;
-        (inside(mid) ? last : hi) = mid;
-      }
-    } else {
-      last = w - 1;
-    }
+    // The first and last pixels inside, by bisection from `in` toward an end outside
+    const int first = left ? 0 : lastInside(in, 0);
+    const int last = right ? w - 1 : lastInside(in, w - 1);
     outside += static_cast<std::uint32_t>(w - (last - first + 1));
   }
   return outside;

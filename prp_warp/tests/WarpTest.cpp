@@ -5,6 +5,9 @@
 #include <prp_warp/Warps.h>
 
 #include <gtest/gtest.h>
+#include <glm/mat2x2.hpp>
+
+#include <cstdio>
 
 namespace fieldcast::warp {
 namespace {
@@ -69,18 +72,24 @@ INSTANTIATE_TEST_SUITE_P(Kinds, EveryWarp,
                                            WarpKind::Homography, WarpKind::Mesh, WarpKind::Range3d),
                          [](const auto& p) { return std::string(toString(p.param)); });
 
-// A frame for a display rolled 20°, as ig_core lays one out: 60 px margins (room for the turned
-// window), and the footprint the renderer draws — the window grown by 16 / 12 px, turned by 20°.
-Frame rolledFrame() {
+// A frame for a display rolled `rollDeg`, as ig_core lays one out: 60 px margins (room for the
+// turned window), and the footprint the renderer draws — the window grown by 16 / 12 px, turned.
+Frame rolledFrame(double rollDeg = 20.0) {
   Frame f = test::renderFrame(kPose, kW, kH, MarginPx{60, 60}, radians(60.0), PixelFormat::Rgb8, 1, true);
   FrameFootprint& fp = f.footprint;
   fp.whole = false;
-  fp.cosRoll = std::cos(radians(20.0));
-  fp.sinRoll = std::sin(radians(20.0));
-  fp.cxPx = f.intrinsics.cxPx, fp.cyPx = f.intrinsics.cyPx, fp.fxPx = f.intrinsics.fxPx, fp.fyPx = f.intrinsics.fyPx;
-  fp.xMin = (-kW / 2.0 - 16) / fp.fxPx, fp.xMax = (kW / 2.0 + 16) / fp.fxPx;
-  fp.yMin = (-kH / 2.0 - 12) / fp.fyPx, fp.yMax = (kH / 2.0 + 12) / fp.fyPx;
-  fp.widthPx = f.intrinsics.widthPx, fp.heightPx = f.intrinsics.heightPx;
+  fp.cosRoll = std::cos(radians(rollDeg));
+  fp.sinRoll = std::sin(radians(rollDeg));
+  fp.cxPx = f.intrinsics.cxPx;
+  fp.cyPx = f.intrinsics.cyPx;
+  fp.fxPx = f.intrinsics.fxPx;
+  fp.fyPx = f.intrinsics.fyPx;
+  fp.xMin = (-kW / 2.0 - 16) / fp.fxPx;
+  fp.xMax = (kW / 2.0 + 16) / fp.fxPx;
+  fp.yMin = (-kH / 2.0 - 12) / fp.fyPx;
+  fp.yMax = (kH / 2.0 + 12) / fp.fyPx;
+  fp.widthPx = f.intrinsics.widthPx;
+  fp.heightPx = f.intrinsics.heightPx;
   return f;
 }
 
@@ -118,6 +127,110 @@ TEST_P(PoseWarp, ARolledFramesViolationsAreTheSamplesOutsideItsFootprint) {
   Frame whole = frame;
   whole.footprint = FrameFootprint{};
   EXPECT_EQ(warp->warp(whole, pose, FieldParity::Top, out).marginViolations, 0u);
+}
+
+// What the renderer leaves out of a rolled frame is never read: with every pixel outside its
+// columns' runs (FrameFootprint::rows) overwritten, a field warped anywhere the margins allow is
+// the same, to the bit. The rolls that come nearest the footprint's edge without leaving it test
+// the runs' ends against the real sampler.
+TEST_P(PoseWarp, AFieldWithinTheMarginsReadsOnlyTheFootprintsRows) {
+  const Frame frame = rolledFrame();
+  Frame hidden = frame;
+  for (int u = 0; u < hidden.intrinsics.widthPx; ++u) {
+    const RowRun run = hidden.footprint.rows(u);
+    for (int v = 0; v < hidden.intrinsics.heightPx; ++v) {
+      if (v >= run.first && v < run.end) continue;
+      std::uint8_t* px = hidden.image.row(v) + 3 * u;
+      px[0] = 255, px[1] = 0, px[2] = 255;
+      hidden.rangeM[static_cast<std::size_t>(v * hidden.intrinsics.widthPx + u)] = 1.0f;
+    }
+  }
+  auto warp = makeWarp(GetParam(), kW, kH);
+  int compared = 0;
+  int fields = 0;
+  for (double rollDeg = -5.0; rollDeg <= 45.0; rollDeg += 0.5) {
+    Pose pose = frame.pose;
+    pose.rollRad = radians(rollDeg);
+    for (const FieldParity parity : {FieldParity::Top, FieldParity::Bottom}) {
+      ++fields;
+      Image shown(kW, kH / 2, PixelFormat::Rgb8), fromHidden(kW, kH / 2, PixelFormat::Rgb8);
+      const WarpResult r = warp->warp(frame, pose, parity, shown);
+      if (r.marginViolations != 0) continue;
+      ASSERT_EQ(warp->warp(hidden, pose, parity, fromHidden).marginViolations, 0u);
+      EXPECT_TRUE(shown == fromHidden) << toString(GetParam()) << " at " << rollDeg << "°";
+      ++compared;
+    }
+  }
+  std::printf("%s: %d of %d fields within the margins\n", std::string(toString(GetParam())).c_str(), compared, fields);
+  EXPECT_GT(compared, 10);
+  EXPECT_LT(compared, fields - 10);  // and some rolls leave them
+}
+
+// A warp whose map is a given affine one, its rows bent into parabolas (`bend` px per px² from
+// the raster's middle column, down the frame), and which writes nothing: the footprint count alone.
+class BentAffineWarp final : public Warp {
+ public:
+  BentAffineWarp(glm::dmat2 a, glm::dvec2 b, double bend) : Warp(kW, kH), mA(a), mB(b), mBend(bend) {}
+  WarpKind kind() const noexcept override { return WarpKind::Rotation; }
+  std::optional<glm::dvec2> sourcePx(glm::dvec2 rasterPx) const noexcept override {
+    const double x = rasterPx.x - kW / 2.0;
+    return mA * rasterPx + mB + glm::dvec2{0.0, mBend * x * x};
+  }
+
+ private:
+  WarpResult doWarp(const Frame&, const Image&, const Pose&, FieldParity, FieldRows) noexcept override { return {}; }
+  glm::dmat2 mA;
+  glm::dvec2 mB;
+  double mBend;
+};
+
+// The count is exact for rows that leave the footprint at one end, at both, that keep only a few
+// pixels at an end, or none, and for bent rows that leave it between two inside ends (around the
+// middle); but for a row whose ends and middle are outside and whose inside run is shorter than
+// the 16-pixel comb that looks for it (counted all outside).
+TEST(FootprintCount, CountsTheSamplesOutsideRowByRow) {
+  Frame frame = rolledFrame();
+  const glm::dvec2 centre{frame.intrinsics.cxPx, frame.intrinsics.cyPx};
+  Image out(kW, kH / 2, PixelFormat::Rgb8);
+  int rowsWithMiddleOnlyOut = 0, exact = 0, maps = 0;
+  // Checks one map against the count pixel by pixel
+  const auto check = [&](const glm::dmat2& a, glm::dvec2 shift, double bend) {
+    BentAffineWarp warp(a, centre + shift - a * glm::dvec2{kW / 2.0, kH / 2.0}, bend);
+    std::uint32_t truth = 0, missable = 0;
+    for (int row = 0; row < kH / 2; ++row) {
+      const double y = rasterRow(FieldParity::Bottom, row) + 0.5;
+      const auto inside = [&](double x) { return frame.footprint.contains(*warp.sourcePx({x, y})); };
+      int outside = 0;
+      for (int i = 0; i < kW; ++i) outside += inside(i + 0.5) ? 0 : 1;
+      truth += static_cast<std::uint32_t>(outside);
+      const bool middle = inside(kW / 2 + 0.5);
+      const bool left = inside(0.5), right = inside(kW - 0.5);
+      rowsWithMiddleOnlyOut += left && right && !middle ? 1 : 0;
+      if (kW - outside < 16 && !left && !middle && !right) missable += static_cast<std::uint32_t>(kW - outside);
+    }
+    const std::uint32_t counted = warp.warp(frame, frame.pose, FieldParity::Bottom, out).marginViolations;
+    EXPECT_GE(counted, truth) << "shift " << shift.x << "," << shift.y << " bend " << bend;
+    EXPECT_LE(counted, truth + missable) << "shift " << shift.x << "," << shift.y << " bend " << bend;
+    exact += counted == truth ? 1 : 0;
+    ++maps;
+  };
+  // Straight rows (an affine map: turned and scaled about the frame's centre, then shifted)
+  for (const double turnDeg : {0.0, 20.0, 35.0, 50.0, 90.0, 160.0}) {
+    for (const double scale : {0.6, 1.0, 1.6}) {
+      for (const glm::dvec2 shift : {glm::dvec2{0, 0}, glm::dvec2{70, -40}, glm::dvec2{-95, 30}, glm::dvec2{120, 0}}) {
+        const double t = radians(turnDeg);
+        check(scale * glm::dmat2{std::cos(t), std::sin(t), -std::sin(t), std::cos(t)}, shift, 0.0);
+      }
+    }
+  }
+  // Rows bent up in the middle across the top edge of a footprint not turned: out between two
+  // inside ends
+  frame = rolledFrame(0.0);
+  for (const double up : {40.0, 50.0, 60.0}) check(glm::dmat2{1.0}, {0.0, -up}, 0.004);
+  std::printf("%d of %d maps counted exactly; %d rows out only between two inside ends\n", exact, maps,
+              rowsWithMiddleOnlyOut);
+  EXPECT_GT(rowsWithMiddleOnlyOut, 0);
+  EXPECT_GT(exact, maps / 2);
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinds, PoseWarp,

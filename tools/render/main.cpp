@@ -181,7 +181,9 @@ int run(int argc, char** argv) {
   app.add_option("--size", sizeText, "display window WxH in pixels (the frame adds the margins)");
   app.add_option("--out", outPath, "PNG (or any format OpenImageIO writes) for the frame")->required();
   app.add_option("--range-out", rangePath, "also write the range image (float metres, e.g. .exr or .tif)");
-  app.add_flag("--display-only", displayOnly, "write only the display window, without the margins");
+  app.add_flag("--display-only", displayOnly,
+               "write only the display window, without the margins (unrolled: with roll its corners lie outside the "
+               "turned window the frame renders, and repeat their columns' end pixels)");
   app.add_option("--margin", settings.marginFraction, "margin per side, fraction of each dimension")
       ->check(finiteRange(0.0, 1.0, "of each dimension"));
   app.add_option("--quality", settings.quality, "pixel-to-voxel ratio (LOD bias = log2); larger is coarser and faster")

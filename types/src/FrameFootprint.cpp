@@ -14,7 +14,10 @@ struct Span {
   double lo = std::numeric_limits<double>::infinity();
   double hi = -std::numeric_limits<double>::infinity();
   bool empty() const noexcept { return !(lo <= hi); }
-  void add(double a, double b) noexcept { lo = std::min(lo, a), hi = std::max(hi, b); }
+  void add(double a, double b) noexcept {
+    lo = std::min(lo, a);
+    hi = std::max(hi, b);
+  }
 };
 
 // The t with lo ≤ a + b·t ≤ hi.
@@ -88,8 +91,7 @@ RowRun FrameFootprint::rows(int u) const noexcept {
   const double last = std::floor(std::clamp(y.hi, 0.0, static_cast<double>(heightPx)) - 0.5) + 1.0;
   RowRun run{static_cast<int>(std::max(first, 0.0)),
              static_cast<int>(std::min(last + 1.0, static_cast<double>(heightPx)))};
-  if (run.end <= run.first) run = {std::min(run.first, heightPx - 1), std::min(run.first, heightPx - 1) + 1};
-  return run;
+  return run;  // never empty: first ≤ heightPx − 1 and last ≥ first + 1
 }
 
 }  // namespace fieldcast

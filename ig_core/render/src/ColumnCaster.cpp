@@ -50,7 +50,7 @@ std::uint32_t basePlaneColour(const TerrainView& view) noexcept {
 
 CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, const RenderSettings& settings,
                          std::uint16_t ceiling, std::uint32_t baseRgba, Image* img, float* range,
-                         const FrameFootprint* pixels) noexcept
+                         const FrameFootprint* cast) noexcept
     : view(&v),
       geo(&geometry),
       shading(settings),
@@ -61,7 +61,7 @@ CasterFrame::CasterFrame(const TerrainView& v, const ViewGeometry& geometry, con
       blend(settings.blendLevels),
       laneMarch(settings.laneMarch),
       sticks(v.sticks()),
-      footprint(pixels != nullptr ? *pixels : FrameFootprint{}),
+      footprint(cast != nullptr ? *cast : FrameFootprint{}),
       image(img),
       rangeM(range) {
   if (footprint.whole) {
@@ -127,14 +127,14 @@ void castSkyRows(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double
 
 // Per-ray casting of sub-rows q = qFrom, qFrom−1, ..., qTo (the rows the plane march cannot take:
 // below the first hit, and beyond the terrain's edge). Stops after the first hit when `untilHit`.
-// Returns the sub-row below which it stopped (−1 when it cast down to qTo) and the hit. The first
+// Returns the sub-row below which it stopped (−1 when it cast down to qTo; below qTo when the hit
+// was on it) and the hit. The first
 // ray starts at `resume` when given and it marches along the same major axis (its distance is then
 // measured along the grid lines the plane march took; on the other axis the crossing's minor
 // offset could put the start past terrain the ray has not been tested against).
 int castRowsPerRay(const CasterFrame& f, CasterThread& t, ColumnSink& sink, double uc, int qFrom, bool untilHit,
-                   bool& havePrev, glm::dvec2& prevHit, MarchHit& hitOut, RayLine& lineOut,
-                   const PlaneStop* resume = nullptr, int qTo = -1) noexcept {
-  if (qTo < 0) qTo = sink.qEnd;
+                   bool& havePrev, glm::dvec2& prevHit, MarchHit& hitOut, RayLine& lineOut, int qTo,
+                   const PlaneStop* resume = nullptr) noexcept {
   const Intrinsics& k = f.geo->intrinsics();
   const double xc = (uc - k.cxPx) / k.fxPx;
   for (int q = qFrom; q >= qTo; --q) {
@@ -187,14 +187,15 @@ class ColumnCast {
   // Column u casts the rows `rows` of the frame (its footprint's).
   ColumnCast(const CasterFrame& f, int u, RowRun rows, std::uint8_t* columnPixels, float* columnRanges) noexcept
       : mSink(f, f.supersample, columnPixels, columnRanges), mUc(u + 0.5), mRows(rows) {
-    mSink.qEnd = f.supersample * rows.first;
+    mSink.qTop = f.supersample * rows.first;
   }
 
   // The bottom rays, one by one until one hits (the first by descending the max pyramid).
   void castBottomRays(const CasterFrame& f, CasterThread& t) noexcept {
-    mQ = castRowsPerRay(f, t, mSink, mUc, f.supersample * mRows.end - 1, true, mHavePrev, mPrevHit, mHit, mLine);
-    if (mQ < mSink.qEnd) {
-      mQ = -1;  // the hit was the column's top sub-row
+    mQ = castRowsPerRay(f, t, mSink, mUc, f.supersample * mRows.end - 1, true, mHavePrev, mPrevHit, mHit, mLine,
+                        mSink.qTop);
+    if (mQ < mSink.qTop) {
+      mQ = -1;  // no ray hit, or the hit was on the column's top sub-row: done
       return;
     }
     mPlane = columnPlane(f, mUc);
@@ -228,7 +229,8 @@ class ColumnCast {
   }
 
  private:
-  // The rows from q down that the plane march left (none when q < 0), and those it passed over;
+  // The rows from q down that the plane march left (none when q is above the column's top
+  // sub-row), and those it passed over;
   // the column is then done.
   void castRowsLeft(const CasterFrame& f, CasterThread& t, int q, const RowsPassedOver& passedOver) noexcept {
     mQ = -1;
@@ -237,17 +239,17 @@ class ColumnCast {
   }
 
   void castRowsUnmarched(const CasterFrame& f, CasterThread& t, int q) noexcept {
-    if (q < mSink.qEnd) return;
+    if (q < mSink.qTop) return;
     // Above all the terrain, the rows left see the sky. Otherwise (the march left the grid, or
     // could not start) they are cast one by one: a row may look over the terrain's edge and a
     // tilted column come back over it, and a row above the horizon may still meet a slope that
     // rises above the camera. The per-ray march ends the column with sky at the first climbing ray
     // that misses.
     if (mStopped.overTerrain) {
-      castSkyRows(f, t, mSink, mPlane.xc, q, mSink.qEnd);
+      castSkyRows(f, t, mSink, mPlane.xc, q, mSink.qTop);
       return;
     }
-    castRowsPerRay(f, t, mSink, mUc, q, false, mHavePrev, mPrevHit, mHit, mLine, &mStopped);
+    castRowsPerRay(f, t, mSink, mUc, q, false, mHavePrev, mPrevHit, mHit, mLine, mSink.qTop, &mStopped);
   }
 
   // Rows whose rays meet terrain the plane march passed over (lookPastCrossing), cast ray by ray
@@ -257,13 +259,15 @@ class ColumnCast {
     const int s = mSink.s;
     for (int n = 0; n < rows.count; ++n) {
       const RowsPassedOver::Span& span = rows.spans[n];
-      // Whole pixels: hi < rows·s, so its pixel's top sub-row is in the frame
-      for (int q = span.hi / s * s + s - 1; q >= span.lo / s * s; --q) {
+      // Whole pixels of the column's run (beyond it the column repeats its end pixels)
+      const int hi = std::min(span.hi / s * s + s - 1, s * mRows.end - 1);
+      const int lo = std::max(span.lo / s * s, mSink.qTop);
+      for (int q = hi; q >= lo; --q) {
         bool havePrev = false;
         glm::dvec2 prevHit{0.0};
         MarchHit hit;
         RayLine line;
-        castRowsPerRay(f, t, mSink, mUc, q, false, havePrev, prevHit, hit, line, nullptr, q);
+        castRowsPerRay(f, t, mSink, mUc, q, false, havePrev, prevHit, hit, line, q);
       }
     }
   }

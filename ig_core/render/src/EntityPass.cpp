@@ -173,11 +173,11 @@ std::size_t drawEntities(std::span<const EntityInstance> entities, const ViewGeo
     if (!e.model || e.model->rgba.empty() || !(e.scale > 0.0)) continue;
     const ModelFrame mf = modelFrame(e);
     const PixelBox box = screenBox(e, mf, geometry);
-    for (int v = box.v0; v < box.v1; ++v) {
-      std::uint8_t* row = frame.image.row(v);
-      for (int u = box.u0; u < box.u1; ++u) {
-        const RowRun run = frame.footprint.rows(u);
-        if (v < run.first || v >= run.end) continue;  // outside the footprint (repeated below)
+    for (int u = box.u0; u < box.u1; ++u) {
+      // The column's rows in the footprint; beyond them it repeats its end pixels, below
+      const RowRun run = frame.footprint.whole ? RowRun{box.v0, box.v1} : frame.footprint.rows(u);
+      for (int v = std::max(box.v0, run.first); v < std::min(box.v1, run.end); ++v) {
+        std::uint8_t* row = frame.image.row(v);
         const glm::dvec3 ray = geometry.ray(u + 0.5, v + 0.5);
         const double length = glm::length(ray);
         float& rangeM =

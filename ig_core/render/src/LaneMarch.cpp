@@ -256,7 +256,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
       lane.switchZc = b.switchDepth / lane.stretch;
     }
     t.rays += static_cast<std::uint64_t>(qFirst - lane.q);
-    return lane.q < lane.fill.qEnd;
+    return lane.q < lane.fill.qTop;
   };
   // Keeps the line's crossings as the lanes' last ones, and their next guesses
   const auto keepLine = [&]() {
@@ -329,7 +329,7 @@ void marchLanesAxis(const CasterFrame& f, CasterThread& t, std::span<LaneColumn>
                            static_cast<float>(1.0 / k.fyPx),
                            static_cast<float>(1.0 + lane.c->xc * lane.c->xc),
                            invS,
-                           column.sink->qEnd};
+                           column.sink->qTop};
     line.nZ[n] = lane.c->nZ;
     line.drift[n] = -lane.c->nMaj / lane.c->nMin * sx;
     lane.stretch = grazingLod ? stretchOfRow(*lane.c, lane.q) : 1.0;

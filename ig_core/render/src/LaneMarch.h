@@ -29,7 +29,7 @@ constexpr int kLaneColumns = 8;
 struct LaneColumn {
   ColumnSink* sink = nullptr;
   const ColumnPlane* plane = nullptr;
-  int q = -1;                 ///< in: the first sub-row to fill; out: the first it could not fill (−1: full)
+  int q = -1;  ///< in: the first sub-row to fill; out: the first it could not fill (above the sink's qTop: full)
   glm::dvec2 start{0.0};      ///< level-0 x, y of the hit of the ray of sub-row q + 1
   int level = 0;              ///< the level that hit was found at
   PlaneStop stopped;          ///< out: the march's last crossing, as marchPlane records it

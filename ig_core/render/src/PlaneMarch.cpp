@@ -208,7 +208,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
                         static_cast<float>(1.0 / k.fyPx),
                         static_cast<float>(1.0 + c.xc * c.xc),
                         invS,
-                        sink.qEnd};
+                        sink.qTop};
   const double invFy = 1.0 / k.fyPx;
   double rowSlope = (k.cyPx - vq) * invFy;  // yc / zc of the next sub-row's ray
   if (!resuming && prevP->yc > rowSlope * prevP->depth) {
@@ -305,7 +305,7 @@ int marchPlaneAxis(const CasterFrame& f, CasterThread& t, ColumnSink& sink, cons
       switchZc = switchDepth / stretch;
     }
     t.rays += static_cast<std::uint64_t>(qFirst - q);
-    return q < fill.qEnd;
+    return q < fill.qTop;
   };
   // The crossings of minor lines between two of the major axis (solveMinorLines): here, not in the
   // loop, where zeroing them before every fill was 6% of a furnished frame's march

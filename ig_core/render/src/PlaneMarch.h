@@ -79,7 +79,7 @@ struct ColumnSink {
   std::uint8_t* pixels = nullptr;  ///< this column's pixel in row 0 (rows are consecutive)
   std::size_t bytesPerPixel = 0;
   float* ranges = nullptr;  ///< this column's range in row 0 (rows are consecutive)
-  int qEnd = 0;             ///< the column's top sub-row: its rows above the frame's footprint are not cast
+  int qTop = 0;             ///< the column's top sub-row: its rows above the frame's footprint are not cast
 
   ColumnSink(const CasterFrame& frame, int subRows, std::uint8_t* columnPixels, float* columnRanges) noexcept
       : f(frame), s(subRows), scale(1.0f / static_cast<float>(subRows)) {

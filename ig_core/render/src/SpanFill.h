@@ -37,7 +37,7 @@ struct ColumnFill {
   PixelShader shading;
   float invS, cy, invFy, xc2;  ///< sub-row pitch, principal point row, 1/fy, 1 + xc²
   double invSd;                ///< the sub-row pitch in double (the march steps its row vq by it)
-  int qEnd = 0;                ///< the column's top sub-row (ColumnSink::qEnd): fills stop there
+  int qTop = 0;                ///< the column's top sub-row (ColumnSink::qTop): fills stop there
 };
 
 /// One sub-row's terrain: colour with haze, and range (m).
@@ -125,7 +125,8 @@ struct ColumnPixels {
 
 /// Calls put(q, pixel) with pixelOf (spanPixel by default) for sub-rows q, q−1, ... while their
 /// centre vq lies below vStop (the far crossing's row), one at a time; advances q and vq as the
-/// march steps them (vq by the sub-row pitch, and not past sub-row 0). q ≥ 0 on entry. Everything
+/// march steps them (vq by the sub-row pitch, and not past the column's top sub-row, qTop).
+/// q ≥ qTop on entry. Everything
 /// the loop reads is a local: pixel stores are bytes, which may alias anything, so values read
 /// through a reference would be read again after every store.
 template <typename Put, typename PixelOf = TerrainSpanPixel>
@@ -138,7 +139,7 @@ __attribute__((always_inline)) inline void forEachSpanRow(const CrossingSpan spa
   double vq = vqInOut;
   while (vq > vStop) {
     put(q, pixelOf(span, local, shading, q));
-    if (--q < local.qEnd) break;
+    if (--q < local.qTop) break;
     vq -= local.invSd;
   }
   qInOut = q;
@@ -314,7 +315,7 @@ __attribute__((always_inline)) inline void fillLanes(const CrossingSpan span, co
     // reference's does, so both stop on the same sub-row.
     double vqLast = vq;
     int n = 1;
-    while (n < 4 && q - n >= local.qEnd) {
+    while (n < 4 && q - n >= local.qTop) {
       const double next = vqLast - step;
       if (!(next > vStop)) break;
       vqLast = next;
@@ -322,7 +323,7 @@ __attribute__((always_inline)) inline void fillLanes(const CrossingSpan span, co
     }
     fourRows(q, n);
     q -= n;
-    if (q < local.qEnd) {
+    if (q < local.qTop) {
       vq = vqLast;  // the reference stops before stepping past the column's top sub-row
       break;
     }
@@ -336,13 +337,13 @@ __attribute__((always_inline)) inline void fillLanes(const CrossingSpan span, co
 #endif
 
 /// fillSpanReference four sub-rows at a time (span_lanes::fillLanes): same pixels and ranges, same
-/// q and vq afterwards; q ≥ 0 on entry, and out.bytesPerPixel is kGrey ? 1 : 3. RT-safe.
+/// q and vq afterwards; q ≥ column.qTop on entry, and out.bytesPerPixel is kGrey ? 1 : 3. RT-safe.
 template <bool kGrey>
 __attribute__((always_inline)) inline void fillSpan(const CrossingSpan span, const ColumnFill& column,
                                                     const ColumnPixels out, double vStop, int& qInOut,
                                                     double& vqInOut) noexcept {
 #if defined(__SSE2__)
-  assert(qInOut >= column.qEnd && out.bytesPerPixel == (kGrey ? 1u : 3u));
+  assert(qInOut >= column.qTop && out.bytesPerPixel == (kGrey ? 1u : 3u));
   if (vqInOut - vStop > 2.0 * column.invSd) {
     span_lanes::fillLanes<kGrey>(span, column, out, vStop, qInOut, vqInOut, span_lanes::TerrainLanes{span});
     return;
@@ -360,7 +361,7 @@ __attribute__((always_inline)) inline void fillStickSpan(const CrossingSpan span
                                                          const ColumnPixels out, double vStop, int& qInOut,
                                                          double& vqInOut, const StickSpan& stick) noexcept {
 #if defined(__SSE2__)
-  assert(qInOut >= column.qEnd && out.bytesPerPixel == (kGrey ? 1u : 3u));
+  assert(qInOut >= column.qTop && out.bytesPerPixel == (kGrey ? 1u : 3u));
   if (vqInOut - vStop > 2.0 * column.invSd) {
     span_lanes::fillLanes<kGrey>(span, column, out, vStop, qInOut, vqInOut, span_lanes::StickLanes{stick});
     return;

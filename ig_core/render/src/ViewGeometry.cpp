@@ -59,7 +59,10 @@ FrameFootprint footprintOf(const Intrinsics& display, const Intrinsics& frame, d
   // Whole when it holds the frame's corners (a level frame; the tolerance absorbs rounding)
   FrameFootprint grown = f;
   constexpr double kTolerance = 1e-9;
-  grown.xMin -= kTolerance, grown.xMax += kTolerance, grown.yMin -= kTolerance, grown.yMax += kTolerance;
+  grown.xMin -= kTolerance;
+  grown.xMax += kTolerance;
+  grown.yMin -= kTolerance;
+  grown.yMax += kTolerance;
   f.whole = grown.contains({0.0, 0.0}) && grown.contains({frame.widthPx, 0.0}) &&
             grown.contains({0.0, frame.heightPx}) && grown.contains({frame.widthPx, frame.heightPx});
   return f;

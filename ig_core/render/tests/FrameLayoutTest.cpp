@@ -55,6 +55,7 @@ TEST(FrameFootprint, ALevelFrameIsWhole) {
 // pixels and at most a few rows more per column.
 TEST(FrameFootprint, HoldsTheTurnedWindowAndItsMarginsAndLittleMore) {
   const Intrinsics display = Intrinsics::fromHorizontalFov(480, 270, radians(60));
+  int outsideChecked = 0;
   for (const double rollDeg : {5.0, 30.0, 58.7, 90.0, 135.0, -40.0, 170.0}) {
     const FrameLayout l = layoutFrame(display, 0.10, radians(rollDeg));
     const FrameFootprint& fp = l.footprint;
@@ -63,12 +64,17 @@ TEST(FrameFootprint, HoldsTheTurnedWindowAndItsMarginsAndLittleMore) {
     std::vector<RowRun> runs;
     for (int u = 0; u < w; ++u) runs.push_back(fp.rows(u));
     const double c = std::cos(radians(rollDeg)), s = std::sin(radians(rollDeg));
-    // The window grown by 10% per side (48 and 27 px), sampled every 0.7 px (not on its edge)
-    for (double dx = -240.0 - 48.0 + 0.35; dx < 240.0 + 48.0; dx += 0.7) {
-      for (double dy = -135.0 - 27.0 + 0.35; dy < 135.0 + 27.0; dy += 0.7) {
+    // The window grown by 10% per side (288 × 162 px half-sizes), sampled every 0.7 px or so,
+    // edges included (the contains test only inside them: on an edge rounding decides)
+    constexpr double kHalfW = 240.0 + 48.0, kHalfH = 135.0 + 27.0;
+    constexpr int kSteps = 823;
+    for (int i = 0; i <= kSteps; ++i) {
+      for (int j = 0; j <= kSteps * 9 / 16; ++j) {
+        const double dx = -kHalfW + 2.0 * kHalfW * i / kSteps, dy = -kHalfH + 2.0 * kHalfH * j / (kSteps * 9 / 16);
         const glm::dvec2 p{l.frame.cxPx + c * dx - s * dy, l.frame.cyPx + s * dx + c * dy};
         if (p.x < 0.0 || p.x > w || p.y < 0.0 || p.y > h) continue;
-        ASSERT_TRUE(fp.contains(p)) << rollDeg << "° at " << p.x << "," << p.y;
+        const bool onEdge = i == 0 || i == kSteps || j == 0 || j == kSteps * 9 / 16;
+        if (!onEdge) ASSERT_TRUE(fp.contains(p)) << rollDeg << "° at " << p.x << "," << p.y;
         const int u0 = static_cast<int>(std::floor(p.x - 0.5)), v0 = static_cast<int>(std::floor(p.y - 0.5));
         for (int u = std::max(u0, 0); u <= std::min(u0 + 1, w - 1); ++u) {
           for (int v = std::max(v0, 0); v <= std::min(v0 + 1, h - 1); ++v) {
@@ -78,8 +84,14 @@ TEST(FrameFootprint, HoldsTheTurnedWindowAndItsMarginsAndLittleMore) {
         }
       }
     }
-    // Just outside the grown window: not in the footprint
-    EXPECT_FALSE(fp.contains({l.frame.cxPx + c * 290.0 - s * 0.0, l.frame.cyPx + s * 290.0}));
+    // A pixel beyond the grown window's edges, where in the frame: not in the footprint
+    for (const glm::dvec2 d : {glm::dvec2{kHalfW + 1.0, 0.0}, glm::dvec2{-kHalfW - 1.0, 30.0},
+                               glm::dvec2{0.0, kHalfH + 1.0}, glm::dvec2{-50.0, -kHalfH - 1.0}}) {
+      const glm::dvec2 p{l.frame.cxPx + c * d.x - s * d.y, l.frame.cyPx + s * d.x + c * d.y};
+      if (p.x < 0.0 || p.x > w || p.y < 0.0 || p.y > h) continue;
+      ++outsideChecked;
+      EXPECT_FALSE(fp.contains(p)) << rollDeg << "° at " << p.x << "," << p.y;
+    }
     EXPECT_FALSE(fp.contains({std::nan(""), l.frame.cyPx}));
     // Rows rendered against the footprint's pixels in the frame
     std::size_t rendered = 0, inside = 0;
@@ -93,6 +105,7 @@ TEST(FrameFootprint, HoldsTheTurnedWindowAndItsMarginsAndLittleMore) {
       EXPECT_LT(rendered, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3 / 4) << rollDeg;
     }
   }
+  EXPECT_GT(outsideChecked, 10);
 }
 
 // The side screen of a flat wall (README, Channels): its window lies wholly off the axis the roll

@@ -21,7 +21,8 @@ struct SweepPose {
   double rollDeg = 0.0;  ///< a rolled frame renders only its footprint (FrameFootprint)
 };
 
-// Heading all round, pitch −2°..−89°, altitude 20 m..5 km, field of view 20°..90°; and the diagonals.
+// Heading all round, pitch −2°..−89°, altitude 20 m..5 km, field of view 20°..90°; the diagonals;
+// and three banked poses.
 std::vector<SweepPose> sweep() {
   const std::array<double, 8> pitches{-2, -5, -10, -20, -35, -55, -75, -89};
   const std::array<double, 6> altitudes{20, 60, 200, 700, 2000, 5000};
@@ -84,7 +85,8 @@ void sweepAgainstTheReference(const TerrainView& view, double maxAnisotropy, con
     std::printf(
         "heading %6.1f pitch %6.1f roll %6.1f alt %6.0f fov %4.0f: %.4f same (%d sky mismatches, %d at the edge)\n",
         s.headingDeg, s.pitchDeg, s.rollDeg, s.altitudeM, s.fovDeg, a.fraction(), a.skyMismatch, a.atEdge);
-    EXPECT_GE(a.fraction(), bound.perPose) << "pose heading " << s.headingDeg << " pitch " << s.pitchDeg;
+    EXPECT_GE(a.fraction(), bound.perPose)
+        << "pose heading " << s.headingDeg << " pitch " << s.pitchDeg << " roll " << s.rollDeg;
     total += a.pixels;
     same += a.same;
     // Control points: within bound.controlPointVoxels (at the level used) of the reference's

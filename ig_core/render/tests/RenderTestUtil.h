@@ -127,6 +127,7 @@ inline double insideGridM(const TerrainGeometry& g, const glm::dvec3& p) {
                    g.originM.y + (g.heightVox - 1) * g.spacingM - p.y});
 }
 
+/// The pixels of a rolled frame outside its footprint repeat their columns' ends: not compared.
 inline HitAgreement compareHits(const Frame& fast, const Frame& reference, const TerrainGeometry& g,
                                 const RenderSettings& settings) {
   const ViewGeometry geo(fast.pose, fast.intrinsics, g, settings);
@@ -134,6 +135,10 @@ inline HitAgreement compareHits(const Frame& fast, const Frame& reference, const
   const int w = fast.intrinsics.widthPx;
   for (int v = 0; v < fast.intrinsics.heightPx; ++v) {
     for (int u = 0; u < w; ++u) {
+      if (!fast.footprint.whole) {
+        const RowRun run = fast.footprint.rows(u);
+        if (v < run.first || v >= run.end) continue;
+      }
       const std::size_t k = static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + u;
       const float rf = fast.rangeM[k];
       const float rr = reference.rangeM[k];

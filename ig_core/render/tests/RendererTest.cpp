@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -248,49 +249,67 @@ void planeMarchAgainstRayByRay(const TerrainView& view, const std::vector<ViewRe
 }
 
 // A rolled frame casts only its footprint: there the voxels of the whole frame cast (a column's
-// march starts at its footprint's bottom, so a few pixels interpolate between other crossings),
-// for far fewer rays; beyond it each column's end pixels repeated.
+// march starts at its run's bottom, so a few pixels interpolate between other crossings) and of
+// the per-ray march, for far fewer rays; beyond it each column's end pixels repeated. With one and
+// two sub-rows per pixel.
 TEST(Renderer, ARolledFrameCastsOnlyItsFootprint) {
   const TerrainView& view = hills().view();
-  RenderSettings settings;
-  settings.rangeImage = true;
-  Renderer renderer(view, settings, 2);
-  for (const double rollDeg : {40.0, -75.0}) {
-    ViewRequest r = someView(view, 10, -15, 80);
-    r.pose.rollRad = radians(rollDeg);
-    RenderStats stats;
-    const Frame rolled = renderer.render(r, &stats);
-    ASSERT_FALSE(rolled.footprint.whole);
-    EXPECT_LT(stats.rays, stats.pixels * 3 / 4) << rollDeg;
-    Frame whole = rolled;
-    const ViewGeometry geo(rolled.pose, rolled.intrinsics, view.geometry(), settings);
-    CasterThread t;
-    const int w = rolled.intrinsics.widthPx, h = rolled.intrinsics.heightPx;
-    castColumns(CasterFrame(view, geo, settings, terrainCeilingQ(view), basePlaneColour(view), &whole.image,
-                            whole.rangeM.data()),
-                0, w, t);
-    std::size_t inside = 0, same = 0;
-    for (int u = 0; u < w; ++u) {
-      const RowRun run = rolled.footprint.rows(u);
-      for (int v = 0; v < h; ++v) {
-        const std::uint8_t* px = rolled.image.row(v) + 3 * u;
-        const std::size_t k = static_cast<std::size_t>(v * w + u);
-        if (v >= run.first && v < run.end) {
-          ++inside;
-          same += std::equal(px, px + 3, whole.image.row(v) + 3 * u) ? 1 : 0;
-          continue;
+  for (const int subRows : {1, 2}) {
+    RenderSettings settings;
+    settings.rangeImage = true;
+    settings.verticalSupersample = subRows;
+    Renderer renderer(view, settings, 2);
+    for (const double rollDeg : {40.0, -75.0}) {
+      ViewRequest r = someView(view, 10, -15, 80);
+      r.pose.rollRad = radians(rollDeg);
+      RenderStats stats;
+      const Frame rolled = renderer.render(r, &stats);
+      ASSERT_FALSE(rolled.footprint.whole);
+      EXPECT_LT(stats.rays, stats.pixels * static_cast<std::uint64_t>(subRows) * 3 / 4) << rollDeg;
+      // The same frame cast whole, and its footprint cast ray by ray
+      Frame whole = rolled;
+      Frame perRay = rolled;
+      const ViewGeometry geo(rolled.pose, rolled.intrinsics, view.geometry(), settings);
+      CasterThread t;
+      const int w = rolled.intrinsics.widthPx, h = rolled.intrinsics.heightPx;
+      const std::uint16_t ceiling = terrainCeilingQ(view);
+      castColumns(CasterFrame(view, geo, settings, ceiling, basePlaneColour(view), &whole.image, whole.rangeM.data()),
+                  0, w, t);
+      castColumnsPerRay(CasterFrame(view, geo, settings, ceiling, basePlaneColour(view), &perRay.image,
+                                    perRay.rangeM.data(), &rolled.footprint),
+                        0, w, t);
+      std::size_t inside = 0, same = 0;
+      for (int u = 0; u < w; ++u) {
+        const RowRun run = rolled.footprint.rows(u);
+        for (int v = 0; v < h; ++v) {
+          const std::uint8_t* px = rolled.image.row(v) + 3 * u;
+          if (v >= run.first && v < run.end) {
+            ++inside;
+            same += std::equal(px, px + 3, whole.image.row(v) + 3 * u) ? 1 : 0;
+            continue;
+          }
+          const int end = v < run.first ? run.first : run.end - 1;
+          ASSERT_TRUE(std::equal(px, px + 3, rolled.image.row(end) + 3 * u)) << u << "," << v;
+          ASSERT_EQ(rolled.rangeM[static_cast<std::size_t>(v * w + u)],
+                    rolled.rangeM[static_cast<std::size_t>(end * w + u)])
+              << u << "," << v;
+          ASSERT_TRUE(
+              std::equal(perRay.image.row(v) + 3 * u, perRay.image.row(v) + 3 * u + 3, perRay.image.row(end) + 3 * u))
+              << "per ray " << u << "," << v;
         }
-        const int end = v < run.first ? run.first : run.end - 1;
-        ASSERT_TRUE(std::equal(px, px + 3, rolled.image.row(end) + 3 * u)) << u << "," << v;
-        ASSERT_EQ(rolled.rangeM[k], rolled.rangeM[static_cast<std::size_t>(end * w + u)]) << u << "," << v;
-        // For the hit comparison below, the whole frame's pixel as the footprint's would be
-        whole.rangeM[k] = whole.rangeM[static_cast<std::size_t>(end * w + u)];
       }
+      const double sameColour = static_cast<double>(same) / static_cast<double>(inside);
+      const HitAgreement vsWhole = compareHits(rolled, whole, view.geometry(), settings);
+      const HitAgreement vsPerRay = compareHits(rolled, perRay, view.geometry(), settings);
+      std::printf(
+          "%d sub-rows, roll %.0f°: %zu of %d pixels cast; against the whole frame %.4f the same colour, "
+          "%.5f the same voxel; against the per-ray march %.5f\n",
+          subRows, rollDeg, inside, w * h, sameColour, vsWhole.fraction(), vsPerRay.fraction());
+      EXPECT_EQ(vsWhole.pixels, static_cast<int>(inside));
+      EXPECT_GE(sameColour, 0.98) << rollDeg;
+      EXPECT_GE(vsWhole.fraction(), 0.999) << rollDeg;
+      EXPECT_GE(vsPerRay.fraction(), 0.995) << rollDeg;
     }
-    std::printf("roll %.0f°: %zu of %zu pixels cast, %.4f the same colour as the whole frame's\n", rollDeg, inside,
-                static_cast<std::size_t>(w * h), static_cast<double>(same) / static_cast<double>(inside));
-    EXPECT_GE(static_cast<double>(same) / static_cast<double>(inside), 0.98) << rollDeg;
-    EXPECT_GE(compareHits(rolled, whole, view.geometry(), settings).fraction(), 0.999) << rollDeg;
   }
 }
 

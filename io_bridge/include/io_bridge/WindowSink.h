@@ -20,7 +20,7 @@ struct WindowFigures {
   double renderHz = 0.0;               ///< frames rendered per second (recent)
   std::uint64_t fields = 0;            ///< fields emitted
   std::uint64_t missedFields = 0;      ///< fields the field thread could not make in time
-  std::uint64_t marginViolations = 0;  ///< output pixels sampled outside the frame (total)
+  std::uint64_t marginViolations = 0;  ///< output pixels sampled outside the frame (a rolled one: its footprint; total)
 };
 
 /// Keys a keyboard flight needs, decoded from highgui's key codes (Qt and GTK backends).

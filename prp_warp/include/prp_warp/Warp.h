@@ -108,10 +108,12 @@ class Warp {
                             FieldRows out) noexcept = 0;
 
  private:
-  /// The pixels of the field just warped whose source (sourcePx) lies outside `footprint`. A row's
-  /// sources are taken to run straight between its inside ends (the convex footprint then holds all
-  /// between them): two map evaluations a row when none is outside, a bisection at each end of a
-  /// row that leaves it. RT-safe.
+  /// The pixels of the field just warped whose source (sourcePx) lies outside `footprint`, row by
+  /// row: three map evaluations (the ends and the middle) when all are inside, and a bisection at
+  /// each boundary otherwise. A row's sources are taken to leave the convex footprint at most once
+  /// at each end, or once around the middle: exact for the rotation and homography (straight rows)
+  /// and for the quadratic's gently bent ones; for the 3D and mesh warps, whose maps follow the
+  /// depth, a count to a boundary per row side. A pixel with no sample reads nothing: inside. RT-safe.
   std::uint32_t countOutsideFootprint(const FrameFootprint& footprint, FieldParity parity, int rows) const noexcept;
 
   int mRasterWidthPx;

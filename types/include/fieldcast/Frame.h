@@ -48,7 +48,8 @@ struct RowRun {
 /// its margins; near half of that box lies outside the turned window at a steep bank, and is never
 /// shown. A frame renders only its footprint — the display window grown by the margins on every
 /// side, turned by the roll, within the frame — and repeats each column's end pixels above and
-/// below it; a sample outside it is a margin violation. The default is the whole frame.
+/// below it; a sample outside it is a margin violation. The default is the whole frame; rows() and
+/// contains() need the frame's size (widthPx, heightPx), which layoutFrame sets.
 struct FrameFootprint {
   bool whole = true;  ///< every pixel of the frame (a level frame, or one not rendered here)
   double cosRoll = 1.0, sinRoll = 0.0;
