@@ -48,8 +48,8 @@ struct ServiceCounters {
   /// Handed to the sinks after their display time: an output clocked to the display times shows
   /// them a field late (the work started in time, the warp or the machine took too long).
   std::atomic<std::uint64_t> fieldsLate{0};
-  std::atomic<std::uint64_t> marginViolations{
-      0};  ///< output pixels sampled outside the frame (a rolled one: its footprint)
+  /// Output pixels sampled outside the frame (outside its footprint, for a rolled one)
+  std::atomic<std::uint64_t> marginViolations{0};
   std::atomic<std::uint64_t> warpFallbacks{0};  ///< fields warped by the rotation-only fallback
   /// warpFallbacks by reason: few points, all sky, degenerate, no range image (FallbackReason − 1).
   std::atomic<std::uint64_t> warpFallbacksByReason[4]{};

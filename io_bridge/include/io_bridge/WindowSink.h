@@ -17,10 +17,11 @@ namespace fieldcast::io {
 
 /// The figures the overlay shows; published by the service from any thread.
 struct WindowFigures {
-  double renderHz = 0.0;               ///< frames rendered per second (recent)
-  std::uint64_t fields = 0;            ///< fields emitted
-  std::uint64_t missedFields = 0;      ///< fields the field thread could not make in time
-  std::uint64_t marginViolations = 0;  ///< output pixels sampled outside the frame (a rolled one: its footprint; total)
+  double renderHz = 0.0;           ///< frames rendered per second (recent)
+  std::uint64_t fields = 0;        ///< fields emitted
+  std::uint64_t missedFields = 0;  ///< fields the field thread could not make in time
+  /// Output pixels sampled outside the frame (outside its footprint, for a rolled one), total
+  std::uint64_t marginViolations = 0;
 };
 
 /// Keys a keyboard flight needs, decoded from highgui's key codes (Qt and GTK backends).

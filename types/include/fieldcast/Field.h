@@ -65,8 +65,8 @@ struct Field {
   TimePoint displayTime{};              ///< t_k: when the field is shown
   std::uint64_t sourceFrameNumber = 0;  ///< the frame it was warped from
   TimePoint sourcePoseTime{};           ///< that frame's pose time (frame age = displayTime − this)
-  std::uint32_t marginViolations =
-      0;  ///< output pixels whose source fell outside the frame (a rolled one: its footprint)
+  /// Output pixels whose source fell outside the frame (outside its footprint, for a rolled one)
+  std::uint32_t marginViolations = 0;
   /// The first field after the field clock moved onto another frame lock: its number does not
   /// follow the previous field's, though no field was lost between them.
   bool renumbered = false;
