@@ -101,6 +101,10 @@ TEST_F(WarpEvaluationTest, QuadraticFollowsABankedTurnThatHoldMisses) {
   // The rotation-only warp takes the bank and the turn (0.26 px); what is left is parallax
   EXPECT_LT(s.rotation.meanErrPx, 1.0);
   EXPECT_GT(s.rotation.meanErrPx, 2.0 * s.quadratic.meanErrPx);
+  // The control points cover the banked field (controlPixelsOf): the quadratic comes within 1.45×
+  // the depth mesh's error, which fits no control points (measured 1.25×; 1.70× with the grid of
+  // the unturned window, which leaves the field's corners to extrapolation)
+  EXPECT_LT(s.quadratic.meanErrPx, 1.45 * s.mesh.meanErrPx);
 }
 
 TEST_F(WarpEvaluationTest, QuadraticBeatsHoldInALowFastPass) {

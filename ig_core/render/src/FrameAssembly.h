@@ -37,8 +37,8 @@ inline Frame frameShell(const ViewRequest& request, const RenderSettings& settin
         static_cast<std::size_t>(layout.frame.widthPx) * static_cast<std::size_t>(layout.frame.heightPx),
         std::numeric_limits<float>::infinity());
   }
-  for (const glm::dvec2& px : controlGridFramePx(request.display.widthPx, request.display.heightPx, layout.margin,
-                                                 std::max(settings.controlPointsPerSide, 2))) {
+  for (const glm::dvec2& px :
+       controlPixelsOf(request.display, layout, request.pose.rollRad, std::max(settings.controlPointsPerSide, 2))) {
     frame.controlPoints.push_back(ControlPoint{px, {}, ControlPointKind::Missing});
   }
   return frame;

@@ -36,6 +36,20 @@ FrameLayout layoutFrame(const Intrinsics& display, double marginFraction, double
   return FrameLayout{frame, margin, footprintOf(display, frame, fraction, rollRad)};
 }
 
+std::vector<glm::dvec2> controlPixelsOf(const Intrinsics& display, const FrameLayout& layout, double rollRad,
+                                        int perSide) {
+  std::vector<glm::dvec2> pixels = controlGridFramePx(display.widthPx, display.heightPx, layout.margin, perSide);
+  if (rollRad == 0.0) return pixels;
+  // Display normalised (x, y) lands at frame normalised (c·x − s·y, s·x + c·y), as the footprint's
+  const double c = std::cos(rollRad), s = std::sin(rollRad);
+  const Intrinsics& frame = layout.frame;
+  for (glm::dvec2& px : pixels) {
+    const double x = (px.x - frame.cxPx) / frame.fxPx, y = (px.y - frame.cyPx) / frame.fyPx;
+    px = {frame.cxPx + (c * x - s * y) * frame.fxPx, frame.cyPx + (s * x + c * y) * frame.fyPx};
+  }
+  return pixels;
+}
+
 FrameFootprint footprintOf(const Intrinsics& display, const Intrinsics& frame, double marginFraction,
                            double rollRad) noexcept {
   // The display window grown by the margins a level frame would have, in whole pixels

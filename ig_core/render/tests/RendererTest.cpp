@@ -318,6 +318,31 @@ std::vector<ViewRequest> marchComparisonViews(const TerrainView& view) {
           someView(view, 135, -40, 1500, 70)};
 }
 
+// The control points lie over the display window as the warp shows it: what a rolled frame's
+// control rays saw projects, at the pose with its roll, onto the display's own 3×3 grid (a level
+// grid in the unrolled frame would leave a banked field's corners without points: the fit then
+// extrapolates there).
+TEST(Renderer, ARolledFramesControlPointsLieOnTheDisplaysGrid) {
+  const TerrainView& view = hills().view();
+  Renderer renderer(view, RenderSettings{}, 2);
+  for (const double rollDeg : {0.0, 35.0, -70.0, 120.0}) {
+    ViewRequest r = someView(view, 10, -35, 120);
+    r.pose.rollRad = radians(rollDeg);
+    const Frame f = renderer.render(r);
+    const std::vector<glm::dvec2> grid = controlGridFramePx(r.display.widthPx, r.display.heightPx, MarginPx{0, 0});
+    ASSERT_EQ(f.controlPoints.size(), grid.size());
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      const ControlPoint& cp = f.controlPoints[i];
+      ASSERT_EQ(cp.kind, ControlPointKind::Surface) << rollDeg << " " << i;
+      EXPECT_TRUE(f.footprint.contains(cp.framePx)) << rollDeg << " " << i;
+      const std::optional<glm::dvec2> seen = projectPoint(r.pose, r.display, cp.world);
+      ASSERT_TRUE(seen.has_value()) << rollDeg << " " << i;
+      EXPECT_NEAR(seen->x, grid[i].x, 0.01) << rollDeg << " " << i;
+      EXPECT_NEAR(seen->y, grid[i].y, 0.01) << rollDeg << " " << i;
+    }
+  }
+}
+
 TEST(Renderer, PlaneMarchAgreesWithRayByRayMarch) {
   planeMarchAgainstRayByRay(hills().view(), marchComparisonViews(hills().view()), 0.0);
 }

@@ -84,6 +84,13 @@ struct FrameLayout {
 /// a roll angle (radians). Pure function, RT-safe.
 FrameLayout layoutFrame(const Intrinsics& display, double marginFraction, double rollRad) noexcept;
 
+/// The control pixels (DESIGN.md §3) of a frame laid out for `display` at `rollRad`: a `perSide` ×
+/// `perSide` grid over the display window as the warp turns it into the frame (controlGridFramePx's
+/// grid, turned by the roll about the principal point). Over the shown part of the frame, so the
+/// warp's fit interpolates the field rather than extrapolating it into a rolled field's corners.
+std::vector<glm::dvec2> controlPixelsOf(const Intrinsics& display, const FrameLayout& layout, double rollRad,
+                                        int perSide);
+
 /// The footprint (FrameFootprint) of frame `frame` laid out for `display` at `rollRad`: the
 /// display window grown by the margins of a level frame, in whole pixels, turned by the roll.
 /// Whole for a level frame. Pure function, RT-safe.
