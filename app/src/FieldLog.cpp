@@ -15,7 +15,7 @@ namespace {
 constexpr auto kDrainInterval = std::chrono::milliseconds{50};
 constexpr const char* kHeader =
     "field,display_ns,emitted_ns,x_east_m,y_north_m,z_up_m,heading_deg,pitch_deg,roll_deg,frame,frame_pose_ns,"
-    "black,host_frame,host_arrival_ns\n";
+    "black,margin_px,host_frame,host_arrival_ns\n";
 
 }  // namespace
 
@@ -56,11 +56,12 @@ void FieldLog::drain() noexcept {
   std::uint64_t tail = mTail.load(std::memory_order_relaxed);
   for (; tail != head; ++tail) {
     const FieldRecord& r = mRing[tail & mMask];
-    int n = std::fprintf(
-        mFile, "%" PRIu64 ",%" PRId64 ",%" PRId64 ",%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%" PRIu64 ",%" PRId64 ",%d,",
-        r.fieldNumber, r.displayNs, r.emittedNs, r.pose.positionM.x, r.pose.positionM.y, r.pose.positionM.z,
-        degrees(r.pose.headingRad), degrees(r.pose.pitchRad), degrees(r.pose.rollRad), r.frameNumber, r.framePoseNs,
-        r.black ? 1 : 0);
+    int n = std::fprintf(mFile,
+                         "%" PRIu64 ",%" PRId64 ",%" PRId64 ",%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%" PRIu64 ",%" PRId64
+                         ",%d,%" PRIu32 ",",
+                         r.fieldNumber, r.displayNs, r.emittedNs, r.pose.positionM.x, r.pose.positionM.y,
+                         r.pose.positionM.z, degrees(r.pose.headingRad), degrees(r.pose.pitchRad),
+                         degrees(r.pose.rollRad), r.frameNumber, r.framePoseNs, r.black ? 1 : 0, r.marginPx);
     if (n >= 0) {
       n = r.hasHostSample ? std::fprintf(mFile, "%" PRIu32 ",%" PRId64 "\n", r.hostFrame, r.hostArrivalNs)
                           : std::fputs(",\n", mFile);

@@ -27,6 +27,7 @@ struct FieldRecord {
   std::uint64_t frameNumber = 0;   ///< the frame it was warped from (0: none yet)
   std::int64_t framePoseNs = 0;    ///< that frame's pose time (0: none)
   bool black = false;              ///< no usable frame: the field is black
+  std::uint32_t marginPx = 0;      ///< its pixels sampled outside what the frame rendered (margin violations)
   bool hasHostSample = false;      ///< motion.source = "host" and a sample had arrived
   std::uint32_t hostFrame = 0;     ///< the newest host sample the pose was made from: its host frame number ...
   std::int64_t hostArrivalNs = 0;  ///< ... and when its datagram arrived at the IG

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <limits>
 
 namespace fieldcast::app {
 
@@ -91,6 +92,13 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   motion::HostSampleUsed hostSample;
   const Pose pose = poseAt(tick.displayTime, hostSample);
   const warp::FieldStatus status = mWarper.produce(frame, pose, warp::FieldSpec::of(tick), mField);
+  // The warper counts in totals; the service reports deltas in its own counters.
+  const auto& warpCounters = mWarper.counters();
+  const std::uint64_t fallbacks = warpCounters.fitFallbacks.load(std::memory_order_relaxed);
+  const std::uint64_t violations = warpCounters.marginViolations.load(std::memory_order_relaxed);
+  const std::uint64_t fieldViolations = violations - mLastViolations;
+  counters.marginViolations.fetch_add(fieldViolations, std::memory_order_relaxed);
+  mLastViolations = violations;
 
   if (status == warp::FieldStatus::Ok) {
     mMetrics.record(Measure::FrameAge, tick.displayTime - frame.poseTime);
@@ -119,6 +127,8 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
       r.frameNumber = frame.frameNumber;
       r.framePoseNs = frame.poseTime.time_since_epoch().count();
       r.black = status == warp::FieldStatus::NoFrame || status == warp::FieldStatus::BadFrame;
+      r.marginPx = static_cast<std::uint32_t>(
+          std::min<std::uint64_t>(fieldViolations, std::numeric_limits<std::uint32_t>::max()));
       r.hasHostSample = hostSample.valid;
       r.hostFrame = hostSample.hostFrame;
       r.hostArrivalNs = hostSample.arrival.time_since_epoch().count();
@@ -128,12 +138,6 @@ void FieldLoop::emit(const warp::FieldTick& tick) noexcept {
   if (inputNs != 0) {
     mMetrics.record(Measure::StickLatency, tick.displayTime - TimePoint{Nanoseconds{inputNs}});
   }
-  // The warper counts in totals; the service reports deltas in its own counters.
-  const auto& warpCounters = mWarper.counters();
-  const std::uint64_t fallbacks = warpCounters.fitFallbacks.load(std::memory_order_relaxed);
-  const std::uint64_t violations = warpCounters.marginViolations.load(std::memory_order_relaxed);
-  counters.marginViolations.fetch_add(violations - mLastViolations, std::memory_order_relaxed);
-  mLastViolations = violations;
   if (fallbacks != mLastFallbacks) {  // the warper counts a reason with every fallback, on this thread
     counters.warpFallbacks.fetch_add(fallbacks - mLastFallbacks, std::memory_order_relaxed);
     mLastFallbacks = fallbacks;

@@ -46,6 +46,7 @@ TEST(FieldLog, WritesAHeaderAndALinePerField) {
     host.hasHostSample = true;
     host.hostFrame = 812;
     host.hostArrivalNs = 1'999'000'000;
+    host.marginPx = 37;
     FieldRecord black = record(2);
     black.black = true;
     EXPECT_TRUE(log.push(record(0)));
@@ -59,14 +60,14 @@ TEST(FieldLog, WritesAHeaderAndALinePerField) {
   ASSERT_EQ(got.size(), 4u);
   EXPECT_EQ(got[0],
             "field,display_ns,emitted_ns,x_east_m,y_north_m,z_up_m,heading_deg,pitch_deg,roll_deg,frame,frame_pose_ns,"
-            "black,host_frame,host_arrival_ns");
+            "black,margin_px,host_frame,host_arrival_ns");
   EXPECT_EQ(got[1],
-            "0,2000000000,1997000000,100.5000,-20.2500,300.0000,90.000000,-10.000000,30.000000,40,1988000000,0,,");
+            "0,2000000000,1997000000,100.5000,-20.2500,300.0000,90.000000,-10.000000,30.000000,40,1988000000,0,0,,");
   EXPECT_EQ(got[2],
-            "1,2016683333,2013683333,100.5000,-20.2500,300.0000,90.000000,-10.000000,30.000000,41,2004683333,0,812,"
+            "1,2016683333,2013683333,100.5000,-20.2500,300.0000,90.000000,-10.000000,30.000000,41,2004683333,0,37,812,"
             "1999000000");
   EXPECT_EQ(got[3].substr(0, 2), "2,");
-  EXPECT_NE(got[3].find(",42,2021366666,1,,"), std::string::npos) << got[3];
+  EXPECT_NE(got[3].find(",42,2021366666,1,0,,"), std::string::npos) << got[3];
   fs::remove_all(path.parent_path());
 }
 

@@ -14,6 +14,8 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <sstream>
+#include <string>
 #include <vector>
 
 namespace fieldcast::app {
@@ -95,6 +97,14 @@ class FixedPose final : public motion::MotionSource {
   Pose mPose;
 };
 
+// A camera the test turns between fields.
+class SettablePose final : public motion::MotionSource {
+ public:
+  explicit SettablePose(const Pose& p) : pose(p) {}
+  Pose poseAt(TimePoint) const noexcept override { return pose; }
+  Pose pose;
+};
+
 struct Rig {
   VirtualClock clock{TimePoint{1s}};
   warp::FieldClockConfig clockConfig;
@@ -139,6 +149,44 @@ TEST(FieldLoop, BlackUntilTheFirstFrameThenWarpedFieldsInOrder) {
   EXPECT_EQ(f.fieldsBlack, 4u);
   EXPECT_EQ(f.frameAge.count, 6u);
   EXPECT_EQ(f.marginViolations, 0u);
+}
+
+// Each field's line carries its own margin violations: none at the frame's pose, some once the
+// camera has turned past the margins; the lines add up to the service's count.
+TEST(FieldLoop, LogsEachFieldsMarginViolations) {
+  Rig rig;
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("fieldcast_field_loop_margin_" + std::to_string(getpid()) + ".csv");
+  rig.metrics.openFieldLog(path);
+  SettablePose camera(rig.pose);
+  FieldLoop loop(*rig.fieldClock, rig.clock, rig.warper, rig.frames, camera, *rig.hub, rig.metrics);
+  rig.frames.back() = greyFrame(rig.pose, rig.clock.now());
+  rig.frames.publish();
+  loop.emit(rig.fieldClock->next());
+  camera.pose.headingRad += radians(20.0);  // about 19 px at 55 px/rad: the 8-px margin is passed
+  loop.emit(rig.fieldClock->next());
+  camera.pose.headingRad += radians(10.0);
+  loop.emit(rig.fieldClock->next());
+  rig.hub->stop();
+  rig.metrics.closeFieldLog();
+
+  std::ifstream in(path);
+  std::vector<std::uint64_t> marginPx;
+  std::string line;
+  std::getline(in, line);  // the header
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 13u) << line;
+    marginPx.push_back(std::stoull(cells[12]));  // margin_px
+  }
+  std::filesystem::remove(path);
+  ASSERT_EQ(marginPx.size(), 3u);
+  EXPECT_EQ(marginPx[0], 0u);
+  EXPECT_GT(marginPx[1], 0u);
+  EXPECT_GT(marginPx[2], marginPx[1]);
+  EXPECT_EQ(marginPx[0] + marginPx[1] + marginPx[2], rig.metrics.figures(rig.clock.now()).marginViolations);
 }
 
 TEST(FieldLoop, AFieldThatCannotBeMadeIsCountedAndTheScheduleGoesOn) {

@@ -20,13 +20,14 @@ struct LoggedField {
   double xM = 0, yM = 0, zM = 0;
   double headingDeg = 0, pitchDeg = 0, rollDeg = 0;
   bool black = false;
+  std::uint32_t marginPx = 0;   ///< pixels sampled outside what the frame rendered
   bool hasHostSample = false;   ///< with a host: a sample had arrived (host_frame given)
   std::int64_t hostFrame = -1;  ///< ... its host frame number; −1: none
 };
 
 /// Reads a field log (header line, then one field per line). Empty when the file is missing;
 /// a last line still being written (no newline yet) is left for the next read; throws
-/// std::runtime_error on a complete line without its 14 columns.
+/// std::runtime_error on a complete line without its 15 columns.
 inline std::vector<LoggedField> readFieldLog(const std::string& path) {
   std::vector<LoggedField> fields;
   std::ifstream file(path);
@@ -42,7 +43,7 @@ inline std::vector<LoggedField> readFieldLog(const std::string& path) {
     std::stringstream cells(line);
     for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
     if (!line.empty() && line.back() == ',') c.emplace_back();  // an empty last column
-    if (c.size() != 14) throw std::runtime_error("field log: 14 columns expected: " + line);
+    if (c.size() != 15) throw std::runtime_error("field log: 15 columns expected: " + line);
     LoggedField f;
     f.number = std::stoull(c[0]);
     f.displayNs = std::stoll(c[1]);
@@ -54,8 +55,9 @@ inline std::vector<LoggedField> readFieldLog(const std::string& path) {
     f.pitchDeg = std::stod(c[7]);
     f.rollDeg = std::stod(c[8]);
     f.black = c[11] == "1";
-    f.hasHostSample = !c[12].empty();
-    if (f.hasHostSample) f.hostFrame = std::stoll(c[12]);
+    f.marginPx = static_cast<std::uint32_t>(std::stoul(c[12]));
+    f.hasHostSample = !c[13].empty();
+    if (f.hasHostSample) f.hostFrame = std::stoll(c[13]);
     fields.push_back(f);
   }
   return fields;
