@@ -206,10 +206,11 @@ Pose ScriptedTrajectory::poseAtSeconds(double s) const noexcept {
   Pose pose;
   pose.positionM = {x.value, y.value, z.value};
   if (mTerrainHeight) {
-    // Lift the eye smoothly (C¹) where the path comes within 2c of the terrain: height above it
-    // d ≥ 2c is kept, below that it becomes c + max(d, 0)² / 4c, never less than c.
+    // Lift the eye smoothly (C¹) where the path comes within 2c of the lift floor: height above it
+    // d ≥ 2c is kept, below that it becomes c + max(d, 0)² / 4c, never less than c. The lifted
+    // climb rate lies between the path's and the floor's.
     const double c = mClearanceM;
-    const double d = z.value - mTerrainHeight(x.value, y.value);
+    const double d = z.value - liftFloorM(s, mTerrainHeight(x.value, y.value));
     if (c > 0.0 && d < 2.0 * c) {
       const double above = std::max(d, 0.0);
       pose.positionM.z += c + above * above / (4.0 * c) - d;
@@ -230,6 +231,73 @@ Pose ScriptedTrajectory::poseAtSeconds(double s) const noexcept {
     pose.rollRad = std::atan(groundSpeed * headingRate / kGravityMps2);
   }
   return pose;
+}
+
+void ScriptedTrajectory::setTerrainFloor(TerrainHeightFn terrainHeight) {
+  mTerrainHeight = std::move(terrainHeight);
+  mLiftFloorM.clear();
+  if (!mTerrainHeight) return;
+  // One lap of a loop (the samples wrap round) or the flight to its end (then held)
+  const bool loop = mEnd == FlightEnd::Loop;
+  const double spanS = loop ? mLapS : mDurationS - mFirstS;
+  const int n = std::max(2, static_cast<int>(std::ceil(spanS / kLiftStepS)));
+  mLiftStepS = spanS / n;
+  const int count = loop ? n : n + 1;
+  std::vector<glm::dvec2> track(static_cast<std::size_t>(count));
+  std::vector<double> ground(track.size());
+  double fastest = 0.0;
+  for (int i = 0; i < count; ++i) {
+    const Samples p = samplesAt(mFirstS + i * mLiftStepS);
+    track[i] = {p.x.value, p.y.value};
+    ground[i] = mTerrainHeight(p.x.value, p.y.value);
+    fastest = std::max(fastest, std::hypot(p.x.slope, p.y.slope));
+  }
+  const auto at = [&](int i) {  // a loop's samples wrap round; the ends of a flight are held
+    return loop ? ((i % count) + count) % count : std::clamp(i, 0, count - 1);
+  };
+  // The terrain raised to a cone of the lift gradient round every sample, as far as a cone from
+  // the highest ground could still rise above the lowest
+  const double relief =
+      *std::max_element(ground.begin(), ground.end()) - *std::min_element(ground.begin(), ground.end());
+  const int reach = std::min(
+      count, static_cast<int>(std::ceil(relief / (kMaxLiftGradient * std::max(fastest, 1e-3)) / mLiftStepS)) + 1);
+  std::vector<double> coned(ground);
+  for (int i = 0; i < count; ++i) {
+    for (int k = -reach; k <= reach; ++k) {
+      const int j = at(i + k);
+      coned[i] = std::max(coned[i], ground[j] - kMaxLiftGradient * glm::distance(track[i], track[j]));
+    }
+  }
+  // Two passes of a ±0.15 s box make the floor's slope continuous; what they take off the cones'
+  // tops (at most the gradient × the fastest ground speed × 0.15 s) is put back on the whole
+  // floor, so it still holds the terrain
+  constexpr double kSmoothingHalfS = 0.15;
+  const int half = std::max(1, static_cast<int>(std::lround(kSmoothingHalfS / mLiftStepS)));
+  std::vector<double> smooth(coned);
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::vector<double> in = smooth;
+    for (int i = 0; i < count; ++i) {
+      double sum = 0.0;
+      for (int k = -half; k <= half; ++k) sum += in[at(i + k)];
+      smooth[i] = sum / (2 * half + 1);
+    }
+  }
+  double lost = 0.0;
+  for (int i = 0; i < count; ++i) lost = std::max(lost, coned[i] - smooth[i]);
+  for (double& h : smooth) h += lost;
+  mLiftFloorM = std::move(smooth);
+}
+
+double ScriptedTrajectory::liftFloorM(double seconds, double groundM) const noexcept {
+  if (mLiftFloorM.empty() || !(seconds >= mFirstS)) return groundM;  // before the flight: straight on
+  const double count = static_cast<double>(mLiftFloorM.size());
+  double at = (seconds - mFirstS) / mLiftStepS;
+  at = mEnd == FlightEnd::Loop ? std::fmod(at, count) : std::min(at, count - 1.0);
+  const auto i = static_cast<std::size_t>(at);
+  const std::size_t next =
+      mEnd == FlightEnd::Loop ? (i + 1) % mLiftFloorM.size() : std::min(i + 1, mLiftFloorM.size() - 1);
+  const double t = at - static_cast<double>(i);
+  return std::max(groundM, mLiftFloorM[i] + (mLiftFloorM[next] - mLiftFloorM[i]) * t);
 }
 
 Pose ScriptedTrajectory::poseAt(TimePoint t) const noexcept { return poseAtSeconds(toSeconds(t - mStart)); }

@@ -63,10 +63,18 @@ class ScriptedTrajectory final : public MotionSource {
 
   /// Pose at instant `t`. Thread-safe, RT-safe.
   Pose poseAt(TimePoint t) const noexcept override;
-  /// Keeps the eye at least clearanceM() above `terrainHeight` (the position is lifted smoothly
-  /// where the path comes within 2 × clearance of it; the attitude still follows the path). Set
-  /// before the flight is shared between threads; empty: no floor.
-  void setTerrainFloor(TerrainHeightFn terrainHeight) { mTerrainHeight = std::move(terrainHeight); }
+  /// Keeps the eye at least clearanceM() above `terrainHeight`, as a pilot would: the position is
+  /// lifted smoothly where the path comes within 2 × clearance of the *lift floor* — the terrain
+  /// under the path raised to a slope of kMaxLiftGradient (rise over ground distance) on either
+  /// side of every point and smoothed — so a flight climbs over a ridge before it and no steeper
+  /// than that gradient, rather than with the terrain's own slopes. The attitude still follows the
+  /// path. Samples the flight once (every kLiftStepS over a lap, or to the end); set before the
+  /// flight is shared between threads; empty: no floor.
+  void setTerrainFloor(TerrainHeightFn terrainHeight);
+  /// The lift floor's slope: rise per metre of ground track (about 17°).
+  static constexpr double kMaxLiftGradient = 0.3;
+  /// How often the lift floor is sampled along the flight, seconds.
+  static constexpr double kLiftStepS = 0.05;
 
   /// Pose at `seconds` after the start. RT-safe.
   Pose poseAtSeconds(double seconds) const noexcept;
@@ -100,6 +108,9 @@ class ScriptedTrajectory final : public MotionSource {
     std::optional<SplineSample> heading, pitch, roll;
   };
   Samples samplesAt(double seconds) const noexcept;
+  /// The lift floor at `seconds` (setTerrainFloor), never below `groundM`, the terrain under the
+  /// eye there.
+  double liftFloorM(double seconds, double groundM) const noexcept;
 
   std::string mName;
   double mDurationS = 0.0;
@@ -112,6 +123,8 @@ class ScriptedTrajectory final : public MotionSource {
   FlightEnd mEnd = FlightEnd::Loop;
   double mClearanceM = 15.0;
   TerrainHeightFn mTerrainHeight;
+  std::vector<double> mLiftFloorM;  // every mLiftStepS from the first waypoint (setTerrainFloor)
+  double mLiftStepS = kLiftStepS;
   TimePoint mStart{};
   CubicSpline mX, mY, mZ;
   std::optional<CubicSpline> mHeading, mPitch, mRoll;  // absent: follow the flight path
