@@ -146,11 +146,12 @@ void BM_FieldWarper(benchmark::State& state, const std::string& level, bool grey
   label(state, s);
 }
 
-/// The NTSC field step (UYVY, a new frame every field) in a banked view: the field rolled by the
-/// argument's degrees, so the map turns the frame by as much (3 is the cases above).
+/// The field step (UYVY, a new frame every field) in a banked view: the field rolled by the second
+/// argument's degrees, so the map turns the frame by as much (3 is the cases above). First
+/// argument: 0 = NTSC, 1 = 1080i.
 void BM_FieldWarperBanked(benchmark::State& state, const std::string& level) {
   const AtLevel at(level);
-  const Setup& s = setup(0, static_cast<double>(state.range(0)));
+  const Setup& s = setup(static_cast<int>(state.range(0)), static_cast<double>(state.range(1)));
   FieldStep step(s, true);
   for (auto _ : state) benchmark::DoNotOptimize(step.run());
   label(state, s);
@@ -223,10 +224,7 @@ void registerAtEveryLevel() {
         ->ArgsProduct({{0, 1}, {0, 1}})
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark(("BM_FieldWarperBanked/level:" + level).c_str(), BM_FieldWarperBanked, level)
-        ->Arg(3)
-        ->Arg(6)
-        ->Arg(10)
-        ->Arg(30)
+        ->ArgsProduct({{0, 1}, {3, 6, 10, 30}})
         ->Unit(benchmark::kMicrosecond);
   }
 }
