@@ -1,6 +1,8 @@
 #include "FieldLog.h"
 #include "FieldLoop.h"
 
+#include <tools/FieldLogReader.h>
+
 #include <fieldcast/Conventions.h>
 #include <io_bridge/FieldSink.h>
 
@@ -14,7 +16,6 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -170,17 +171,8 @@ TEST(FieldLoop, LogsEachFieldsMarginViolations) {
   rig.hub->stop();
   rig.metrics.closeFieldLog();
 
-  std::ifstream in(path);
   std::vector<std::uint64_t> marginPx;
-  std::string line;
-  std::getline(in, line);  // the header
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    ASSERT_GE(cells.size(), 13u) << line;
-    marginPx.push_back(std::stoull(cells[12]));  // margin_px
-  }
+  for (const tools::LoggedField& f : tools::readFieldLog(path.string())) marginPx.push_back(f.marginPx);
   std::filesystem::remove(path);
   ASSERT_EQ(marginPx.size(), 3u);
   EXPECT_EQ(marginPx[0], 0u);
