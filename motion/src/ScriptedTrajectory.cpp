@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <stdexcept>
 
 namespace fieldcast::motion {
@@ -245,51 +246,61 @@ void ScriptedTrajectory::setTerrainFloor(TerrainHeightFn terrainHeight) {
   const int count = loop ? n : n + 1;
   std::vector<glm::dvec2> track(static_cast<std::size_t>(count));
   std::vector<double> ground(track.size());
-  double fastest = 0.0;
   for (int i = 0; i < count; ++i) {
     const Samples p = samplesAt(mFirstS + i * mLiftStepS);
     track[i] = {p.x.value, p.y.value};
     ground[i] = mTerrainHeight(p.x.value, p.y.value);
-    fastest = std::max(fastest, std::hypot(p.x.slope, p.y.slope));
   }
+  // The terrain raised to a cone of the lift gradient round every sample. Ground farther than
+  // relief / gradient (straight across, wherever the flight passes it) raises no cone above the
+  // lowest ground: only samples within that distance in x and y are compared, found in x order.
+  const double relief =
+      *std::max_element(ground.begin(), ground.end()) - *std::min_element(ground.begin(), ground.end());
+  const double reachM = relief / kMaxLiftGradient;
+  std::vector<int> byX(track.size());
+  std::iota(byX.begin(), byX.end(), 0);
+  std::sort(byX.begin(), byX.end(), [&](int a, int b) { return track[a].x < track[b].x; });
+  std::vector<double> coned(ground);
+  for (int i = 0; i < count; ++i) {
+    auto k = std::partition_point(byX.begin(), byX.end(), [&](int j) { return track[j].x < track[i].x - reachM; });
+    for (; k != byX.end() && track[*k].x <= track[i].x + reachM; ++k) {
+      if (std::abs(track[*k].y - track[i].y) > reachM) continue;
+      coned[i] = std::max(coned[i], ground[*k] - kMaxLiftGradient * glm::distance(track[i], track[*k]));
+    }
+  }
+  // Two passes of a ±0.15 s box make the floor's slope change gradually (between samples it is
+  // interpolated linearly). What they take off the cones' tops is put back where it was taken:
+  // each sample's loss, widened to the passes' reach and smoothed the same way, is at least the
+  // loss there, so the floor still holds the terrain.
   const auto at = [&](int i) {  // a loop's samples wrap round; the ends of a flight are held
     return loop ? ((i % count) + count) % count : std::clamp(i, 0, count - 1);
   };
-  // The terrain raised to a cone of the lift gradient round every sample, as far as a cone from
-  // the highest ground could still rise above the lowest
-  const double relief =
-      *std::max_element(ground.begin(), ground.end()) - *std::min_element(ground.begin(), ground.end());
-  const int reach = std::min(
-      count, static_cast<int>(std::ceil(relief / (kMaxLiftGradient * std::max(fastest, 1e-3)) / mLiftStepS)) + 1);
-  std::vector<double> coned(ground);
-  for (int i = 0; i < count; ++i) {
-    for (int k = -reach; k <= reach; ++k) {
-      const int j = at(i + k);
-      coned[i] = std::max(coned[i], ground[j] - kMaxLiftGradient * glm::distance(track[i], track[j]));
-    }
-  }
-  // Two passes of a ±0.15 s box make the floor's slope continuous; what they take off the cones'
-  // tops (at most the gradient × the fastest ground speed × 0.15 s) is put back on the whole
-  // floor, so it still holds the terrain
   constexpr double kSmoothingHalfS = 0.15;
   const int half = std::max(1, static_cast<int>(std::lround(kSmoothingHalfS / mLiftStepS)));
-  std::vector<double> smooth(coned);
-  for (int pass = 0; pass < 2; ++pass) {
-    const std::vector<double> in = smooth;
-    for (int i = 0; i < count; ++i) {
-      double sum = 0.0;
-      for (int k = -half; k <= half; ++k) sum += in[at(i + k)];
-      smooth[i] = sum / (2 * half + 1);
+  const auto smoothed = [&](std::vector<double> v) {
+    for (int pass = 0; pass < 2; ++pass) {
+      const std::vector<double> in = v;
+      for (int i = 0; i < count; ++i) {
+        double sum = 0.0;
+        for (int k = -half; k <= half; ++k) sum += in[at(i + k)];
+        v[i] = sum / (2 * half + 1);
+      }
     }
+    return v;
+  };
+  std::vector<double> floor = smoothed(coned);
+  std::vector<double> loss(track.size(), 0.0);
+  for (int i = 0; i < count; ++i) {
+    for (int k = -2 * half; k <= 2 * half; ++k) loss[i] = std::max(loss[i], coned[at(i + k)] - floor[at(i + k)]);
   }
-  double lost = 0.0;
-  for (int i = 0; i < count; ++i) lost = std::max(lost, coned[i] - smooth[i]);
-  for (double& h : smooth) h += lost;
-  mLiftFloorM = std::move(smooth);
+  loss = smoothed(std::move(loss));
+  for (int i = 0; i < count; ++i) floor[i] += loss[i];
+  mLiftFloorM = std::move(floor);
 }
 
 double ScriptedTrajectory::liftFloorM(double seconds, double groundM) const noexcept {
-  if (mLiftFloorM.empty() || !(seconds >= mFirstS)) return groundM;  // before the flight: straight on
+  if (mLiftFloorM.empty() || !std::isfinite(seconds)) return groundM;
+  if (seconds < mFirstS) return std::max(groundM, mLiftFloorM.front());  // before the flight: straight on
   const double count = static_cast<double>(mLiftFloorM.size());
   double at = (seconds - mFirstS) / mLiftStepS;
   at = mEnd == FlightEnd::Loop ? std::fmod(at, count) : std::min(at, count - 1.0);

@@ -88,6 +88,7 @@ FrameLayout layoutFrame(const Intrinsics& display, double marginFraction, double
 /// `perSide` grid over the display window as the warp turns it into the frame (controlGridFramePx's
 /// grid, turned by the roll about the principal point). Over the shown part of the frame, so the
 /// warp's fit interpolates the field rather than extrapolating it into a rolled field's corners.
+/// Allocates the returned grid.
 std::vector<glm::dvec2> controlPixelsOf(const Intrinsics& display, const FrameLayout& layout, double rollRad,
                                         int perSide);
 
