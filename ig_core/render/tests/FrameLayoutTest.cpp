@@ -74,7 +74,9 @@ TEST(FrameFootprint, HoldsTheTurnedWindowAndItsMarginsAndLittleMore) {
         const glm::dvec2 p{l.frame.cxPx + c * dx - s * dy, l.frame.cyPx + s * dx + c * dy};
         if (p.x < 0.0 || p.x > w || p.y < 0.0 || p.y > h) continue;
         const bool onEdge = i == 0 || i == kSteps || j == 0 || j == kSteps * 9 / 16;
-        if (!onEdge) ASSERT_TRUE(fp.contains(p)) << rollDeg << "° at " << p.x << "," << p.y;
+        if (!onEdge) {
+          ASSERT_TRUE(fp.contains(p)) << rollDeg << "° at " << p.x << "," << p.y;
+        }
         const int u0 = static_cast<int>(std::floor(p.x - 0.5)), v0 = static_cast<int>(std::floor(p.y - 0.5));
         for (int u = std::max(u0, 0); u <= std::min(u0 + 1, w - 1); ++u) {
           for (int v = std::max(v0, 0); v <= std::min(v0 + 1, h - 1); ++v) {
