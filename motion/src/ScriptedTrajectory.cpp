@@ -289,9 +289,11 @@ void ScriptedTrajectory::setTerrainFloor(TerrainHeightFn terrainHeight) {
     return v;
   };
   std::vector<double> floor = smoothed(coned);
+  std::vector<double> taken(track.size());
+  for (int i = 0; i < count; ++i) taken[i] = std::max(0.0, coned[i] - floor[i]);
   std::vector<double> loss(track.size(), 0.0);
   for (int i = 0; i < count; ++i) {
-    for (int k = -2 * half; k <= 2 * half; ++k) loss[i] = std::max(loss[i], coned[at(i + k)] - floor[at(i + k)]);
+    for (int k = -2 * half; k <= 2 * half; ++k) loss[i] = std::max(loss[i], taken[at(i + k)]);
   }
   loss = smoothed(std::move(loss));
   for (int i = 0; i < count; ++i) floor[i] += loss[i];

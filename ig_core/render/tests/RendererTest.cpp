@@ -325,10 +325,15 @@ std::vector<ViewRequest> marchComparisonViews(const TerrainView& view) {
 TEST(Renderer, ARolledFramesControlPointsLieOnTheDisplaysGrid) {
   const TerrainView& view = hills().view();
   Renderer renderer(view, RenderSettings{}, 2);
-  for (const double rollDeg : {0.0, 35.0, -70.0, 120.0, 50.0}) {
+  struct Case {
+    double rollDeg;
+    double offAxisPx;  // an off-axis window, which the roll swings round the axis
+  };
+  for (const auto [rollDeg, offAxisPx] :
+       {Case{0.0, 0.0}, Case{35.0, 0.0}, Case{-70.0, 0.0}, Case{120.0, 0.0}, Case{50.0, 40.0}}) {
     ViewRequest r = someView(view, 10, -35, 120);
     r.pose.rollRad = radians(rollDeg);
-    if (rollDeg == 50.0) r.display.cxPx += 40.0;  // an off-axis window, which the roll swings round the axis
+    r.display.cxPx += offAxisPx;
     const Frame f = renderer.render(r);
     const std::vector<glm::dvec2> grid = controlGridFramePx(r.display.widthPx, r.display.heightPx, MarginPx{0, 0});
     ASSERT_EQ(f.controlPoints.size(), grid.size());

@@ -65,14 +65,14 @@ class ScriptedTrajectory final : public MotionSource {
   Pose poseAt(TimePoint t) const noexcept override;
   /// Keeps the eye at least clearanceM() above `terrainHeight`, as a pilot would: the position is
   /// lifted smoothly where the path comes within 2 × clearance of the *lift floor* — the terrain
-  /// under the path raised to a slope of kMaxLiftGradient (rise over ground distance) on either
+  /// under the path raised to a slope of kMaxLiftGradient (rise over horizontal distance) on either
   /// side of every point and smoothed — so a flight climbs over a ridge before it and no steeper
   /// than about that gradient, rather than with the terrain's own slopes. The attitude still
   /// follows the path. Samples the flight once (every kLiftStepS over a lap, or to the end) and
   /// compares each sample with those within relief / gradient of it; set before the flight is
   /// shared between threads; empty: no floor.
   void setTerrainFloor(TerrainHeightFn terrainHeight);
-  /// The lift floor's slope: rise per metre of ground track (about 17°).
+  /// The lift floor's slope: rise per metre of horizontal distance (about 17°).
   static constexpr double kMaxLiftGradient = 0.3;
   /// How often the lift floor is sampled along the flight, seconds.
   static constexpr double kLiftStepS = 0.05;
