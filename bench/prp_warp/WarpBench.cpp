@@ -224,7 +224,7 @@ void registerAtEveryLevel() {
         ->ArgsProduct({{0, 1}, {0, 1}})
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark(("BM_FieldWarperBanked/level:" + level).c_str(), BM_FieldWarperBanked, level)
-        ->ArgsProduct({{0, 1}, {3, 6, 10, 30}})
+        ->ArgsProduct({{0, 1}, {3, 6, 10, 30, 60}})
         ->Unit(benchmark::kMicrosecond);
   }
 }

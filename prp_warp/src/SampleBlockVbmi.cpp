@@ -77,54 +77,19 @@ constexpr std::array<std::uint8_t, 64> packIndex(bool blue) {
 alignas(64) constexpr std::array<std::uint8_t, 64> kRedGreen = packIndex(false);
 alignas(64) constexpr std::array<std::uint8_t, 64> kAndBlue = packIndex(true);
 
-// The staged block of C channels (3: RGB, 1: grey); false, having written nothing, when its
-// neighbours do not fit the staged rows.
+// Channel c of each lane's upper and lower neighbour pairs, (left, right) as 16-bit halves, blended
+// along x and then y (upper · (256 − fy) + lower · fy) and stored: 16 × C bytes.
 template <int C>
-FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates& b, std::uint8_t* dst) noexcept {
-  // x0 − xmin at most this: the right neighbour's last byte is then byte 62 (RGB) or 63 (grey)
-  constexpr int kMaxSpanPx = C == 3 ? 19 : 62;
-  // The block's first neighbour: a field's map runs one way along a row, so the least x0 and y0
-  // are those of its first or its last lane (checked below: every lane must lie within the span)
-  const int x0First = _mm_cvtsi128_si32(_mm512_castsi512_si128(b.x0));
-  const int y0First = _mm_cvtsi128_si32(_mm512_castsi512_si128(b.y0));
-  const int x0Last = _mm_extract_epi32(_mm512_extracti32x4_epi32(b.x0, 3), 3);
-  const int y0Last = _mm_extract_epi32(_mm512_extracti32x4_epi32(b.y0, 3), 3);
-  const int xmin = x0First < x0Last ? x0First : x0Last, ymin = y0First < y0Last ? y0First : y0Last;
-  const __m512i dx = _mm512_sub_epi32(b.x0, _mm512_set1_epi32(xmin));
-  const __m512i dy = _mm512_sub_epi32(b.y0, _mm512_set1_epi32(ymin));
-  // Unsigned: a lane before the first (negative) fails too
-  if ((_mm512_cmpgt_epu32_mask(dx, _mm512_set1_epi32(kMaxSpanPx)) |
-       _mm512_cmpgt_epu32_mask(dy, _mm512_set1_epi32(1))) != 0)
-    return false;
-  const __mmask16 onSecondRow = _mm512_test_epi32_mask(dy, dy);  // lanes whose upper row is the second
-  const bool threeRows = onSecondRow != 0;
-  const std::int64_t stride = src.strideBytes;
-  const std::int64_t first = static_cast<std::int64_t>(ymin) * stride + std::int64_t{xmin} * C;
-  const std::int64_t end = static_cast<std::int64_t>(src.heightPx - 1) * stride + std::int64_t{src.widthPx} * C;
-  if (first + (threeRows ? 2 : 1) * stride + 64 > end) return false;
-  const std::uint8_t* p = src.base + first;
-  const __m512i row0 = _mm512_loadu_si512(p), row1 = _mm512_loadu_si512(p + stride);
-  const __m512i row2 = threeRows ? _mm512_loadu_si512(p + 2 * stride) : row1;
-
-  // Lane k's bytes 0 and 2 index its left and right neighbour's channel in a pair of staged rows
-  // (bit 6 picks the second: its upper row is row 1 where dy is 1); the two-register byte permute
-  // leaves bytes 1 and 3 zero, so each is a 16-bit (left, right) pair for the multiply-add with the
-  // weights (256 − fx, fx). Upper rows come from rows 0 and 1, lower rows from rows 1 and 2.
-  const __m512i left = C == 3 ? _mm512_add_epi32(dx, _mm512_slli_epi32(dx, 1)) : dx;  // C · (x0 − xmin)
-  const __m512i pairs = _mm512_or_si512(left, _mm512_slli_epi32(_mm512_add_epi32(left, _mm512_set1_epi32(C)), 16));
-  const __m512i pairIndex = _mm512_mask_add_epi32(pairs, onSecondRow, pairs,
-                                                  _mm512_set1_epi32(0x00400040));  // bit 6 of bytes 0 and 2
-  const __m512i weightsX =
-      _mm512_or_si512(_mm512_sub_epi32(_mm512_set1_epi32(kOne), b.fx), _mm512_slli_epi32(b.fx, 16));
+FIELDCAST_VBMI inline void blendAndStore(const __m512i (&upperPairs)[C], const __m512i (&lowerPairs)[C], __m512i fx,
+                                         __m512i fy, std::uint8_t* dst) noexcept {
+  const __m512i weightsX = _mm512_or_si512(_mm512_sub_epi32(_mm512_set1_epi32(kOne), fx), _mm512_slli_epi32(fx, 16));
   const __m512i round = _mm512_set1_epi32(1 << (2 * kFracBits - 1));
   __m512i rounded[C];  // channel c of lane k: (sample + ½) · 2^16, the sample in byte 2
   for (int c = 0; c < C; ++c) {
-    const __m512i index = _mm512_add_epi32(pairIndex, _mm512_set1_epi32(c * 0x10001));
-    const __m512i upper = _mm512_madd_epi16(_mm512_maskz_permutex2var_epi8(kBytes0And2, row0, index, row1), weightsX);
-    const __m512i lower = _mm512_madd_epi16(_mm512_maskz_permutex2var_epi8(kBytes0And2, row1, index, row2), weightsX);
-    // upper · (256 − fy) + lower · fy, rounded
+    const __m512i upper = _mm512_madd_epi16(upperPairs[c], weightsX);
+    const __m512i lower = _mm512_madd_epi16(lowerPairs[c], weightsX);
     const __m512i value =
-        _mm512_add_epi32(_mm512_slli_epi32(upper, kFracBits), _mm512_mullo_epi32(_mm512_sub_epi32(lower, upper), b.fy));
+        _mm512_add_epi32(_mm512_slli_epi32(upper, kFracBits), _mm512_mullo_epi32(_mm512_sub_epi32(lower, upper), fy));
     rounded[c] = _mm512_add_epi32(value, round);
   }
   if constexpr (C == 1) {
@@ -138,6 +103,89 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
         _mm512_permutex2var_epi8(_mm512_permutex2var_epi8(rounded[0], _mm512_load_si512(kRedGreen.data()), rounded[1]),
                                  _mm512_load_si512(kAndBlue.data()), rounded[2]));
   }
+}
+
+// The staged block of C channels (3: RGB, 1: grey); false, having written nothing, when its
+// neighbours do not fit the staged rows.
+template <int C>
+FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates& b, std::uint8_t* dst) noexcept {
+  // x0 − xmin at most this: the right neighbour's last byte is then byte 62 (RGB) or 63 (grey)
+  constexpr int kMaxSpanPx = C == 3 ? 19 : 62;
+  // The block's first neighbour: a field's map runs one way along a row, so the least x0 and y0
+  // are those of its first or its last lane (checked below: every lane must lie within the span)
+  const int x0First = _mm_cvtsi128_si32(_mm512_castsi512_si128(b.x0));
+  const int y0First = _mm_cvtsi128_si32(_mm512_castsi512_si128(b.y0));
+  const int x0Last = _mm_extract_epi32(_mm512_extracti32x4_epi32(b.x0, 3), 3);
+  const int y0Last = _mm_extract_epi32(_mm512_extracti32x4_epi32(b.y0, 3), 3);
+  const int xmin = x0First < x0Last ? x0First : x0Last, ymin = y0First < y0Last ? y0First : y0Last;
+  const int rise = (y0First < y0Last ? y0Last : y0First) - ymin;  // the last upper row, from the first
+  if (rise > kMaxStagedRiseRows) return false;
+  const __m512i dx = _mm512_sub_epi32(b.x0, _mm512_set1_epi32(xmin));
+  const __m512i dy = _mm512_sub_epi32(b.y0, _mm512_set1_epi32(ymin));
+  // Unsigned: a lane before the first (negative) fails too
+  if ((_mm512_cmpgt_epu32_mask(dx, _mm512_set1_epi32(kMaxSpanPx)) |
+       _mm512_cmpgt_epu32_mask(dy, _mm512_set1_epi32(rise))) != 0)
+    return false;
+  const std::int64_t stride = src.strideBytes;
+  const std::int64_t first = static_cast<std::int64_t>(ymin) * stride + std::int64_t{xmin} * C;
+  const std::int64_t end = static_cast<std::int64_t>(src.heightPx - 1) * stride + std::int64_t{src.widthPx} * C;
+  // Rows ymin … ymin + rise + 1 are read
+  if (first + (rise + 1) * stride + 64 > end) return false;
+  const std::uint8_t* p = src.base + first;
+
+  // Lane k's bytes 0 and 2 index its left and right neighbour's channel in a pair of staged rows
+  // (bit 6 picks the second); the two-register byte permute leaves bytes 1 and 3 zero (or they are
+  // cleared), so each is a 16-bit (left, right) pair for the multiply-add with the weights
+  // (256 − fx, fx).
+  const __m512i left = C == 3 ? _mm512_add_epi32(dx, _mm512_slli_epi32(dx, 1)) : dx;  // C · (x0 − xmin)
+  const __m512i pairs = _mm512_or_si512(left, _mm512_slli_epi32(_mm512_add_epi32(left, _mm512_set1_epi32(C)), 16));
+  const __m512i second = _mm512_set1_epi32(0x00400040);  // bit 6 of bytes 0 and 2
+  __m512i upperPairs[C], lowerPairs[C];
+  if (rise <= 1) {
+    // Two or three rows: upper rows from rows 0 and 1, lower rows from rows 1 and 2 (bit 6 set
+    // where the lane's upper row is row 1)
+    const __mmask16 onSecondRow = _mm512_test_epi32_mask(dy, dy);
+    const __m512i row0 = _mm512_loadu_si512(p), row1 = _mm512_loadu_si512(p + stride);
+    const __m512i row2 = rise == 1 ? _mm512_loadu_si512(p + 2 * stride) : row1;
+    const __m512i pairIndex = _mm512_mask_add_epi32(pairs, onSecondRow, pairs, second);
+    for (int c = 0; c < C; ++c) {
+      const __m512i index = _mm512_add_epi32(pairIndex, _mm512_set1_epi32(c * 0x10001));
+      upperPairs[c] = _mm512_maskz_permutex2var_epi8(kBytes0And2, row0, index, row1);
+      lowerPairs[c] = _mm512_maskz_permutex2var_epi8(kBytes0And2, row1, index, row2);
+    }
+  } else {
+    // A turned block: rows 0 … rise + 1, staged two at a time. Rows 2j and 2j + 1 hold the upper
+    // rows of the lanes whose dy is 2j or 2j + 1 and the lower rows of those whose dy + 1 is. One
+    // permute of the two serves both: a lane's upper pair in its bytes 0 and 2, its lower pair in
+    // bytes 1 and 3; each byte is kept from the permute of the rows it reads.
+    const __m512i one = _mm512_set1_epi32(1);
+    const __m512i below = _mm512_add_epi32(dy, one);
+    const __m512i upperIndex = _mm512_mask_add_epi32(pairs, _mm512_test_epi32_mask(dy, one), pairs, second);
+    const __m512i lowerIndex = _mm512_mask_add_epi32(pairs, _mm512_test_epi32_mask(below, one), pairs, second);
+    const __m512i index = _mm512_or_si512(upperIndex, _mm512_slli_epi32(lowerIndex, 8));
+    // Each index byte's pair of rows (dy / 2 for bytes 0 and 2, (dy + 1) / 2 for bytes 1 and 3)
+    const __m512i pairOfLane =
+        _mm512_or_si512(_mm512_srli_epi32(dy, 1), _mm512_slli_epi32(_mm512_srli_epi32(below, 1), 8));
+    const __m512i pairOfByte = _mm512_or_si512(pairOfLane, _mm512_slli_epi32(pairOfLane, 16));
+    __m512i both[C];
+    for (int c = 0; c < C; ++c) both[c] = _mm512_setzero_si512();
+    const int lastRow = rise + 1;
+    for (int j = 0; 2 * j <= lastRow; ++j) {
+      const __m512i rowA = _mm512_loadu_si512(p + 2 * j * stride);
+      const __m512i rowB = 2 * j + 1 <= lastRow ? _mm512_loadu_si512(p + (2 * j + 1) * stride) : rowA;
+      const __mmask64 here = _mm512_cmpeq_epi8_mask(pairOfByte, _mm512_set1_epi8(static_cast<char>(j)));
+      for (int c = 0; c < C; ++c) {
+        const __m512i channelIndex = _mm512_add_epi32(index, _mm512_set1_epi32(c * 0x01010101));
+        both[c] = _mm512_mask_mov_epi8(both[c], here, _mm512_permutex2var_epi8(rowA, channelIndex, rowB));
+      }
+    }
+    const __m512i bytes0And2 = _mm512_set1_epi32(0x00FF00FF);
+    for (int c = 0; c < C; ++c) {
+      upperPairs[c] = _mm512_and_si512(both[c], bytes0And2);
+      lowerPairs[c] = _mm512_and_si512(_mm512_srli_epi32(both[c], 8), bytes0And2);
+    }
+  }
+  blendAndStore<C>(upperPairs, lowerPairs, b.fx, b.fy, dst);
   return true;
 }
 

@@ -197,7 +197,12 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
       {"turned 3 degrees", 3.7, 40.2, 3.0, 1.0},
       {"turned 4.5 degrees (offered; some blocks on three rows: gathered)", 3.1, 50.3, 4.5, 1.0},
       {"turned -6 degrees", 5.1, 120.9, -6.0, 0.97},
-      {"turned 10 degrees (three rows: gathered)", 2.3, 20.4, 10.0, 1.0},
+      {"turned 10 degrees (staged on up to five rows)", 2.3, 20.4, 10.0, 1.0},
+      {"turned 30 degrees (a banked view)", 4.6, 30.2, 30.0, 1.0},
+      {"turned -60 degrees", 150.3, 200.7, -60.0, 1.02},
+      {"turned 90 degrees (down a frame column)", 100.4, 10.3, 90.0, 1.0},
+      {"turned 100 degrees (leftwards and down)", 300.2, 12.9, 100.0, 0.98},
+      {"turned 90 degrees, zoomed out 1.2 (climbing too far for a block: gathered)", 80.5, 5.5, 90.0, 1.2},
       {"zoomed out 1.3 (too wide for RGB: gathered)", 0.6, 60.1, 1.0, 1.3},
       {"zoomed out 4.5 (too wide for grey too)", 0.6, 60.1, 1.0, 4.5},
       {"zoomed in", 50.2, 70.7, 2.0, 0.6},
@@ -232,9 +237,10 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
   });
 }
 
-// The staged block itself (avx512vbmi), RGB and grey: taken for a field's blocks, two rows or
-// three, and up to the frame's last bytes, which are followed by a page that may not be read;
-// refused one pixel further on (its load would reach into that page), where the gathers take over.
+// The staged block itself (avx512vbmi), RGB and grey: taken for a field's blocks, level (two rows
+// or three) or turned (climbing up to kMaxStagedRiseRows rows), and up to the frame's last bytes, which are followed by
+// a page that may not be read; refused one pixel further on (its load would reach into that page), where the gathers
+// take over.
 TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte) {
   if (!simdVbmiEnabled()) GTEST_SKIP() << "this CPU has no AVX-512 VBMI (level avx512vbmi)";
   // 16 samples from (x, y) on, `step` frame pixels apart, rising by `rise` pixels per sample
@@ -268,8 +274,19 @@ TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte)
     // On the last two rows: a load from x0 = 42 on row 6 ends two bytes before the frame's end
     block(src, 3, 42.6f, 6.7f, 0.0f, true);
     block(src, 3, 43.6f, 6.7f, 0.0f, false);       // one pixel on it would reach into the guard page
-    block(src, 3, 3.3f, 2.6f, 0.2f, false);        // turned too far: four rows
+    block(src, 3, 3.3f, 2.6f, 0.2f, true);         // turned: upper rows 2 … 5, five rows staged
     block(src, 3, 3.3f, 2.6f, 0.0f, false, 1.3f);  // zoomed out: 20 pixels across
+  });
+  // Turned blocks climbing many rows: as a banked view's field rows do, and straight down a column
+  withGuardedFrame(3, 64, 40, [&](const sampling::Source& src) {
+    block(src, 3, 3.3f, 2.6f, 0.55f, true, 0.85f);          // rolled about 33°: upper rows 2 … 10
+    block(src, 3, 3.3f, 2.6f, 1.0f, true, 0.0f);            // 90°: upper rows 2 … 17
+    block(src, 3, 20.2f, 30.6f, -0.9f, true, 0.5f);         // climbing the other way: upper rows 30 down to 16
+    block(src, 3, 3.3f, 2.6f, 16.0f / 15.0f, true, 0.0f);   // upper rows 2 … 18: the most a block may climb
+    block(src, 3, 3.3f, 2.6f, 17.0f / 15.0f, false, 0.0f);  // 2 … 19: one row more
+    // Down to the last row: the load from x0 = 42 on row 39 ends two bytes before the frame's end
+    block(src, 3, 42.6f, 23.6f, 1.0f, true, 0.0f);
+    block(src, 3, 43.6f, 23.6f, 1.0f, false, 0.0f);  // one pixel on it would reach into the guard page
   });
   withGuardedFrame(1, 100, 8, [&](const sampling::Source& src) {
     block(src, 1, 3.3f, 2.6f, 0.0f, true);
@@ -279,12 +296,19 @@ TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte)
     // On the last two rows: a load from x0 = 36 on row 6 ends at the frame's last byte
     block(src, 1, 36.6f, 6.7f, 0.0f, true);
     block(src, 1, 37.6f, 6.7f, 0.0f, false);  // one pixel on, its last byte would be the guard page's
-    block(src, 1, 3.3f, 2.6f, 0.2f, false);   // turned too far: four rows
+    block(src, 1, 3.3f, 2.6f, 0.2f, true);    // turned: five rows
+  });
+  withGuardedFrame(1, 100, 40, [&](const sampling::Source& src) {
+    block(src, 1, 3.3f, 2.6f, 1.0f, true, 0.0f);            // 90°: upper rows 2 … 17
+    block(src, 1, 3.3f, 2.6f, 17.0f / 15.0f, false, 0.0f);  // 2 … 19: one row more than a block may climb
+    block(src, 1, 36.6f, 23.6f, 1.0f, true, 0.0f);   // down to the last row: the load ends at the frame's last byte
+    block(src, 1, 37.6f, 23.6f, 1.0f, false, 0.0f);  // one pixel on, its last byte would be the guard page's
   });
 }
 
 // Which runs of a field's rows are offered to the staged sampling at all: those whose blocks
-// mostly fit it. A banked view's rows (turned by the roll) are gathered straight away.
+// mostly fit it, a banked view's rows (turned by the roll) among them; the too wide and the too
+// steep are gathered straight away.
 TEST(SimdLevels, OnlyRowsWhoseBlocksMostlyFitAreOfferedToTheStagedSampling) {
   const auto run = [](double turnDeg, double scale, int n = 128) {
     std::vector<float> xs(static_cast<std::size_t>(n)), ys(xs.size());
@@ -300,8 +324,10 @@ TEST(SimdLevels, OnlyRowsWhoseBlocksMostlyFitAreOfferedToTheStagedSampling) {
   EXPECT_TRUE(offered(3, run(0.0, 1.0)));
   EXPECT_TRUE(offered(3, run(3.0, 1.0)));     // 0.8 rows a block
   EXPECT_TRUE(offered(3, run(-5.0, 1.0)));    // 1.4
-  EXPECT_FALSE(offered(3, run(6.0, 1.0)));    // 1.7: most blocks on three rows
-  EXPECT_FALSE(offered(3, run(-30.0, 1.0)));  // a banked turn
+  EXPECT_TRUE(offered(3, run(6.0, 1.0)));     // 1.7: blocks on three or four rows
+  EXPECT_TRUE(offered(3, run(-30.0, 1.0)));   // a banked turn: 8 rows a block
+  EXPECT_TRUE(offered(3, run(80.0, 1.0)));    // 15.8
+  EXPECT_FALSE(offered(3, run(90.0, 1.1)));   // 17.6: more than a block may climb
   EXPECT_FALSE(offered(3, run(180.0, 1.3)));  // mirrored and zoomed out: 21 RGB pixels a block
   EXPECT_TRUE(offered(1, run(180.0, 1.3)));   // grey blocks may span 63
   EXPECT_FALSE(offered(1, run(0.0, 4.2)));
