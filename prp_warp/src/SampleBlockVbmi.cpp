@@ -157,7 +157,7 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
     // A turned block: rows 0 … rise + 1, staged two at a time. Rows 2j and 2j + 1 hold the upper
     // rows of the lanes whose dy is 2j or 2j + 1 and the lower rows of those whose dy + 1 is. One
     // permute of the two serves both: a lane's upper pair in its bytes 0 and 2, its lower pair in
-    // bytes 1 and 3; each byte is kept from the permute of the rows it reads.
+    // bytes 1 and 3.
     const __m512i one = _mm512_set1_epi32(1);
     const __m512i below = _mm512_add_epi32(dy, one);
     const __m512i upperIndex = _mm512_mask_add_epi32(pairs, _mm512_test_epi32_mask(dy, one), pairs, second);
@@ -167,17 +167,16 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
     const __m512i pairOfLane =
         _mm512_or_si512(_mm512_srli_epi32(dy, 1), _mm512_slli_epi32(_mm512_srli_epi32(below, 1), 8));
     const __m512i pairOfByte = _mm512_or_si512(pairOfLane, _mm512_slli_epi32(pairOfLane, 16));
+    // Each byte starts as its index and is overwritten (vpermi2b, merge-masked) by the permute of
+    // its own pair of rows: every byte has one, so none is left an index
     __m512i both[C];
-    for (int c = 0; c < C; ++c) both[c] = _mm512_setzero_si512();
+    for (int c = 0; c < C; ++c) both[c] = _mm512_add_epi32(index, _mm512_set1_epi32(c * 0x01010101));
     const int lastRow = rise + 1;
     for (int j = 0; 2 * j <= lastRow; ++j) {
       const __m512i rowA = _mm512_loadu_si512(p + 2 * j * stride);
       const __m512i rowB = 2 * j + 1 <= lastRow ? _mm512_loadu_si512(p + (2 * j + 1) * stride) : rowA;
       const __mmask64 here = _mm512_cmpeq_epi8_mask(pairOfByte, _mm512_set1_epi8(static_cast<char>(j)));
-      for (int c = 0; c < C; ++c) {
-        const __m512i channelIndex = _mm512_add_epi32(index, _mm512_set1_epi32(c * 0x01010101));
-        both[c] = _mm512_mask_mov_epi8(both[c], here, _mm512_permutex2var_epi8(rowA, channelIndex, rowB));
-      }
+      for (int c = 0; c < C; ++c) both[c] = _mm512_mask2_permutex2var_epi8(rowA, both[c], here, rowB);
     }
     const __m512i bytes0And2 = _mm512_set1_epi32(0x00FF00FF);
     for (int c = 0; c < C; ++c) {
