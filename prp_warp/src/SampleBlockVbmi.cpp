@@ -120,17 +120,20 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   const int xmin = x0First < x0Last ? x0First : x0Last, ymin = y0First < y0Last ? y0First : y0Last;
   const int rise = (y0First < y0Last ? y0Last : y0First) - ymin;  // the last upper row, from the first
   if (rise > kMaxStagedRiseRows) return false;
+  const bool turned = rise > 1;
   const __m512i dx = _mm512_sub_epi32(b.x0, _mm512_set1_epi32(xmin));
   const __m512i dy = _mm512_sub_epi32(b.y0, _mm512_set1_epi32(ymin));
-  // Unsigned: a lane before the first (negative) fails too
+  // Unsigned: a lane before the first (negative) fails too. A level block's middle lanes may lie a
+  // row below its ends (where a row of the map turns back): still two rows.
   if ((_mm512_cmpgt_epu32_mask(dx, _mm512_set1_epi32(kMaxSpanPx)) |
-       _mm512_cmpgt_epu32_mask(dy, _mm512_set1_epi32(rise))) != 0)
+       _mm512_cmpgt_epu32_mask(dy, _mm512_set1_epi32(turned ? rise : 1))) != 0)
     return false;
+  const __mmask16 onSecondRow = _mm512_test_epi32_mask(dy, dy);      // lanes whose upper row is not the first
+  const int lastRow = turned ? rise + 1 : onSecondRow != 0 ? 2 : 1;  // rows 0 … lastRow are read
   const std::int64_t stride = src.strideBytes;
   const std::int64_t first = static_cast<std::int64_t>(ymin) * stride + std::int64_t{xmin} * C;
   const std::int64_t end = static_cast<std::int64_t>(src.heightPx - 1) * stride + std::int64_t{src.widthPx} * C;
-  // Rows ymin … ymin + rise + 1 are read
-  if (first + (rise + 1) * stride + 64 > end) return false;
+  if (first + lastRow * stride + 64 > end) return false;
   const std::uint8_t* p = src.base + first;
 
   // Lane k's bytes 0 and 2 index its left and right neighbour's channel in a pair of staged rows
@@ -141,12 +144,11 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   const __m512i pairs = _mm512_or_si512(left, _mm512_slli_epi32(_mm512_add_epi32(left, _mm512_set1_epi32(C)), 16));
   const __m512i second = _mm512_set1_epi32(0x00400040);  // bit 6 of bytes 0 and 2
   __m512i upperPairs[C], lowerPairs[C];
-  if (rise <= 1) {
+  if (!turned) {
     // Two or three rows: upper rows from rows 0 and 1, lower rows from rows 1 and 2 (bit 6 set
     // where the lane's upper row is row 1)
-    const __mmask16 onSecondRow = _mm512_test_epi32_mask(dy, dy);
     const __m512i row0 = _mm512_loadu_si512(p), row1 = _mm512_loadu_si512(p + stride);
-    const __m512i row2 = rise == 1 ? _mm512_loadu_si512(p + 2 * stride) : row1;
+    const __m512i row2 = lastRow == 2 ? _mm512_loadu_si512(p + 2 * stride) : row1;
     const __m512i pairIndex = _mm512_mask_add_epi32(pairs, onSecondRow, pairs, second);
     for (int c = 0; c < C; ++c) {
       const __m512i index = _mm512_add_epi32(pairIndex, _mm512_set1_epi32(c * 0x10001));
@@ -171,7 +173,6 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
     // its own pair of rows: every byte has one, so none is left an index
     __m512i both[C];
     for (int c = 0; c < C; ++c) both[c] = _mm512_add_epi32(index, _mm512_set1_epi32(c * 0x01010101));
-    const int lastRow = rise + 1;
     for (int j = 0; 2 * j <= lastRow; ++j) {
       const __m512i rowA = _mm512_loadu_si512(p + 2 * j * stride);
       const __m512i rowB = 2 * j + 1 <= lastRow ? _mm512_loadu_si512(p + (2 * j + 1) * stride) : rowA;

@@ -195,7 +195,7 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
   const RowMap maps[] = {
       {"level", 3.2, 40.6, 0.0, 1.0},
       {"turned 3 degrees", 3.7, 40.2, 3.0, 1.0},
-      {"turned 4.5 degrees (offered; some blocks on three rows: gathered)", 3.1, 50.3, 4.5, 1.0},
+      {"turned 4.5 degrees (blocks on two to four rows, all staged)", 3.1, 50.3, 4.5, 1.0},
       {"turned -6 degrees", 5.1, 120.9, -6.0, 0.97},
       {"turned 10 degrees (staged on up to five rows)", 2.3, 20.4, 10.0, 1.0},
       {"turned 30 degrees (a banked view)", 4.6, 30.2, 30.0, 1.0},
@@ -243,13 +243,15 @@ TEST(SimdLevels, SampleRowGivesTheReferencesBytesAlongAFieldsRows) {
 // take over.
 TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte) {
   if (!simdVbmiEnabled()) GTEST_SKIP() << "this CPU has no AVX-512 VBMI (level avx512vbmi)";
-  // 16 samples from (x, y) on, `step` frame pixels apart, rising by `rise` pixels per sample
+  // 16 samples from (x, y) on, `step` frame pixels apart, rising by `rise` pixels per sample and
+  // bowed by `bow` · (i − 7.5)²
   const auto block = [&](const sampling::Source& src, int channels, float x, float y, float rise, bool staged,
-                         float step = 1.0f) {
+                         float step = 1.0f, float bow = 0.0f) {
     float xs[16], ys[16];
     for (int i = 0; i < 16; ++i) {
+      const float fromMiddle = static_cast<float>(i) - 7.5f;
       xs[i] = x + step * static_cast<float>(i);
-      ys[i] = y + rise * static_cast<float>(i);
+      ys[i] = y + rise * static_cast<float>(i) + bow * fromMiddle * fromMiddle;
     }
     const auto bytes = static_cast<std::size_t>(16 * channels);
     std::vector<std::uint8_t> fast(bytes), ref(bytes), row(bytes);
@@ -276,6 +278,8 @@ TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte)
     block(src, 3, 43.6f, 6.7f, 0.0f, false);       // one pixel on it would reach into the guard page
     block(src, 3, 3.3f, 2.6f, 0.2f, true);         // turned: upper rows 2 … 5, five rows staged
     block(src, 3, 3.3f, 2.6f, 0.0f, false, 1.3f);  // zoomed out: 20 pixels across
+    // Where a row of the map turns back: the middle lanes' upper row 5, the ends' 4; three rows
+    block(src, 3, 10.3f, 5.55f, 0.0f, true, 1.0f, -0.002f);
   });
   // Turned blocks climbing many rows: as a banked view's field rows do, and straight down a column
   withGuardedFrame(3, 64, 40, [&](const sampling::Source& src) {
@@ -287,6 +291,9 @@ TEST(SimdLevels, TheStagedSamplingTakesAFieldsBlocksAndStopsAtTheFramesLastByte)
     // Down to the last row: the load from x0 = 42 on row 39 ends two bytes before the frame's end
     block(src, 3, 42.6f, 23.6f, 1.0f, true, 0.0f);
     block(src, 3, 43.6f, 23.6f, 1.0f, false, 0.0f);  // one pixel on it would reach into the guard page
+    // Running past the last row: the lanes from y 39.5 on are clamped to upper row 38, weight 256
+    // on row 39, and counted as violations from y 40 on
+    block(src, 3, 3.3f, 30.6f, 1.0f, true, 0.0f);
   });
   withGuardedFrame(1, 100, 8, [&](const sampling::Source& src) {
     block(src, 1, 3.3f, 2.6f, 0.0f, true);
@@ -327,7 +334,7 @@ TEST(SimdLevels, OnlyRowsWhoseBlocksMostlyFitAreOfferedToTheStagedSampling) {
   EXPECT_TRUE(offered(3, run(6.0, 1.0)));     // 1.7: blocks on three or four rows
   EXPECT_TRUE(offered(3, run(-30.0, 1.0)));   // a banked turn: 8 rows a block
   EXPECT_TRUE(offered(3, run(80.0, 1.0)));    // 15.8
-  EXPECT_FALSE(offered(3, run(90.0, 1.1)));   // 17.6: more than a block may climb
+  EXPECT_FALSE(offered(3, run(90.0, 1.1)));   // 17.6 (a block 16.5): about half the blocks refused
   EXPECT_FALSE(offered(3, run(180.0, 1.3)));  // mirrored and zoomed out: 21 RGB pixels a block
   EXPECT_TRUE(offered(1, run(180.0, 1.3)));   // grey blocks may span 63
   EXPECT_FALSE(offered(1, run(0.0, 4.2)));
