@@ -118,7 +118,7 @@ FIELDCAST_VBMI inline bool stagedBlock(const Source& src, const BlockCoordinates
   const int x0Last = _mm_extract_epi32(_mm512_extracti32x4_epi32(b.x0, 3), 3);
   const int y0Last = _mm_extract_epi32(_mm512_extracti32x4_epi32(b.y0, 3), 3);
   const int xmin = x0First < x0Last ? x0First : x0Last, ymin = y0First < y0Last ? y0First : y0Last;
-  const int rise = (y0First < y0Last ? y0Last : y0First) - ymin;  // the last upper row, from the first
+  const int rise = (y0First < y0Last ? y0Last : y0First) - ymin;  // upper rows climbed, end to end
   if (rise > kMaxStagedRiseRows) return false;
   const bool turned = rise > 1;
   const __m512i dx = _mm512_sub_epi32(b.x0, _mm512_set1_epi32(xmin));

@@ -28,9 +28,9 @@ constexpr int kMaxStagedRiseRows = 16;
 /// adding their margin violations to `violations`, until a block's neighbours do not fit the
 /// staged rows (more than 20 RGB or 63 grey pixels across, as in a field zoomed out by more than
 /// about 1.25; a climb of more than kMaxStagedRiseRows rows; or a load past the frame's last byte).
-/// Returns the samples done, a multiple of 16: the refused block starts there, nothing of it written; the caller
-/// gathers it. One call for a row's run of blocks keeps the constants in registers and the blocks' work overlapping.
-/// Call only where fieldcast::simdVbmiEnabled().
+/// Returns the samples done, a multiple of 16: the refused block starts there, nothing of it
+/// written; the caller gathers it. One call for a row's run of blocks keeps the constants in
+/// registers and the blocks' work overlapping. Call only where fieldcast::simdVbmiEnabled().
 int sampleBlocksVbmi(const Source& src, int channels, const float* xs, const float* ys, int n, std::uint8_t* dst,
                      std::uint32_t& violations) noexcept;
 

@@ -166,12 +166,27 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
       return displayNs >= m.dueNs && displayNs <= m.wokeNs + 50'000'000;
     });
   };
-  std::size_t stalled = 0;
+  // Fields made while the host's samples were held up: the newest one the field had is k, and
+  // sample k + 1 was due (host frame k + 1 at 60 Hz from the flight's start) more than 10 ms
+  // before the field was handed over, where on time (3 ms of jitter) it is at most 5 ms. The host
+  // program or the IG's link thread was kept off the CPU (seen: 13 samples, 200 ms, after a
+  // stall of the machine, longer than the stall's window above): left out and counted, and
+  // bounded below, so that a link that stopped delivering still fails.
+  constexpr std::int64_t kHostFramePeriodNs = 1'000'000'000 / 60;
+  const auto starvedOfSamples = [&](const LoggedField& f) {
+    const std::int64_t nextDueNs = flightStartNs + (f.hostFrame + 1) * kHostFramePeriodNs;
+    return f.emittedNs - nextDueNs > 10'000'000;
+  };
+  std::size_t stalled = 0, starved = 0;
   for (const LoggedField& f : fields) {
     const double tS = static_cast<double>(f.displayNs - flightStartNs) * 1e-9;
     if (!f.hasHostSample || tS < 0.0 || tS > lastSampleS) continue;
     if (duringStall(f.displayNs)) {
       ++stalled;
+      continue;
+    }
+    if (starvedOfSamples(f)) {
+      ++starved;
       continue;
     }
     const fieldcast::Pose want = flight.poseAtSeconds(tS);
@@ -184,9 +199,11 @@ TEST_F(HostPose, EveryFieldIsWarpedToTheHostsFlightAtItsDisplayTime) {
   early.print("first second (clock estimate converging)");
   converged.print("from 1 s to the last sample");
   // Nearly every field of the 20 s flight is compared (the first one or two wait for the sample).
-  EXPECT_GE(early.positionM.size() + converged.positionM.size() + stalled,
+  EXPECT_GE(early.positionM.size() + converged.positionM.size() + stalled + starved,
             static_cast<std::size_t>((lastSampleS - 0.1) * kFieldHz) - missed);
-  std::printf("%zu fields left out: shown while the machine stalled\n", stalled);
+  std::printf("%zu fields left out: shown while the machine stalled; %zu made while the host's samples were held up\n",
+              stalled, starved);
+  EXPECT_LE(starved, 24u) << "fields made while the host's samples were held up: more than 2 % of the flight's";
   // The first fields follow a clock estimate of one or two samples: a sample's scheduling delay
   // on this busy machine (10 ms is 1 m at 100 m/s) is in it until the estimate has more.
   EXPECT_LT(percentile(early.positionM, 0.95), 0.4);
