@@ -24,6 +24,11 @@ struct ContactSheetOptions {
   int keepEveryNth = 30;       ///< a candidate every N fields, so a run of unknown length spreads evenly
 };
 
+/// Thumbnails kept per picture on the sheet at most: when the candidates reach this many times
+/// `thumbnails`, the grid's spacing doubles and those off the new grid are dropped, so a run of any
+/// length holds bounded memory and its pictures still spread evenly over it.
+inline constexpr int kCandidatesPerThumbnail = 8;
+
 class ContactSheetSink final : public FieldSink {
  public:
   explicit ContactSheetSink(ContactSheetOptions options);
@@ -33,7 +38,8 @@ class ContactSheetSink final : public FieldSink {
   void open(const StreamFormat& format) override;
   /// The run's first field (its time is the sheet's zero) and those on the sampling grid.
   bool wants(const Field& field) const noexcept override;
-  /// Keeps a thumbnail of `field` when its number falls on the sampling grid. Not RT-safe.
+  /// Keeps a thumbnail of `field` when its number falls on the sampling grid (thinning the grid when
+  /// the candidates are full). Not RT-safe.
   SinkStatus consume(const Field& field) override;
   /// Writes the sheet when there is anything on it.
   void close() override;
@@ -42,6 +48,8 @@ class ContactSheetSink final : public FieldSink {
   /// first field. Throws std::runtime_error naming the path on failure or when there is nothing.
   void write() const;
   std::size_t candidates() const noexcept { return mCandidates.size(); }
+  /// The sampling grid's spacing now: keepEveryNth, doubled each time the candidates filled.
+  std::uint64_t everyNth() const noexcept { return mEveryNth.load(std::memory_order_relaxed); }
 
  private:
   struct Thumbnail {
@@ -50,12 +58,13 @@ class ContactSheetSink final : public FieldSink {
     std::uint64_t fieldNumber = 0;
     double secondsFromStart = 0.0;
   };
-  bool onGrid(const Field& field) const noexcept;  // its number a multiple of keepEveryNth
+  bool onGrid(const Field& field) const noexcept;  // its number a multiple of everyNth()
 
   ContactSheetOptions mOptions;
   TimePoint mFirstDisplayTime{};
-  std::atomic<bool> mHaveFirst{false};  // written by consume(), read by wants() on the field thread
-  std::vector<std::uint8_t> mRgb;       // the field being thumbnailed, as RGB
+  std::atomic<bool> mHaveFirst{false};   // written by consume(), read by wants() on the field thread
+  std::atomic<std::uint64_t> mEveryNth;  // likewise
+  std::vector<std::uint8_t> mRgb;        // the field being thumbnailed, as RGB
   std::vector<Thumbnail> mCandidates;
 };
 

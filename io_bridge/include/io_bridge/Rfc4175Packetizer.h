@@ -22,6 +22,8 @@ namespace fieldcast::io {
 
 /// Bytes of IPv4 + UDP headers the MTU must also hold.
 inline constexpr int kIpUdpHeaderBytes = 28;
+/// Bytes of IPv6 + UDP headers (40 + 8) the MTU must hold on an IPv6 destination.
+inline constexpr int kIpv6UdpHeaderBytes = 48;
 /// RTP fixed header + extended sequence number.
 inline constexpr int kRfc4175FixedHeaderBytes = 14;
 /// One line-segment header.
@@ -55,9 +57,11 @@ enum class RtpField : std::uint8_t { TopOrProgressive = 0, Bottom = 1 };
 class Rfc4175Packetizer {
  public:
   /// `widthPx` may be odd (the last pixel group then carries one padding pixel). `mtuBytes` is
-  /// the largest IP packet; throws std::invalid_argument when it cannot hold a line header and a
-  /// pixel group, or widthPx exceeds the 15-bit offset.
-  Rfc4175Packetizer(int widthPx, int mtuBytes, std::uint8_t payloadType, std::uint32_t ssrc);
+  /// the largest IP packet, of which `ipUdpHeaderBytes` are the IP and UDP headers (IPv4's 28, or
+  /// IPv6's 48); throws std::invalid_argument when it cannot hold a line header and a pixel group,
+  /// or widthPx exceeds the 15-bit offset.
+  Rfc4175Packetizer(int widthPx, int mtuBytes, std::uint8_t payloadType, std::uint32_t ssrc,
+                    int ipUdpHeaderBytes = kIpUdpHeaderBytes);
 
   int widthPx() const noexcept { return mWidthPx; }
   /// Bytes of one line on the wire: whole pixel groups.

@@ -17,6 +17,7 @@ ContactSheetSink::ContactSheetSink(ContactSheetOptions options) : mOptions(std::
   mOptions.columns = std::max(1, mOptions.columns);
   mOptions.thumbWidthPx = std::max(16, mOptions.thumbWidthPx);
   mOptions.keepEveryNth = std::max(1, mOptions.keepEveryNth);
+  mEveryNth.store(static_cast<std::uint64_t>(mOptions.keepEveryNth), std::memory_order_relaxed);
 }
 
 void ContactSheetSink::open(const StreamFormat&) {
@@ -31,7 +32,7 @@ bool ContactSheetSink::wants(const Field& field) const noexcept {
 }
 
 bool ContactSheetSink::onGrid(const Field& field) const noexcept {
-  return field.fieldNumber % static_cast<std::uint64_t>(mOptions.keepEveryNth) == 0;
+  return field.fieldNumber % mEveryNth.load(std::memory_order_relaxed) == 0;
 }
 
 SinkStatus ContactSheetSink::consume(const Field& field) {
@@ -59,6 +60,12 @@ SinkStatus ContactSheetSink::consume(const Field& field) {
   t.fieldNumber = field.fieldNumber;
   t.secondsFromStart = toSeconds(field.displayTime - mFirstDisplayTime);
   mCandidates.push_back(std::move(t));
+  if (mCandidates.size() >= static_cast<std::size_t>(kCandidatesPerThumbnail) * mOptions.thumbnails) {
+    // Full: a grid twice as sparse, keeping the candidates on it (every other one)
+    const std::uint64_t sparser = 2 * mEveryNth.load(std::memory_order_relaxed);
+    std::erase_if(mCandidates, [sparser](const Thumbnail& c) { return c.fieldNumber % sparser != 0; });
+    mEveryNth.store(sparser, std::memory_order_relaxed);
+  }
   return SinkStatus::Ok;
 }
 

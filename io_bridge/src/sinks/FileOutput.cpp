@@ -46,13 +46,17 @@ void FileOutput::open(const std::filesystem::path& path) {
   mOwnsFd = true;
 }
 
-bool FileOutput::writeAll(iovec* buffers, int count) noexcept {
+bool FileOutput::writeAll(const iovec* buffers, int count) noexcept {
   if (mFd < 0) {
     mError = "not open";
     return false;
   }
+  // A buffer cut short is finished from a copy of its remainder: the caller's array is not
+  // changed (a Y4M picture written several times over reuses one array)
+  iovec rest{};
   while (count > 0) {
-    const ssize_t n = ::writev(mFd, buffers, count);
+    const bool inRest = rest.iov_len > 0;
+    const ssize_t n = inRest ? ::writev(mFd, &rest, 1) : ::writev(mFd, buffers, count);
     if (n < 0) {
       if (errno == EINTR) continue;
       if (errno == EPIPE) {
@@ -63,17 +67,23 @@ bool FileOutput::writeAll(iovec* buffers, int count) noexcept {
       }
       return false;
     }
-    // Skip what was written; a short write resumes in the middle of a buffer.
     auto left = static_cast<std::size_t>(n);
+    if (inRest) {
+      rest.iov_base = static_cast<char*>(rest.iov_base) + left;
+      rest.iov_len -= left;
+      if (rest.iov_len == 0) {
+        ++buffers;
+        --count;
+      }
+      continue;
+    }
+    // Skip the buffers written whole; a short write leaves the rest of one for `rest`
     while (count > 0 && left >= buffers->iov_len) {
       left -= buffers->iov_len;
       ++buffers;
       --count;
     }
-    if (count > 0) {
-      buffers->iov_base = static_cast<char*>(buffers->iov_base) + left;
-      buffers->iov_len -= left;
-    }
+    if (count > 0 && left > 0) rest = {static_cast<char*>(buffers->iov_base) + left, buffers->iov_len - left};
   }
   return true;
 }

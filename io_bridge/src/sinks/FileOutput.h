@@ -19,9 +19,10 @@ class FileOutput {
   /// Opens (creating or truncating) `path`, or takes standard output for "-". Throws
   /// std::runtime_error naming the path and the system's reason.
   void open(const std::filesystem::path& path);
-  /// Writes every byte of the buffers, retrying short writes and EINTR. False on failure, with
-  /// error() saying why ("broken pipe: the reader of stdout went away", "No space left…").
-  bool writeAll(iovec* buffers, int count) noexcept;
+  /// Writes every byte of the buffers, retrying short writes and EINTR; the buffers are left as
+  /// they were, so the same array may be written again. False on failure, with error() saying why
+  /// ("broken pipe: the reader of stdout went away", "No space left…").
+  bool writeAll(const iovec* buffers, int count) noexcept;
   bool writeAll(const void* data, std::size_t bytes) noexcept;
   /// Closes the file (never standard output). Idempotent.
   void close() noexcept;

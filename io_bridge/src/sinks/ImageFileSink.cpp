@@ -72,7 +72,9 @@ bool ImageFileSink::wants(const Field& field) const noexcept {
 }
 
 SinkStatus ImageFileSink::consume(const Field& field) {
-  if (!due(field) && !mSnapshot.exchange(false, std::memory_order_relaxed)) return SinkStatus::Ok;
+  // A field written on the grid also answers a snapshot asked for: cleared either way
+  const bool snapshot = mSnapshot.exchange(false, std::memory_order_relaxed);
+  if (!due(field) && !snapshot) return SinkStatus::Ok;
 
   const int w = field.image.widthPx(), h = field.image.heightPx();
   for (int r = 0; r < h; ++r) {

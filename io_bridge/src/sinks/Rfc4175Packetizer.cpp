@@ -53,10 +53,11 @@ void RtpPacketBatch::reserve(int maxPackets, int maxPacketBytes) {
   mCount = 0;
 }
 
-Rfc4175Packetizer::Rfc4175Packetizer(int widthPx, int mtuBytes, std::uint8_t payloadType, std::uint32_t ssrc)
+Rfc4175Packetizer::Rfc4175Packetizer(int widthPx, int mtuBytes, std::uint8_t payloadType, std::uint32_t ssrc,
+                                     int ipUdpHeaderBytes)
     : mWidthPx(widthPx),
       mLineBytes(static_cast<std::size_t>((widthPx + kPgroupPixels - 1) / kPgroupPixels) * kPgroupBytes),
-      mMaxPacketBytes(mtuBytes - kIpUdpHeaderBytes),
+      mMaxPacketBytes(mtuBytes - ipUdpHeaderBytes),
       mPayloadType(static_cast<std::uint8_t>(payloadType & 0x7f)),
       mSsrc(ssrc) {
   if (widthPx < 1 || widthPx > 0x7fff) {

@@ -107,6 +107,8 @@ void RtpVideoSink::open(const StreamFormat& format) {
   // connect() fixes the destination, so send errors (ICMP unreachable) come back to us
   const int connected = ::connect(st->fd, found->ai_addr, found->ai_addrlen);
   const int connectErrno = errno;
+  // The IP header the MTU must also hold: IPv6's is 20 bytes longer than IPv4's
+  const int headerBytes = found->ai_family == AF_INET6 ? kIpv6UdpHeaderBytes : kIpUdpHeaderBytes;
   freeaddrinfo(found);
   if (connected != 0) {
     ::close(st->fd);
@@ -114,8 +116,8 @@ void RtpVideoSink::open(const StreamFormat& format) {
   }
 
   std::random_device random;  // RFC 3550 §5.1: random SSRC, initial sequence and timestamp
-  st->packetizer = std::make_unique<Rfc4175Packetizer>(format.widthPx, mOptions.mtuBytes,
-                                                       static_cast<std::uint8_t>(mOptions.payloadType), random());
+  st->packetizer = std::make_unique<Rfc4175Packetizer>(
+      format.widthPx, mOptions.mtuBytes, static_cast<std::uint8_t>(mOptions.payloadType), random(), headerBytes);
   st->packetizer->setSequence(random());
   st->timestampOffset = random();
   const FieldParity largest = format.scan == ScanMode::Progressive ? FieldParity::Progressive : FieldParity::Top;
@@ -129,7 +131,10 @@ void RtpVideoSink::open(const StreamFormat& format) {
   if (!mOptions.sdpPath.empty()) {
     std::ofstream out(mOptions.sdpPath, std::ios::binary | std::ios::trunc);
     out << sdp(format, mOptions);
-    if (!out) throw std::runtime_error("sinks.rtp: cannot write the SDP file " + mOptions.sdpPath.string());
+    if (!out) {
+      ::close(st->fd);
+      throw std::runtime_error("sinks.rtp: cannot write the SDP file " + mOptions.sdpPath.string());
+    }
   }
   mState = std::move(st);
 }

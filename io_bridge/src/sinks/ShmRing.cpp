@@ -67,9 +67,12 @@ std::string validateShmRingHeader(const void* bytes, std::size_t size) noexcept 
   if (h.slotStrideBytes % 64 != 0 || h.slotStrideBytes < sizeof(ShmSlotHeader) + roundUp(h.maxFieldBytes, 8)) {
     return "slot stride too small or unaligned";
   }
-  // All numbers above are bounded, so this product cannot overflow 64 bits.
-  const std::uint64_t needed = sizeof(ShmRingHeader) + h.slotStrideBytes * h.slotCount;
-  if (needed > size) return "truncated: " + std::to_string(size) + " bytes, slots need " + std::to_string(needed);
+  // The stride is bounded below only: held against the mapping by a division, since stride × slots
+  // could wrap past 2^64 (2^63 × 2 is 0) and pass
+  if (h.slotStrideBytes > (size - sizeof(ShmRingHeader)) / h.slotCount) {
+    return "truncated: " + std::to_string(size) + " bytes, too few for " + std::to_string(h.slotCount) + " slots of " +
+           std::to_string(h.slotStrideBytes) + " bytes";
+  }
   return {};
 }
 

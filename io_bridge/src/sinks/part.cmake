@@ -24,7 +24,7 @@ if(FIELDCAST_BUILD_TESTS)
     SOURCES ${_sink_tests}/SinkHubTest.cpp ${_sink_tests}/Y4mSinkTest.cpp ${_sink_tests}/PixelConvertTest.cpp
             ${_sink_tests}/Rfc4175PacketizerTest.cpp ${_sink_tests}/RtpVideoSinkTest.cpp ${_sink_tests}/ShmRingTest.cpp
             ${_sink_tests}/GpioPulseSinkTest.cpp ${_sink_tests}/ImageFileSinkTest.cpp
-            ${_sink_tests}/ContactSheetSinkTest.cpp ${_sink_tests}/SinksConfigTest.cpp
+            ${_sink_tests}/ContactSheetSinkTest.cpp ${_sink_tests}/SinksConfigTest.cpp ${_sink_tests}/FileOutputTest.cpp
     LIBRARIES fieldcast::io OpenImageIO::OpenImageIO
     LABELS "unit;io")
   target_include_directories(fieldcast_io_sinks_tests PRIVATE ${CMAKE_CURRENT_LIST_DIR})

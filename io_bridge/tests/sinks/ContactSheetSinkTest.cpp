@@ -47,6 +47,38 @@ TEST(ContactSheetSink, SpreadsThumbnailsOverTheRunAndWritesAPngAtClose) {
   std::filesystem::remove_all(path.parent_path());
 }
 
+// A service runs until it is stopped: the candidates stay bounded (a thumbnail a second was 0.75 GB
+// an hour), and the sheet still spans the whole run.
+TEST(ContactSheetSink, ALongRunKeepsBoundedCandidatesSpreadToItsEnd) {
+  const auto path = std::filesystem::temp_directory_path() / "fieldcast_contact_sheet_long" / "sheet.png";
+  std::filesystem::remove_all(path.parent_path());
+  ContactSheetSink sheet({path, 4, 2, 32, 1});
+  sheet.open(StreamFormat{});
+  constexpr std::uint64_t kFields = 20'000;
+  std::size_t most = 0;
+  for (std::uint64_t k = 0; k < kFields; ++k) {
+    const Field f = greyField(k, static_cast<std::uint8_t>(16 + k / 100));  // brighter as the run goes on
+    if (!sheet.wants(f)) continue;
+    ASSERT_EQ(sheet.consume(f), SinkStatus::Ok);
+    most = std::max(most, sheet.candidates());
+  }
+  EXPECT_LT(most, static_cast<std::size_t>(kCandidatesPerThumbnail) * 4);
+  EXPECT_GE(sheet.candidates(), static_cast<std::size_t>(kCandidatesPerThumbnail) * 4 / 2 - 1);
+  EXPECT_GE(sheet.everyNth(), 512u);  // thinned from 1 as the run went on
+  sheet.close();
+  auto in = OIIO::ImageInput::open(path.string());
+  ASSERT_TRUE(in) << OIIO::geterror();
+  const OIIO::ImageSpec& spec = in->spec();
+  std::vector<unsigned char> rgb(static_cast<std::size_t>(spec.width) * spec.height * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, rgb.data()));
+  auto green = [&](int x, int y) { return rgb[(static_cast<std::size_t>(y) * spec.width + x) * 3 + 1]; };
+  // The first picture is field 0 (luma 16: dark); the last one from the run's last tenth (luma
+  // 196 or more; the sheet's RGB a little brighter than video-range luma)
+  EXPECT_LT(green(4 + 28, 4 + 20), 40);
+  EXPECT_GT(green(4 + 32 + 4 + 28, 4 + 24 + 4 + 20), 190);
+  std::filesystem::remove_all(path.parent_path());
+}
+
 // The hub asks before it queues a field: the first (the sheet's zero time), then only those on
 // the grid.
 TEST(ContactSheetSink, WantsTheFirstFieldThenOnlyThoseOnItsGrid) {

@@ -74,6 +74,14 @@ TEST(ImageFileSink, WantsOnlyTheFieldsItWrites) {
   ASSERT_EQ(sink.consume(makeField(f, 10)), SinkStatus::Ok);
   EXPECT_EQ(sink.filesWritten(), 1u);
   EXPECT_FALSE(sink.wants(makeField(f, 11)));
+  // A snapshot asked for just before a field on the grid: that field answers it, the next is not
+  // written as well
+  sink.requestSnapshot();
+  ASSERT_EQ(sink.consume(makeField(f, 12)), SinkStatus::Ok);
+  EXPECT_EQ(sink.filesWritten(), 2u);
+  EXPECT_FALSE(sink.wants(makeField(f, 13)));
+  ASSERT_EQ(sink.consume(makeField(f, 13)), SinkStatus::Ok);
+  EXPECT_EQ(sink.filesWritten(), 2u);
   ImageFileSink onDemand({dir, 0, ImageFileFormat::Png, "snap"});
   onDemand.open(f);
   EXPECT_FALSE(onDemand.wants(makeField(f, 0)));  // every_nth 0: only on demand

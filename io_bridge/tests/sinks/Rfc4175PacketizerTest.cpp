@@ -111,6 +111,23 @@ TEST(Rfc4175Packetizer, TinyAndJumboMtus) {
   EXPECT_THROW(Rfc4175Packetizer(720, 40, 96, 1), std::invalid_argument);
 }
 
+// An IPv6 destination's headers take 48 bytes of the MTU, not IPv4's 28: every packet and its
+// headers still fit the MTU, and each carries 20 bytes less than to an IPv4 address.
+TEST(Rfc4175Packetizer, IpV6PacketsLeaveRoomForTheLongerHeader) {
+  constexpr int kMtu = 1500, kWidth = 1920, kRows = 64;
+  Rfc4175Packetizer v4(kWidth, kMtu, 96, 1);
+  Rfc4175Packetizer v6(kWidth, kMtu, 96, 1, kIpv6UdpHeaderBytes);
+  EXPECT_EQ(v4.maxPacketBytes(), kMtu - 28);
+  EXPECT_EQ(v6.maxPacketBytes(), kMtu - 48);
+  std::vector<std::uint8_t> lines(v6.lineBytes() * kRows, 0x80);
+  RtpPacketBatch batch;
+  batch.reserve(v6.packetsFor(kRows), v6.maxPacketBytes());
+  const int n = v6.packetize(lines.data(), v6.lineBytes(), kRows, RtpField::TopOrProgressive, 0, batch);
+  ASSERT_GT(n, 0);
+  for (int i = 0; i < n; ++i) EXPECT_LE(batch.size(i) + kIpv6UdpHeaderBytes, static_cast<std::size_t>(kMtu)) << i;
+  EXPECT_GT(v6.packetsFor(kRows), v4.packetsFor(kRows));
+}
+
 TEST(Rfc4175Packetizer, ExtendedSequenceNumberWraps) {
   const Packed p = roundTrip(720, 8, 1400, RtpField::TopOrProgressive, 0xfffffffdu);
   ASSERT_GE(p.packets.size(), 5u);

@@ -172,6 +172,11 @@ TEST(ShmRing, HeaderValidationNamesTheProblem) {
   bad = h;
   bad.slotStrideBytes = 64;
   EXPECT_NE(check(bad, size).find("stride"), std::string::npos);
+  // A stride whose product with the slot count wraps to nothing must not pass as fitting the mapping
+  bad = h;
+  bad.slotCount = 2;
+  bad.slotStrideBytes = std::uint64_t{1} << 63;
+  EXPECT_NE(check(bad, size).find("truncated"), std::string::npos);
   bad = h;
   bad.pixelFormat = 7;
   EXPECT_NE(check(bad, size), "");

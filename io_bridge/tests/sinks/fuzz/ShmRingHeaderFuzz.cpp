@@ -16,7 +16,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!problem.empty()) return 0;
   ShmRingHeader h;
   std::memcpy(&h, data, sizeof h);
-  const std::uint64_t end = sizeof(ShmRingHeader) + h.slotStrideBytes * h.slotCount;
-  if (end > size || h.slotStrideBytes < sizeof(ShmSlotHeader) + h.maxFieldBytes) std::abort();
+  // Slot by slot, so a stride that would wrap the product cannot hide past the end
+  std::uint64_t end = sizeof(ShmRingHeader);
+  for (std::uint32_t k = 0; k < h.slotCount; ++k) {
+    if (h.slotStrideBytes > size || end > size - h.slotStrideBytes) std::abort();
+    end += h.slotStrideBytes;
+  }
+  if (h.slotStrideBytes < sizeof(ShmSlotHeader) + h.maxFieldBytes) std::abort();
   return 0;
 }
