@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 
@@ -135,6 +136,12 @@ ServiceConfig loadServiceConfig(const std::string& path, const std::vector<std::
              "its axis: converge farther, or narrow the window");
   }
   c.warp = section("warp", warp::readPrpSettings);
+  if (c.warp.lead >= c.output.fieldRate.period()) {
+    char expected[96];
+    std::snprintf(expected, sizeof expected, "expected less than one field period (%.2f ms at %.2f Hz)",
+                  toSeconds(c.output.fieldRate.period()) * 1e3, c.output.fieldRate.hz());
+    top.table("warp").fail("lead_ms", expected);  // located at the key, its value shown
+  }
   // The one place a warp's needs reach the renderer.
   if (warp::needsRangeImage(c.warp.warper.warp)) c.render.settings.rangeImage = true;
   c.motion = section("motion", motion::readMotionConfig);

@@ -55,7 +55,13 @@ FieldClock::FieldClock(Clock& clock, const FieldClockConfig& config, TimePoint t
 
 Nanoseconds FieldClock::offsetFromAnchor(std::uint64_t n) const noexcept {
   if (!mDisciplined) return mConfig.rate.tickOffset(static_cast<std::int64_t>(n));
-  return Nanoseconds{(static_cast<std::int64_t>(n) * mPeriodQ + kQHalf) >> kQBits};
+  // n · period in 1/1024 ns passes 2^63 after 2^53 ns (104 days) at any rate: split n at 1024,
+  // whose share is a whole number of nanoseconds, so the sum is the same rounding, exact to far
+  // beyond any run
+  constexpr std::uint64_t kWhole = std::uint64_t{1} << kQBits;
+  const auto wholeNs = static_cast<std::int64_t>(n / kWhole) * mPeriodQ;
+  const auto restQ = static_cast<std::int64_t>(n % kWhole) * mPeriodQ;
+  return Nanoseconds{wholeNs + ((restQ + kQHalf) >> kQBits)};
 }
 
 TimePoint FieldClock::displayTime(std::uint64_t k) const noexcept {

@@ -1,5 +1,7 @@
 #include <prp_warp/PrpSettings.h>
 
+#include <prp_warp/FieldClock.h>
+
 namespace fieldcast::warp {
 
 PrpSettings readPrpSettings(ConfigReader& t) {
@@ -18,8 +20,11 @@ PrpSettings readPrpSettings(ConfigReader& t) {
                               {"horizontal", Mirror::Horizontal},
                               {"vertical", Mirror::Vertical},
                               {"both", Mirror::Both}});
-  // Converted only when given, so the default stays PrpSettings' own to the nanosecond.
-  if (t.has("lead_ms")) s.lead = fromSeconds(t.number("lead_ms", toSeconds(s.lead) * 1e3, 0.5, 100.0) * 1e-3);
+  // Converted only when given, so the default stays PrpSettings' own to the nanosecond. At least
+  // the field clock's least time for a field's work; less than a field period is the service's
+  // check, which knows the rate.
+  const double leastMs = toSeconds(FieldClockConfig{}.minWork) * 1e3;
+  if (t.has("lead_ms")) s.lead = fromSeconds(t.number("lead_ms", toSeconds(s.lead) * 1e3, leastMs, 100.0) * 1e-3);
   t.finish();
   return s;
 }

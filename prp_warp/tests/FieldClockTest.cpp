@@ -114,6 +114,34 @@ TEST(FieldClock, ExternalSyncLocksPhaseAndPeriodToTheEdges) {
   EXPECT_EQ(fc.missedFields(), 0u);
 }
 
+// Disciplined by the edges, then none applied for months (the sync lost, or every edge
+// rejected): display times still run on at the field period. n · period in 1/1024 ns overflowed
+// 64 bits after 104 days, and the field loop then skipped fields forever.
+TEST(FieldClock, ADisciplinedClockRunsOnForMonthsWithoutAnEdge) {
+  VirtualClock clock(kT0 - milliseconds(50));
+  FieldClock fc(clock, FieldClockConfig{}, kT0);
+  const Nanoseconds period = FieldClockConfig{}.rate.period();
+  fc.next();
+  fc.externalSync(kT0);
+  fc.next();  // applies it: the clock is disciplined from here
+  EXPECT_EQ(fc.syncEdgesApplied(), 1u);
+  const auto fieldsIn = [&](double days) { return static_cast<std::uint64_t>(days * 86400.0 * 59.94); };
+  for (const double days : {1.0, 103.0, 105.0, 200.0, 3650.0}) {
+    const std::uint64_t k = fieldsIn(days);
+    const Nanoseconds step = fc.displayTime(k + 1) - fc.displayTime(k);
+    EXPECT_LE(std::abs((step - period).count()), 1) << days << " days";
+    // Against the nominal schedule, exact in integers: off by no more than the disciplined period's
+    // rounding to 1/1024 ns, half of that a field
+    const Nanoseconds drift =
+        fc.displayTime(k) - (kT0 + FieldClockConfig{}.rate.tickOffset(static_cast<std::int64_t>(k)));
+    EXPECT_LE(static_cast<double>(std::abs(drift.count())), static_cast<double>(k) / 2048.0 + 2.0) << days << " days";
+  }
+  clock.advanceTo(fc.displayTime(fieldsIn(120.0)));  // the loop's next field, 120 days on
+  const FieldTick t = fc.next();
+  EXPECT_GT(t.displayTime, clock.now());
+  EXPECT_LT(t.displayTime - clock.now(), 2 * period);
+}
+
 TEST(FieldClock, ASyncGlitchIsRejected) {
   VirtualClock clock(kT0 - milliseconds(50));
   FieldClock fc(clock, FieldClockConfig{}, kT0);

@@ -198,6 +198,22 @@ TEST(AppConfig, SetValuesAreLocatedOnTheCommandLine) {
       << r.output;
 }
 
+// The field clock needs 1 ms for a field's work and a wake-up within the field's own period: a lead
+// outside that is refused by --check-config, naming the key, not when the field thread starts.
+TEST(AppConfig, TheLeadLeavesTheFieldClockItsRoom) {
+  const std::string shipped = "--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml";
+  const auto tooShort = run(shipped + " --set warp.lead_ms=0.9");
+  EXPECT_EQ(tooShort.exitCode, 1) << tooShort.output;
+  EXPECT_NE(tooShort.output.find("warp.lead_ms"), std::string::npos) << tooShort.output;
+  const auto tooLong = run(shipped + " --set warp.lead_ms=17");
+  EXPECT_EQ(tooLong.exitCode, 1) << tooLong.output;
+  EXPECT_NE(tooLong.output.find("warp.lead_ms: expected less than one field period (16.68 ms at 59.94 Hz), got 17"),
+            std::string::npos)
+      << tooLong.output;
+  EXPECT_EQ(run(shipped + " --set warp.lead_ms=16.5").exitCode, 0);
+  EXPECT_EQ(run(shipped + " --set output.rate=50 --set warp.lead_ms=17").exitCode, 0);
+}
+
 TEST(AppConfig, MirrorIsOneOfFourWords) {
   const std::string shipped = "--check-config --config " FIELDCAST_SOURCE_DIR "/config/fieldcast.toml";
   const auto horizontal = run(shipped + " --set warp.mirror=horizontal");
