@@ -103,7 +103,8 @@ void Range3dWarp::fillHoles(FieldParity parity, const OutputGeometry& g) noexcep
   const int rw = rasterWidthPx(), rh = rasterHeightPx();
   const int rowStep = parity == FieldParity::Progressive ? 1 : 2;
   int lastFilledRow = -1;
-  for (int y = parity == FieldParity::Bottom ? 1 : 0; y < rh; y += rowStep) {
+  const int firstRow = parity == FieldParity::Bottom ? 1 : 0;
+  for (int y = firstRow; y < rh; y += rowStep) {
     const std::size_t base = static_cast<std::size_t>(y) * static_cast<std::size_t>(rw);
     float* depth = mDepth.data() + base;
     float* mx = mMapX.data() + base;
@@ -147,7 +148,25 @@ void Range3dWarp::fillHoles(FieldParity parity, const OutputGeometry& g) noexcep
       }
       any = true;
     }
-    if (any) lastFilledRow = y;
+    if (any) {
+      if (lastFilledRow < 0 && y > firstRow) continueRowUpwards(y, firstRow, rowStep, g);
+      lastFilledRow = y;
+    }
+  }
+}
+
+void Range3dWarp::continueRowUpwards(int filledRow, int firstRow, int rowStep, const OutputGeometry& g) noexcept {
+  // The field's first rows got no splat (it sees above the frame's top): continue the first filled
+  // row up to them, as empty rows further down continue the row above
+  const int rw = rasterWidthPx();
+  const std::size_t src = static_cast<std::size_t>(filledRow) * static_cast<std::size_t>(rw);
+  for (int y = firstRow; y < filledRow; y += rowStep) {
+    const std::size_t dst = static_cast<std::size_t>(y) * static_cast<std::size_t>(rw);
+    for (int k = 0; k < rw; ++k) {
+      mMapX[dst + k] = mMapX[src + k];
+      mMapY[dst + k] = mMapY[src + k] + static_cast<float>((y - filledRow) * g.scale.y);
+      mDepth[dst + k] = mDepth[src + k];
+    }
   }
 }
 

@@ -51,12 +51,14 @@ Eigen::Matrix3d normalisingTransform(std::span<const glm::dvec2> pts) noexcept {
   return t;
 }
 
-Homography fromEigen(const Eigen::Matrix3d& h) noexcept {
+/// `h` divided by a positive number, so that |h8| = 1 when it can be: the sign of w is kept. (h8 is
+/// w at raster (0, 0); dividing by it made w ≤ 0, no sample, over all of a field turned so far
+/// from its frame that that corner's ray lies behind the frame's camera.)
+Homography scaled(const Eigen::Matrix3d& h) noexcept {
   Homography out;
-  // Scale so that h8 = 1 when possible (keeps w > 0 for points in front); sign so w > 0 at centre.
-  const double norm = std::abs(h(2, 2)) > 1e-12 ? h(2, 2) : h.norm();
+  const double scale = std::abs(h(2, 2)) > 1e-12 ? std::abs(h(2, 2)) : h.norm();
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out.h[static_cast<std::size_t>(3 * r + c)] = h(r, c) / norm;
+    for (int c = 0; c < 3; ++c) out.h[static_cast<std::size_t>(3 * r + c)] = h(r, c) / scale;
   return out;
 }
 
@@ -152,7 +154,13 @@ std::optional<Homography> fitHomography(std::span<const glm::dvec2> rasterPx,
   hn << v(0), v(1), v(2), v(3), v(4), v(5), v(6), v(7), v(8);
   const Eigen::Matrix3d h = tDst.inverse() * hn * tSrc;
   if (!h.allFinite() || std::abs(h.determinant()) < 1e-300) return std::nullopt;
-  return fromEigen(h);
+  // An eigenvector's sign is arbitrary: the one with w > 0 at the fit's own points (seen in the
+  // frame), at their centroid
+  glm::dvec2 centroid{0.0, 0.0};
+  for (std::size_t i = 0; i < n; ++i) centroid += rasterPx[i];
+  centroid /= static_cast<double>(n);
+  const bool behind = h(2, 0) * centroid.x + h(2, 1) * centroid.y + h(2, 2) < 0.0;
+  return scaled(behind ? Eigen::Matrix3d(-h) : h);
 }
 
 Homography rotationHomography(const Frame& frame, const Pose& fieldPose, const OutputGeometry& geometry) noexcept {
@@ -160,7 +168,8 @@ Homography rotationHomography(const Frame& frame, const Pose& fieldPose, const O
   const Eigen::Matrix3d rField = toEigen(worldToCameraRotation(fieldPose));
   const Eigen::Matrix3d h =
       cameraMatrix(frame.intrinsics) * rFrame * rField.transpose() * cameraMatrix(geometry.raster).inverse();
-  return fromEigen(h);
+  // w is the depth in the frame's camera of the field pixel's ray: its sign is right as made
+  return scaled(h);
 }
 
 QuadraticFit fitFieldQuadratic(const Frame& frame, const Pose& fieldPose, const OutputGeometry& geometry) noexcept {

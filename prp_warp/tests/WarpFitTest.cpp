@@ -200,5 +200,44 @@ TEST(RotationHomography, MapsEveryDirectionExactlyUnderAnyRotation) {
     }
 }
 
+// A field turned so far from its frame (a host jumping the heading or pitch) that a corner's ray lies
+// behind the frame's camera: every pixel that sees in front of the frame's camera still maps there,
+// the others have no sample. The maps were scaled by w at raster (0, 0): with that corner behind
+// the camera w flipped sign everywhere, and the part of the field that sees the frame got nothing.
+TEST(RotationHomography, AFieldTurnedPastItsFramesSideKeepsThePartInFront) {
+  const Frame f = sceneFrame(Pose{{0.0, 0.0, 300.0}, 0.0, 0.0, 0.0});
+  const OutputGeometry g = OutputGeometry::of(f, kW, kH);
+  for (const double turnDeg : {75.0, -75.0}) {
+    const Pose turned{f.pose.positionM, radians(turnDeg), radians(10.0), 0.0};
+    const Homography h = rotationHomography(f, turned, g);
+    int inFront = 0, behind = 0;
+    std::vector<glm::dvec2> raster, frame;  // the pairs a fit of this turn would see
+    for (double v = 0.5; v < kH; v += 16.0)
+      for (double u = 0.5; u < kW; u += 16.0) {
+        const auto truth = projectDirection(f.pose, f.intrinsics, pixelRay(turned, g.raster, {u, v}));
+        const glm::dvec2 got = h({u, v});
+        if (!truth) {
+          ++behind;
+          EXPECT_TRUE(std::isnan(got.x)) << turnDeg << "° at " << u << "," << v;
+          continue;
+        }
+        ++inFront;
+        EXPECT_NEAR(got.x, truth->x, 1e-6) << turnDeg << "° at " << u << "," << v;
+        EXPECT_NEAR(got.y, truth->y, 1e-6) << turnDeg << "° at " << u << "," << v;
+        raster.push_back({u, v});
+        frame.push_back(*truth);
+      }
+    ASSERT_GT(inFront, 20) << turnDeg;
+    ASSERT_GT(behind, 20) << turnDeg;  // the case at hand: part of the field sees behind the frame
+    // The least-squares fit of the pairs in front is the same map, whatever its eigenvector's sign
+    const auto fit = fitHomography(raster, frame);
+    ASSERT_TRUE(fit.has_value()) << turnDeg;
+    for (std::size_t i = 0; i < raster.size(); ++i) {
+      EXPECT_NEAR((*fit)(raster[i]).x, frame[i].x, 1e-4) << turnDeg << "° at " << raster[i].x << "," << raster[i].y;
+      EXPECT_NEAR((*fit)(raster[i]).y, frame[i].y, 1e-4) << turnDeg << "° at " << raster[i].x << "," << raster[i].y;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fieldcast::warp

@@ -311,6 +311,38 @@ TEST(Range3dWarp, MapFollowsTheTrueGeometryForATranslation) {
   EXPECT_FALSE(warp.sourcePx({10.5, 0.5}).has_value());  // a top-field row: not in the last field
 }
 
+// A field pitched up past the frame's top: its first rows get no splat. They continue the first
+// row below that has one, upwards (sources above the frame's top, counted as violations and
+// sampled at the top edge), as empty rows lower down continue the row above them. They were left
+// without a sample: sampled at the frame's top-left pixel, and not counted.
+TEST(Range3dWarp, EmptyRowsAtTheFieldsTopContinueTheFirstRowBelow) {
+  Range3dWarp warp(kW, kH);
+  Pose up = kPose;
+  up.pitchRad += radians(15.0);
+  Image out(kW, kH / 2, PixelFormat::Rgb8);
+  const WarpResult r = warp.warp(scene(), up, FieldParity::Top, out);
+  ASSERT_EQ(r.status, WarpStatus::Ok);
+  const auto top = warp.sourcePx({kW / 2 + 0.5, 0.5});
+  ASSERT_TRUE(top.has_value()) << "the field's first row has no sample";
+  EXPECT_LT(top->y, 0.0);  // above the frame
+  int firstInside = -1;    // the first raster row (of this field) whose source lies in the frame
+  for (int y = 0; y < kH && firstInside < 0; y += 2) {
+    const auto p = warp.sourcePx({kW / 2 + 0.5, y + 0.5});
+    ASSERT_TRUE(p.has_value()) << "row " << y;
+    if (p->y >= 0.0) firstInside = y;
+  }
+  ASSERT_GT(firstInside, 2);  // the case at hand: several rows see above the frame
+  // Rows above it lie above the frame, one above the other as the raster's rows are
+  for (int y = 0; y + 2 < firstInside; y += 2) {
+    EXPECT_LT(warp.sourcePx({kW / 2 + 0.5, y + 0.5})->y, warp.sourcePx({kW / 2 + 0.5, y + 2.5})->y) << "row " << y;
+  }
+  EXPECT_GE(r.marginViolations, static_cast<std::uint32_t>(kW * (firstInside / 2)));
+  // Sampled at the frame's top edge below each source, not at its top-left pixel
+  const std::uint8_t* edge = scene().image.row(0) + 3 * static_cast<int>(top->x);
+  const std::uint8_t* got = out.row(0) + 3 * (kW / 2);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], edge[c], 24) << c;
+}
+
 /// The worst distance between the mesh warp's map and the truth over raster points every 5 px
 /// (every row: the map is defined on the whole raster), below raster row `fromRow`.
 double worstMapError(const MeshWarp& warp, const Pose& fieldPose, int fromRow) {
