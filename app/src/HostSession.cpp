@@ -21,6 +21,13 @@ constexpr Nanoseconds kHeightWait = std::chrono::milliseconds(100);
 // Periodic requests kept per kind (HAT/HOT, LOS): each costs a query every n-th field on the
 // link's thread, so a host cannot make that unbounded.
 constexpr std::size_t kMaxPeriodicRequests = 256;
+// The longest line of sight measured: 10,000 km, past any database's far side
+constexpr double kLongestLineOfSightM = 1e7;
+// HAT/HOT (or LOS) requests waiting for their tiles or for room in a Start of Frame message, at
+// most: a field's datagram carries some 4,000 answers, so a host asking more than about twice
+// that a field is refused the excess (counted) rather than growing the queue and every answer's
+// delay without end
+constexpr std::size_t kMaxAnswersQueued = 8192;
 
 // The terrain surface the renderer draws at full resolution: bilinear between level-0 voxel centres.
 double heightOfTerrain(const core::TileCache& terrain, double x, double y) { return terrain.heightAtM(x, y, 0); }
@@ -88,7 +95,8 @@ double HostSession::unwrapHostTime(std::uint32_t ticks) {
 void HostSession::onMessage(const io::HostMessage& message) {
   const auto& control = std::get<cigi::IgControl>(message.packets.front());
   if (control.igMode != mMode.load(std::memory_order_relaxed)) {
-    spdlog::info("host: IG mode {} commanded", control.igMode == cigi::IgMode::Operate ? "operate" : "reset/standby");
+    constexpr const char* kModes[] = {"reset/standby", "operate", "debug", "offline maintenance"};
+    spdlog::info("host: IG mode {} commanded", kModes[static_cast<int>(control.igMode) & 3]);
     mMode.store(control.igMode, std::memory_order_relaxed);
     mModeChanges.fetch_add(1, std::memory_order_relaxed);
     if (control.igMode == cigi::IgMode::ResetStandby) {
@@ -112,7 +120,8 @@ void HostSession::onMessage(const io::HostMessage& message) {
   const double hostTimeS = control.timestampValid
                                ? unwrapHostTime(control.timestampTicks)
                                : std::chrono::duration<double>(message.arrival.time_since_epoch()).count();
-  const bool operate = control.igMode == cigi::IgMode::Operate;
+  // Debug is operate with the IG's diagnostics (CIGI 3.3): the scene follows the host in both
+  const bool operate = control.igMode == cigi::IgMode::Operate || control.igMode == cigi::IgMode::Debug;
 
   // The ownship's Entity Control and Rate Control may come in either order: collect, then apply.
   // Requests are answered after both, so that one relative to an entity sees the message's update.
@@ -322,7 +331,17 @@ void HostSession::answerPeriodic(TimePoint now) {
   }
 }
 
+bool HostSession::refusedAsBacklog(std::size_t waiting) {
+  if (waiting < kMaxAnswersQueued) return false;
+  if (mRequestsRefused.fetch_add(1, std::memory_order_relaxed) == 0) {
+    spdlog::warn("host: more than {} HAT/HOT or LOS requests waiting for an answer; further ones are refused",
+                 kMaxAnswersQueued);
+  }
+  return true;
+}
+
 void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) {
+  if (refusedAsBacklog(mHeightsWaiting.size() + mHatHotDue.size() + mHatHotExtendedDue.size())) return;
   PendingHeight pending{request, std::nullopt, arrival + kHeightWait, {}};
   std::optional<glm::dvec3>& point = pending.pointM;
   point = placePoint(request.coordinateSystem, request.entityId, request.latitudeDegOrXM, request.longitudeDegOrYM,
@@ -415,7 +434,9 @@ void HostSession::answer(const cigi::LosSegmentRequest& request, TimePoint arriv
   pending.deadline = arrival + kHeightWait;
   const auto from = placePoint(request.sourceCoordinateSystem, request.entityId, request.sourceLatitudeDegOrXM,
                                request.sourceLongitudeDegOrYM, request.sourceAltitudeMOrZM, arrival);
-  const auto to = placePoint(request.destinationCoordinateSystem, request.entityId, request.destinationLatitudeDegOrXM,
+  // CIGI 3.3: the destination may be relative to an entity of its own
+  const std::uint16_t toEntity = request.destinationEntityIdValid ? request.destinationEntityId : request.entityId;
+  const auto to = placePoint(request.destinationCoordinateSystem, toEntity, request.destinationLatitudeDegOrXM,
                              request.destinationLongitudeDegOrYM, request.destinationAltitudeMOrZM, arrival);
   if (request.responseCoordinateSystem == cigi::CoordinateSystem::Entity) {
     pending.responseEntity = entityPose(request.entityId, arrival);
@@ -462,12 +483,15 @@ void HostSession::answer(const cigi::LosVectorRequest& request, TimePoint arriva
       pending.direction = {right, forward, up};  // east, north, up
     }
     pending.minRangeM = std::max(0.0, static_cast<double>(request.minRangeM));
-    pending.maxRangeM = request.maxRangeM;
+    // A host's "unlimited" (FLT_MAX, infinity) as a range past any database: the segment's tiles
+    // and the march are then made of finite numbers
+    pending.maxRangeM = std::min(static_cast<double>(request.maxRangeM), kLongestLineOfSightM);
   }
   queueLos(pending);
 }
 
 void HostSession::queueLos(PendingLos pending) {
+  if (refusedAsBacklog(mLosWaiting.size() + mLosDue.size() + mLosExtendedDue.size())) return;
   if (pending.valid) {
     pending.tiles = core::lineOfSightTiles(mTerrain->geometry(), pending.fromM + pending.minRangeM * pending.direction,
                                            pending.fromM + pending.maxRangeM * pending.direction);
@@ -695,6 +719,7 @@ HostSessionFigures HostSession::figures() const noexcept {
   f.periodicRequests = mPeriodicRequests.load(std::memory_order_relaxed);
   f.periodicAnswers = mPeriodicAnswers.load(std::memory_order_relaxed);
   f.periodicRefused = mPeriodicRefused.load(std::memory_order_relaxed);
+  f.requestsRefused = mRequestsRefused.load(std::memory_order_relaxed);
   f.celestialControls = mCelestialControls.load(std::memory_order_relaxed);
   f.celestialRefused = mCelestialRefused.load(std::memory_order_relaxed);
   return f;

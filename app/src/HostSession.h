@@ -59,6 +59,7 @@ struct HostSessionFigures {
   std::uint64_t periodicRequests = 0;  ///< HAT/HOT and LOS requests with an update period, active now
   std::uint64_t periodicAnswers = 0;   ///< answers those requests gave after their first
   std::uint64_t periodicRefused = 0;   ///< periodic requests answered once only: the table was full
+  std::uint64_t requestsRefused = 0;   ///< HAT/HOT and LOS requests not answered: too many were waiting
   std::uint64_t otherEntities = 0;     ///< entities other than the ownship, active now
   std::uint64_t modeChanges = 0;
   std::uint32_t lastHostFrame = 0;
@@ -176,6 +177,7 @@ class HostSession final : public io::HostHandler {
              std::uint8_t updatePeriod);
   void answerPeriodic(TimePoint now);
   void queueLos(PendingLos pending);
+  bool refusedAsBacklog(std::size_t waiting);
   void answerWaitingLos(TimePoint now);
   void respond(const PendingLos& pending);
   // The world pose of entity `entityId` at `at` (0: the ownship; another: its sample extrapolated
@@ -223,7 +225,7 @@ class HostSession final : public io::HostHandler {
   std::atomic<std::uint64_t> mOwnshipUpdates{0}, mHatHotRequests{0}, mHatHotAnswered{0}, mLosRequests{0}, mLosHits{0},
       mOtherEntities{0}, mModeChanges{0}, mViewControls{0}, mViewControlsIgnored{0}, mViewDefinitions{0},
       mViewDefinitionsIgnored{0}, mPeriodicRequests{0}, mPeriodicAnswers{0}, mPeriodicRefused{0}, mCelestialControls{0},
-      mCelestialRefused{0};
+      mCelestialRefused{0}, mRequestsRefused{0};
   std::atomic<std::uint32_t> mLastHostFrame{0};
   std::atomic<double> mHazeRangeM{0.0};
   SeqLock<std::optional<core::SunDirection>> mSun;

@@ -94,6 +94,7 @@ nlohmann::json hostSummary(const io::HostLinkCounters& link, const HostSessionFi
           {"periodic_requests", session.periodicRequests},
           {"periodic_answers", session.periodicAnswers},
           {"periodic_refused", session.periodicRefused},
+          {"requests_refused", session.requestsRefused},
           {"other_entities", session.otherEntities},
           {"mode_changes", session.modeChanges},
           {"last_host_frame", session.lastHostFrame},

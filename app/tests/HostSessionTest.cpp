@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -225,6 +226,41 @@ TEST_F(HostSessionTest, StandbyIgnoresEntityUpdatesAndForgetsOtherEntities) {
   const Pose now = mOwnship.poseAt(mOwnship.toLocal(3.0));
   EXPECT_NEAR(now.positionM.x, second.x, 1e-3);
   EXPECT_NEAR(now.positionM.y, second.y, 1e-3);
+
+  // Debug is operate with diagnostics: updates apply; offline maintenance is not
+  const glm::dvec3 third{250.0, 260.0, 650.0};
+  send({entityAt(0, third)}, 4.0, cigi::IgMode::Debug);
+  EXPECT_EQ(mSession.mode(), cigi::IgMode::Debug);
+  EXPECT_EQ(mSession.figures().ownshipUpdates, 3u);
+  EXPECT_NEAR(mOwnship.poseAt(mOwnship.toLocal(4.0)).positionM.x, third.x, 1e-3);
+  send({entityAt(0, {10.0, 10.0, 600.0})}, 5.0, cigi::IgMode::OfflineMaintenance);
+  EXPECT_EQ(mSession.figures().ownshipUpdates, 3u);
+}
+
+// A host asking far more than the fields can carry: the excess beyond 8,192 waiting answers is
+// refused and counted, and every request taken is answered, in order, over the next fields (the
+// queue grew without end, and every answer behind it waited longer and longer).
+TEST_F(HostSessionTest, AFloodOfRequestsIsCappedAndWhatIsTakenIsAnswered) {
+  const glm::dvec3 point{211.3, 187.9, 900.0};
+  constexpr std::uint16_t kAsked = 10'000;
+  std::vector<cigi::HostPacket> flood;
+  for (std::uint16_t id = 0; id < kAsked; ++id) {
+    flood.push_back(heightRequest(id, cigi::HatHotRequestType::HeightOfTerrain, point));
+  }
+  send(flood);
+  EXPECT_EQ(mSession.figures().requestsRefused, kAsked - 8192u);
+  std::vector<std::uint16_t> answered;
+  for (std::uint64_t k = 1; k <= 10 && answered.size() < 8192; ++k) {
+    for (const cigi::HatHotResponse& r : only<cigi::HatHotResponse>(field(k, mClock.now()))) {
+      answered.push_back(r.hatHotId);
+    }
+  }
+  ASSERT_EQ(answered.size(), 8192u);
+  for (std::size_t i = 0; i < answered.size(); ++i) ASSERT_EQ(answered[i], i);  // the first ones, in order
+  // Drained: taken again
+  send({heightRequest(1, cigi::HatHotRequestType::HeightOfTerrain, point)});
+  EXPECT_EQ(only<cigi::HatHotResponse>(field(11, mClock.now())).size(), 1u);
+  EXPECT_EQ(mSession.figures().requestsRefused, kAsked - 8192u);
 }
 
 TEST_F(HostSessionTest, HeightAnswersAreTheLevelZeroSurface) {
@@ -528,6 +564,36 @@ TEST_F(HostSessionTest, LosVectorFollowsAzimuthElevationAndRangeLimits) {
   EXPECT_FALSE(answers[1].valid);                         // the ground is beyond the maximum range
 }
 
+// A host's "unlimited" range (FLT_MAX, infinity) straight up and straight down: answered on the
+// next field like any other (the march never ended on such a ray, and the link's thread hung).
+TEST_F(HostSessionTest, LosVectorWithAnUnlimitedRangeIsAnswered) {
+  const glm::dvec3 from{120.0, 200.0, level0(120.0, 200.0) + 40.0};
+  const float unlimited[] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::infinity()};
+  auto answered = std::make_shared<std::atomic<bool>>(false);
+  std::vector<cigi::LosResponse> answers;
+  std::thread host([&] {  // a hang fails below instead of stopping the tests
+    send({vectorRequest(31, from, 0.0f, 90.0f, 0.0f, unlimited[0]),
+          vectorRequest(32, from, 0.0f, 90.0f, 0.0f, unlimited[1]),
+          vectorRequest(33, from, 0.0f, -90.0f, 0.0f, unlimited[0]),
+          vectorRequest(34, from, 0.0f, -90.0f, 0.0f, unlimited[1])});
+    answers = only<cigi::LosResponse>(field(1, mClock.now()));
+    answered->store(true);
+  });
+  for (int i = 0; i < 1000 && !answered->load(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (!answered->load()) {
+    host.detach();
+    FAIL() << "the requests were not answered in 10 s";
+  }
+  host.join();
+  ASSERT_EQ(answers.size(), 4u);
+  EXPECT_FALSE(answers[0].valid);  // up: into the sky
+  EXPECT_FALSE(answers[1].valid);
+  EXPECT_TRUE(answers[2].valid);  // down: the ground 40 m below
+  EXPECT_NEAR(answers[2].rangeM, 40.0, 0.05);
+  EXPECT_TRUE(answers[3].valid);
+  EXPECT_NEAR(answers[3].rangeM, 40.0, 0.05);
+}
+
 TEST_F(HostSessionTest, LosVectorFromTheOwnshipTurnsWithItsHeading) {
   const glm::dvec3 ownship{150.0, 250.0, level0(150.0, 250.0) + 50.0};
   send({entityAt(0, ownship, 90.0f)}, 5.0);  // heading east
@@ -547,6 +613,27 @@ TEST_F(HostSessionTest, LosVectorFromTheOwnshipTurnsWithItsHeading) {
   ASSERT_EQ(answers.size(), 1u);
   EXPECT_TRUE(answers[0].valid);
   EXPECT_NEAR(answers[0].rangeM, expected.rangeM, 1e-3);
+}
+
+// A segment from the ownship to another entity (CIGI 3.3's Destination Entity ID): its far end is
+// that entity, here under the ground, so the segment meets the ground on its way. It was placed
+// relative to the source entity instead: a segment of no length, meeting nothing.
+TEST_F(HostSessionTest, LosSegmentToAnotherEntityEndsAtThatEntity) {
+  const glm::dvec3 ownship{150.0, 250.0, level0(150.0, 250.0) + 50.0};
+  const glm::dvec3 buried{150.0, 250.0, level0(150.0, 250.0) - 20.0};
+  send({entityAt(0, ownship), entityAt(5, buried)}, 5.0);
+  cigi::LosSegmentRequest r;
+  r.losId = 41;
+  r.sourceCoordinateSystem = cigi::CoordinateSystem::Entity;
+  r.entityId = 0;
+  r.destinationCoordinateSystem = cigi::CoordinateSystem::Entity;
+  r.destinationEntityIdValid = true;
+  r.destinationEntityId = 5;
+  mSession.onMessage(io::HostMessage{std::vector<cigi::HostPacket>{cigi::IgControl{}, r}, mClock.now(), false});
+  const auto answers = only<cigi::LosResponse>(field(1, mClock.now()));
+  ASSERT_EQ(answers.size(), 1u);
+  EXPECT_TRUE(answers[0].valid);
+  EXPECT_NEAR(answers[0].rangeM, 50.0, 0.5);
 }
 
 // ---- View Control -------------------------------------------------------------------------------

@@ -5,8 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <random>
+#include <thread>
 
 namespace fieldcast::core {
 namespace {
@@ -76,6 +81,29 @@ TEST(LineOfSight, RangeLimitsAndUpwardRays) {
   const LineOfSightHit under = lineOfSight(view, o, down, 60.0, 1000.0);
   ASSERT_TRUE(under.hit);
   EXPECT_NEAR(under.rangeM, 60.0, 1e-9);
+}
+
+// A host's "unlimited" range (FLT_MAX, infinity, 1e20 m) on a ray straight up or down: the x and
+// y slabs bound nothing there, and the march's steps no longer moved a range that large, so the
+// call never returned (the host link's thread hung on it). Run on a thread, so a hang fails here.
+TEST(LineOfSight, AnUnlimitedRangeStraightUpOrDownEnds) {
+  const TerrainView& view = hills().view();
+  const glm::dvec3 o{500.0, 500.0, view.heightAtM(500.0, 500.0, 0) + 50.0};
+  for (const double range :
+       {1e20, static_cast<double>(std::numeric_limits<float>::max()), std::numeric_limits<double>::infinity()}) {
+    for (const glm::dvec3& d : {directionOf(0.0, 90.0), glm::dvec3{0.0, 0.0, 1.0}, directionOf(0.0, -90.0)}) {
+      auto done = std::make_shared<std::atomic<bool>>(false);
+      auto hit = std::make_shared<LineOfSightHit>();
+      std::thread([&view, o, d, range, done, hit] {
+        *hit = lineOfSight(view, o, d, 0.0, range);
+        done->store(true);
+      }).detach();  // a march that never ends is left running; the test fails below
+      for (int i = 0; i < 1000 && !done->load(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      ASSERT_TRUE(done->load()) << "range " << range << ", direction z " << d.z << ": the march did not end";
+      EXPECT_EQ(hit->hit, d.z < 0.0) << range << " " << d.z;
+      if (d.z < 0.0) EXPECT_NEAR(hit->rangeM, 50.0, 1e-4) << range;
+    }
+  }
 }
 
 TEST(LineOfSight, ColourIsTheLevelZeroColourAtTheVoxelCentre) {

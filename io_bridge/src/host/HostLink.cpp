@@ -123,7 +123,9 @@ void HostLink::receiveAll() {
 }
 
 void HostLink::sendField() {
-  mAnnouncementPending.store(false, std::memory_order_relaxed);
+  // An exchange, not a store: a plain store may pass the load below (on x86 too), and would then
+  // clear a flag raised for a later field after this load had read the earlier one
+  mAnnouncementPending.exchange(false, std::memory_order_acq_rel);
   const FieldAnnouncement field = mAnnounced.load();
   // The flag may have been raised again between clearing it and the load, for the field this
   // load already read: served, not to be sent twice. Fields announced but never read (the link
