@@ -192,17 +192,23 @@ void HostSession::onMessage(const io::HostMessage& message) {
   }
   if (entitiesChanged) publishEntities();
   if (ownship != nullptr) applyOwnship(*ownship, ownshipRates, hostTimeS, message.arrival, control.hostFrameNumber);
+  // A request refused for the backlog (refusedAsBacklog) is not kept as a periodic one either
+  const auto heightsWaiting = [this] { return mHeightsWaiting.size() + mHatHotDue.size() + mHatHotExtendedDue.size(); };
+  const auto losWaiting = [this] { return mLosWaiting.size() + mLosDue.size() + mLosExtendedDue.size(); };
   for (const cigi::HostPacket* packet : requests) {
     if (const auto* request = std::get_if<cigi::HatHotRequest>(packet)) {
       mHatHotRequests.fetch_add(1, std::memory_order_relaxed);
+      if (refusedAsBacklog(heightsWaiting())) continue;
       track(mPeriodicHeights, request->hatHotId, *request, request->updatePeriod);
       answer(*request, message.arrival);
     } else if (const auto* segment = std::get_if<cigi::LosSegmentRequest>(packet)) {
       mLosRequests.fetch_add(1, std::memory_order_relaxed);
+      if (refusedAsBacklog(losWaiting())) continue;
       track(mPeriodicLos, segment->losId, LosRequest{*segment}, segment->updatePeriod);
       answer(*segment, message.arrival);
     } else if (const auto* vector = std::get_if<cigi::LosVectorRequest>(packet)) {
       mLosRequests.fetch_add(1, std::memory_order_relaxed);
+      if (refusedAsBacklog(losWaiting())) continue;
       track(mPeriodicLos, vector->losId, LosRequest{*vector}, vector->updatePeriod);
       answer(*vector, message.arrival);
     }
@@ -341,7 +347,6 @@ bool HostSession::refusedAsBacklog(std::size_t waiting) {
 }
 
 void HostSession::answer(const cigi::HatHotRequest& request, TimePoint arrival) {
-  if (refusedAsBacklog(mHeightsWaiting.size() + mHatHotDue.size() + mHatHotExtendedDue.size())) return;
   PendingHeight pending{request, std::nullopt, arrival + kHeightWait, {}};
   std::optional<glm::dvec3>& point = pending.pointM;
   point = placePoint(request.coordinateSystem, request.entityId, request.latitudeDegOrXM, request.longitudeDegOrYM,
@@ -436,6 +441,7 @@ void HostSession::answer(const cigi::LosSegmentRequest& request, TimePoint arriv
                                request.sourceLongitudeDegOrYM, request.sourceAltitudeMOrZM, arrival);
   // CIGI 3.3: the destination may be relative to an entity of its own
   const std::uint16_t toEntity = request.destinationEntityIdValid ? request.destinationEntityId : request.entityId;
+  if (request.destinationCoordinateSystem == cigi::CoordinateSystem::Entity) pending.toEntity = toEntity;
   const auto to = placePoint(request.destinationCoordinateSystem, toEntity, request.destinationLatitudeDegOrXM,
                              request.destinationLongitudeDegOrYM, request.destinationAltitudeMOrZM, arrival);
   if (request.responseCoordinateSystem == cigi::CoordinateSystem::Entity) {
@@ -482,7 +488,7 @@ void HostSession::answer(const cigi::LosVectorRequest& request, TimePoint arriva
     } else {
       pending.direction = {right, forward, up};  // east, north, up
     }
-    pending.minRangeM = std::max(0.0, static_cast<double>(request.minRangeM));
+    pending.minRangeM = std::clamp(static_cast<double>(request.minRangeM), 0.0, kLongestLineOfSightM);
     // A host's "unlimited" (FLT_MAX, infinity) as a range past any database: the segment's tiles
     // and the march are then made of finite numbers
     pending.maxRangeM = std::min(static_cast<double>(request.maxRangeM), kLongestLineOfSightM);
@@ -491,7 +497,6 @@ void HostSession::answer(const cigi::LosVectorRequest& request, TimePoint arriva
 }
 
 void HostSession::queueLos(PendingLos pending) {
-  if (refusedAsBacklog(mLosWaiting.size() + mLosDue.size() + mLosExtendedDue.size())) return;
   if (pending.valid) {
     pending.tiles = core::lineOfSightTiles(mTerrain->geometry(), pending.fromM + pending.minRangeM * pending.direction,
                                            pending.fromM + pending.maxRangeM * pending.direction);
@@ -531,6 +536,8 @@ void HostSession::respond(const PendingLos& pending) {
     mEntityScene(mClock.now(), mEntityScratch);
     entity = core::castEntities(mEntityScratch, pending.fromM, pending.direction, pending.minRangeM,
                                 hit.hit ? hit.rangeM : pending.maxRangeM, pending.fromEntity);
+    // The entity a segment ends at is what it looks at, not in the way: the segment ends inside it
+    if (entity.hit && pending.toEntity && entity.id == *pending.toEntity) entity = {};
   }
   if (entity.hit) {
     hit.hit = true;

@@ -154,6 +154,7 @@ class HostSession final : public io::HostHandler {
     io::cigi::CoordinateSystem responseSystem = io::cigi::CoordinateSystem::Geodetic;
     std::optional<Pose> responseEntity;       ///< entity-relative answers: the source entity's pose
     std::optional<std::uint16_t> fromEntity;  ///< a ray from an entity does not meet that entity
+    std::optional<std::uint16_t> toEntity;    ///< nor a segment to an entity that one (it ends inside it)
     glm::dvec3 fromM{0.0};
     glm::dvec3 direction{0.0};  ///< unit
     double minRangeM = 0.0, maxRangeM = 0.0;

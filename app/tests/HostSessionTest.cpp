@@ -17,6 +17,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -580,9 +582,9 @@ TEST_F(HostSessionTest, LosVectorWithAnUnlimitedRangeIsAnswered) {
     answered->store(true);
   });
   for (int i = 0; i < 1000 && !answered->load(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  if (!answered->load()) {
-    host.detach();
-    FAIL() << "the requests were not answered in 10 s";
+  if (!answered->load()) {  // the thread uses this fixture: stop here rather than leave it running
+    std::fprintf(stderr, "HostSessionTest: the unlimited-range requests were not answered in 10 s\n");
+    std::_Exit(1);
   }
   host.join();
   ASSERT_EQ(answers.size(), 4u);
@@ -1031,11 +1033,23 @@ TEST_F(HostSessionTest, ALineOfSightMeetsAHostEntityInItsWay) {
   const auto own = only<cigi::LosResponse>(field(2, mClock.now()));
   ASSERT_EQ(own.size(), 1u);
   EXPECT_FALSE(own[0].entityIdValid && own[0].entityId == 9u);
+  // A segment to the block (CIGI 3.3's Destination Entity ID, 10 m above its base) ends inside it:
+  // the block is what it looks at, not in its way
+  cigi::LosSegmentRequest toTower = segmentRequest(25, from, to);
+  toTower.destinationCoordinateSystem = cigi::CoordinateSystem::Entity;
+  toTower.destinationEntityIdValid = true;
+  toTower.destinationEntityId = 9;
+  toTower.destinationLatitudeDegOrXM = toTower.destinationLongitudeDegOrYM = 0.0;
+  toTower.destinationAltitudeMOrZM = -10.0;
+  send({toTower}, 1.07);
+  const auto target = only<cigi::LosResponse>(field(3, mClock.now()));
+  ASSERT_EQ(target.size(), 1u);
+  EXPECT_FALSE(target[0].entityIdValid && target[0].entityId == 9u);
   if (clearWithout) {
     // Without the entity the segment passes: the terrain alone did not stop it
     tower.entityState = cigi::EntityState::Destroyed;
     send({tower, segmentRequest(23, from, to)});
-    const auto after = only<cigi::LosResponse>(field(3, mClock.now()));
+    const auto after = only<cigi::LosResponse>(field(4, mClock.now()));
     ASSERT_EQ(after.size(), 1u);
     EXPECT_TRUE(after[0].visible);
     EXPECT_FALSE(after[0].entityIdValid);

@@ -21,10 +21,10 @@ PrpSettings readPrpSettings(ConfigReader& t) {
                               {"vertical", Mirror::Vertical},
                               {"both", Mirror::Both}});
   // Converted only when given, so the default stays PrpSettings' own to the nanosecond. At least
-  // the field clock's least time for a field's work; less than a field period is the service's
-  // check, which knows the rate.
+  // the field clock's least time for a field's work, at most the longest field period (50 Hz);
+  // less than this rate's field period is the service's check, which knows the rate.
   const double leastMs = toSeconds(FieldClockConfig{}.minWork) * 1e3;
-  if (t.has("lead_ms")) s.lead = fromSeconds(t.number("lead_ms", toSeconds(s.lead) * 1e3, leastMs, 100.0) * 1e-3);
+  if (t.has("lead_ms")) s.lead = fromSeconds(t.number("lead_ms", toSeconds(s.lead) * 1e3, leastMs, 20.0) * 1e-3);
   t.finish();
   return s;
 }

@@ -314,7 +314,7 @@ TEST(Range3dWarp, MapFollowsTheTrueGeometryForATranslation) {
 // A field pitched up past the frame's top: its first rows get no splat. They continue the first
 // row below that has one, upwards (sources above the frame's top, counted as violations and
 // sampled at the top edge), as empty rows lower down continue the row above them. They were left
-// without a sample: sampled at the frame's top-left pixel, and not counted.
+// without a sample: sampled at the frame's top-left pixel (and counted as violations, as NaN is).
 TEST(Range3dWarp, EmptyRowsAtTheFieldsTopContinueTheFirstRowBelow) {
   Range3dWarp warp(kW, kH);
   Pose up = kPose;

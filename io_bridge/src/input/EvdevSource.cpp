@@ -16,16 +16,34 @@
 #include <ctime>
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
 
 namespace fieldcast::io {
 namespace {
 
+// Owns the device's file and its libevdev handle: moved, never copied (a copy assigned over a
+// handle freed the libevdev and closed the file the copy went on to use).
 struct Evdev {
   int fd = -1;
   libevdev* dev = nullptr;
-  ~Evdev() {
+  Evdev() = default;
+  Evdev(Evdev&& other) noexcept : fd(std::exchange(other.fd, -1)), dev(std::exchange(other.dev, nullptr)) {}
+  Evdev& operator=(Evdev&& other) noexcept {
+    if (this != &other) {
+      close();
+      fd = std::exchange(other.fd, -1);
+      dev = std::exchange(other.dev, nullptr);
+    }
+    return *this;
+  }
+  Evdev(const Evdev&) = delete;
+  Evdev& operator=(const Evdev&) = delete;
+  ~Evdev() { close(); }
+  void close() noexcept {
     if (dev != nullptr) libevdev_free(dev);
     if (fd >= 0) ::close(fd);
+    dev = nullptr;
+    fd = -1;
   }
   int release() {
     if (dev != nullptr) libevdev_free(dev);
@@ -140,10 +158,7 @@ EvdevSource::EvdevSource(const std::string& pathOrName) {
       if (candidate.dev == nullptr || !looksLikeJoystick(candidate.dev)) continue;
       const char* name = libevdev_get_name(candidate.dev);
       if (name != nullptr && lower(name).find(wanted) != std::string::npos) {
-        e.fd = candidate.fd;
-        e.dev = candidate.dev;
-        candidate.fd = -1;
-        candidate.dev = nullptr;
+        e = std::move(candidate);
         mPath = path;
         break;
       }

@@ -205,6 +205,7 @@ class LibusbTransport final : public UsbTransport {
     t->inFlight = false;
     switch (transfer->status) {
       case LIBUSB_TRANSFER_COMPLETED:
+        self->mErrors = 0;  // errors in a row, not over the device's life
         self->mReady.push_back(
             Report{std::vector<std::uint8_t>(transfer->buffer, transfer->buffer + transfer->actual_length),
                    MonotonicClock::now()});
@@ -215,7 +216,14 @@ class LibusbTransport final : public UsbTransport {
         if (++self->mErrors > 100) self->mGone = true;
         break;
     }
-    if (!self->mClosing && !self->mGone && libusb_submit_transfer(transfer) == 0) t->inFlight = true;
+    if (self->mClosing || self->mGone) return;
+    // An unplug often ends the transfers with an error first, and the resubmission then fails
+    // (LIBUSB_ERROR_NO_DEVICE): with no transfer left in flight no NO_DEVICE would ever come
+    if (libusb_submit_transfer(transfer) == 0) {
+      t->inFlight = true;
+    } else {
+      self->mGone = true;
+    }
   }
 
   void close() noexcept {

@@ -31,7 +31,12 @@ double shapeUnipolar(std::int32_t raw, const AxisCalibration& c) noexcept {
   if (c.max <= c.min) return 0.0;
   double u = std::clamp((static_cast<double>(raw) - c.min) / (static_cast<double>(c.max) - c.min), 0.0, 1.0);
   if (c.invert) u = 1.0 - u;
-  if (c.deadZone > 0.0) u = std::clamp((u - c.deadZone) / (1.0 - 2.0 * c.deadZone), 0.0, 1.0);
+  if (c.deadZone > 0.0) {
+    // The travel left between the two dead zones; none at 0.5 (a profile may ask it): a switch at
+    // the middle, not 0/0
+    const double travel = 1.0 - 2.0 * c.deadZone;
+    u = travel > 0.0 ? std::clamp((u - c.deadZone) / travel, 0.0, 1.0) : (u > 0.5 ? 1.0 : 0.0);
+  }
   return u;
 }
 

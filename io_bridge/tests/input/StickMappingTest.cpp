@@ -54,6 +54,12 @@ TEST(StickShaping, UnipolarThrottle) {
   EXPECT_DOUBLE_EQ(shapeUnipolar(10, c), 0.0);
   EXPECT_DOUBLE_EQ(shapeUnipolar(250, c), 1.0);
   EXPECT_NEAR(shapeUnipolar(128, c), 0.5, 0.01);
+  // The widest dead zone a profile takes leaves no travel: a switch at the middle, never NaN
+  c.max = 254;
+  c.deadZone = 0.5;
+  EXPECT_EQ(shapeUnipolar(127, c), 0.0);
+  EXPECT_EQ(shapeUnipolar(126, c), 0.0);
+  EXPECT_EQ(shapeUnipolar(128, c), 1.0);
 }
 
 TEST(StickMapper, GenericProfileOnTheTcaYokeDescriptor) {
