@@ -108,6 +108,13 @@ RawElevation readAsciiGrid(const std::filesystem::path& path, const ImportOption
   const std::optional<double> nodata =
       header.contains("nodata_value") ? std::optional<double>(header["nodata_value"]) : options.nodata;
   const std::size_t count = static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height);
+  // Each value takes a digit and a separator at least: a header asking for more than the file can
+  // hold is refused before it sizes the arrays (a 60-byte file could ask for hundreds of GB)
+  if (count > text.size() / 2 + 1) {
+    throw ImportError(name + ": expected " + std::to_string(out.width) + " x " + std::to_string(out.height) + " = " +
+                      std::to_string(count) + " values, but the file has only " + std::to_string(text.size()) +
+                      " bytes (truncated?)");
+  }
   out.heightsM.resize(count);
   out.valid.resize(count);
   for (std::size_t k = 0; k < count; ++k) {

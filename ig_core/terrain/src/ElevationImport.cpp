@@ -12,6 +12,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 namespace fieldcast::core {
 namespace detail {
@@ -20,6 +21,10 @@ namespace {
 template <typename T>
 void convertRows(const std::vector<std::byte>& buffer, int w, int h, RawElevation& out, const ImportOptions& options,
                  const std::optional<double>& nodata) {
+  // Nodata in the samples' own precision: a Float32 file's "-9999.9" is the float nearest it,
+  // which as a double is -9999.900390625, not -9999.9
+  const std::optional<double> nodataSample =
+      nodata && std::is_same_v<T, float> ? std::optional<double>(static_cast<float>(*nodata)) : nodata;
   for (int y = 0; y < h; ++y) {
     const int row = h - 1 - y;  // image rows run north to south
     for (int x = 0; x < w; ++x) {
@@ -27,7 +32,7 @@ void convertRows(const std::vector<std::byte>& buffer, int w, int h, RawElevatio
       std::memcpy(&raw, buffer.data() + (static_cast<std::size_t>(y) * w + x) * sizeof(T), sizeof(T));
       const auto value = static_cast<double>(raw);
       const std::size_t k = static_cast<std::size_t>(row) * w + x;
-      const bool isValid = std::isfinite(value) && !(nodata && value == *nodata);
+      const bool isValid = std::isfinite(value) && !(nodataSample && value == *nodataSample);
       out.valid[k] = isValid ? 1 : 0;
       out.heightsM[k] = isValid ? static_cast<float>(options.verticalOffsetM + options.verticalScaleM * value) : 0.0f;
     }

@@ -129,7 +129,8 @@ RawElevation readRawGrid(const std::filesystem::path& path, const ImportOptions&
     const std::size_t y = k / static_cast<std::size_t>(out.width);
     const std::size_t row = layout.northFirst ? static_cast<std::size_t>(out.height) - 1 - y : y;
     const std::size_t i = row * static_cast<std::size_t>(out.width) + x;
-    const bool isValid = std::isfinite(v) && !(layout.nodata && static_cast<double>(v) == *layout.nodata);
+    // In the samples' precision (float): a float32 file's nodata -9999.9 is the float nearest it
+    const bool isValid = std::isfinite(v) && !(layout.nodata && v == static_cast<float>(*layout.nodata));
     out.valid[i] = isValid ? 1 : 0;
     out.heightsM[i] = isValid ? static_cast<float>(layout.offsetM + layout.scale * v) : 0.0f;
   }

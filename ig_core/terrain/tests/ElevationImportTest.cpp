@@ -13,6 +13,7 @@
 #include <tiffio.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <tuple>
@@ -135,6 +136,7 @@ struct GeoTiffSpec {
   bool tiled = true;
   bool pixelIsPoint = false;
   const char* nodata = "-9999";
+  double hole = -9999.0;  ///< the value written in the hole
 };
 
 // Writes truth() as a GeoTIFF: 10 m pixels, top-left corner at (500000, 4100000), with a 3×3
@@ -164,7 +166,7 @@ void writeGeoTiff(const std::filesystem::path& path, const GeoTiffSpec& s) {
   for (int y = 0; y < kH; ++y) {
     for (int x = 0; x < kW; ++x) {
       const bool hole = x >= 10 && x <= 12 && y >= 5 && y <= 7;
-      const double v = hole ? -9999.0 : truth(x, y);
+      const double v = hole ? s.hole : truth(x, y);
       std::uint8_t* p = image.data() + (static_cast<std::size_t>(y) * kW + x) * bytes;
       if (s.sampleFormat == SAMPLEFORMAT_IEEEFP) {
         const auto f = static_cast<float>(v);
@@ -245,6 +247,17 @@ TEST(GeoTiffImport, TagsGiveSpacingOriginAndNodata) {
   expectHoleFilled(g);
 }
 
+// GDAL_NODATA "-9999.9" over Float32 samples: the samples hold the float nearest it, which is not
+// the double -9999.9; compared in double the hole stayed a 10 km pit.
+TEST(GeoTiffImport, AFractionalNodataMatchesItsFloatSamples) {
+  ScratchDir dir;
+  GeoTiffSpec spec;
+  spec.nodata = "-9999.9";
+  spec.hole = -9999.9;
+  writeGeoTiff(dir / "geo.tif", spec);
+  expectHoleFilled(importElevation(dir / "geo.tif"));
+}
+
 TEST(GeoTiffImport, PixelIsPointTiesThePixelCentre) {
   ScratchDir dir;
   GeoTiffSpec spec;
@@ -277,6 +290,32 @@ TEST(GeoTiffImport, Uint16TiledUncompressedWithNodataFromTheOptions) {
   ImportOptions options;
   options.nodata = 0.0;
   expectHoleFilled(importElevation(dir / "geo.tif", options));
+}
+
+// A GeoTIFF whose pixel scale is stored as two SHORTs, not DOUBLEs: refused, naming the tag. It was
+// read as doubles, 16 bytes from a 4-byte buffer (a heap overflow; ASan's stage shows it).
+TEST(GeoTiffImport, ATagOfTheWrongTypeIsRefused) {
+  ScratchDir dir;
+  const std::filesystem::path path = dir / "short_scale.tif";
+  TIFF* tif = TIFFOpen(path.c_str(), "w");
+  ASSERT_NE(tif, nullptr);
+  static const TIFFFieldInfo kShortScale[] = {
+      {33550, -1, -1, TIFF_SHORT, FIELD_CUSTOM, 1, 1, const_cast<char*>("ModelPixelScaleTag")}};
+  TIFFMergeFieldInfo(tif, kShortScale, 1);
+  TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, 4);
+  TIFFSetField(tif, TIFFTAG_IMAGELENGTH, 4);
+  TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, 16);
+  TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, SAMPLEFORMAT_UINT);
+  TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, 1);
+  TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+  TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+  TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, 4);
+  const std::uint16_t scale[2] = {10, 10};
+  TIFFSetField(tif, 33550, 2, scale);
+  std::uint16_t row[4] = {100, 200, 300, 400};
+  for (std::uint32_t y = 0; y < 4; ++y) ASSERT_EQ(TIFFWriteScanline(tif, row, y, 0), 1);
+  TIFFClose(tif);
+  expectImportError([&] { importElevation(path); }, {"short_scale.tif", "GeoTIFF tag 33550", "not 12"});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -372,6 +411,11 @@ TEST(AsciiGridImport, ErrorsNameTheFileLineAndProblem) {
 
   writeText(dir / "e.asc", "ncols 100000000\nnrows 100000000\ncellsize 1\n1\n");
   expectImportError([&] { importElevation(dir / "e.asc"); }, {"e.asc", "out of range"});
+
+  // A header within the limits but asking for far more values than the file holds (262144² would
+  // be 550 GB of heights): refused before anything is sized, as a clear error, not bad_alloc
+  writeText(dir / "f.asc", "ncols 262144\nnrows 262144\ncellsize 1\n1 2 3\n");
+  expectImportError([&] { importElevation(dir / "f.asc"); }, {"f.asc", "68719476736 values", "truncated"});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -391,21 +435,28 @@ TEST(RawGridImport, Int16NorthFirstWithSidecar) {
   EXPECT_EQ(g.originM, glm::dvec2(10.0, 20.0));
 }
 
+// Nodata -1 and, in the samples' own precision, -9999.9 (the float nearest it is not the double)
 TEST(RawGridImport, Float32SouthFirstWithNodata) {
-  ScratchDir dir;
-  std::vector<float> samples;
-  for (int j = 0; j < kH; ++j) {  // south row first
-    for (int i = 0; i < kW; ++i) {
-      const int y = kH - 1 - j;
-      samples.push_back(i >= 10 && i <= 12 && y >= 5 && y <= 7 ? -1.0f : static_cast<float>(truth(i, y)));
+  for (const double nodata : {-1.0, -9999.9}) {
+    ScratchDir dir;
+    std::vector<float> samples;
+    for (int j = 0; j < kH; ++j) {  // south row first
+      for (int i = 0; i < kW; ++i) {
+        const int y = kH - 1 - j;
+        const bool hole = i >= 10 && i <= 12 && y >= 5 && y <= 7;
+        samples.push_back(hole ? static_cast<float>(nodata) : static_cast<float>(truth(i, y)));
+      }
     }
+    std::vector<char> bytes(samples.size() * 4);
+    std::memcpy(bytes.data(), samples.data(), bytes.size());
+    testing::writeFile(dir / "dem.f32", bytes);
+    char sidecar[160];
+    std::snprintf(sidecar, sizeof sidecar,
+                  "width = %d\nheight = %d\ntype = \"float32\"\nrow_order = \"south_first\"\nnodata = %.1f\n", kW, kH,
+                  nodata);
+    writeText(dir / "dem.toml", sidecar);
+    expectHoleFilled(importElevation(dir / "dem.f32"));
   }
-  std::vector<char> bytes(samples.size() * 4);
-  std::memcpy(bytes.data(), samples.data(), bytes.size());
-  testing::writeFile(dir / "dem.f32", bytes);
-  writeText(dir / "dem.toml", "width = " + std::to_string(kW) + "\nheight = " + std::to_string(kH) +
-                                  "\ntype = \"float32\"\nrow_order = \"south_first\"\nnodata = -1.0\n");
-  expectHoleFilled(importElevation(dir / "dem.f32"));
 }
 
 TEST(RawGridImport, SizeMismatchAndMissingSidecarAreClearErrors) {
