@@ -192,25 +192,29 @@ void HostSession::onMessage(const io::HostMessage& message) {
   }
   if (entitiesChanged) publishEntities();
   if (ownship != nullptr) applyOwnship(*ownship, ownshipRates, hostTimeS, message.arrival, control.hostFrameNumber);
-  // A request refused for the backlog (refusedAsBacklog) is not kept as a periodic one either
+  // A request refused for the backlog (refusedAsBacklog) is not answered and does not start a
+  // periodic request; one that ends or changes a periodic request already kept still does
   const auto heightsWaiting = [this] { return mHeightsWaiting.size() + mHatHotDue.size() + mHatHotExtendedDue.size(); };
   const auto losWaiting = [this] { return mLosWaiting.size() + mLosDue.size() + mLosExtendedDue.size(); };
   for (const cigi::HostPacket* packet : requests) {
     if (const auto* request = std::get_if<cigi::HatHotRequest>(packet)) {
       mHatHotRequests.fetch_add(1, std::memory_order_relaxed);
-      if (refusedAsBacklog(heightsWaiting())) continue;
-      track(mPeriodicHeights, request->hatHotId, *request, request->updatePeriod);
-      answer(*request, message.arrival);
+      const bool answered = !refusedAsBacklog(heightsWaiting());
+      if (answered || request->updatePeriod == 0 || mPeriodicHeights.contains(request->hatHotId))
+        track(mPeriodicHeights, request->hatHotId, *request, request->updatePeriod);
+      if (answered) answer(*request, message.arrival);
     } else if (const auto* segment = std::get_if<cigi::LosSegmentRequest>(packet)) {
       mLosRequests.fetch_add(1, std::memory_order_relaxed);
-      if (refusedAsBacklog(losWaiting())) continue;
-      track(mPeriodicLos, segment->losId, LosRequest{*segment}, segment->updatePeriod);
-      answer(*segment, message.arrival);
+      const bool answered = !refusedAsBacklog(losWaiting());
+      if (answered || segment->updatePeriod == 0 || mPeriodicLos.contains(segment->losId))
+        track(mPeriodicLos, segment->losId, LosRequest{*segment}, segment->updatePeriod);
+      if (answered) answer(*segment, message.arrival);
     } else if (const auto* vector = std::get_if<cigi::LosVectorRequest>(packet)) {
       mLosRequests.fetch_add(1, std::memory_order_relaxed);
-      if (refusedAsBacklog(losWaiting())) continue;
-      track(mPeriodicLos, vector->losId, LosRequest{*vector}, vector->updatePeriod);
-      answer(*vector, message.arrival);
+      const bool answered = !refusedAsBacklog(losWaiting());
+      if (answered || vector->updatePeriod == 0 || mPeriodicLos.contains(vector->losId))
+        track(mPeriodicLos, vector->losId, LosRequest{*vector}, vector->updatePeriod);
+      if (answered) answer(*vector, message.arrival);
     }
   }
 }
@@ -535,9 +539,7 @@ void HostSession::respond(const PendingLos& pending) {
   if (pending.valid && mEntityScene) {
     mEntityScene(mClock.now(), mEntityScratch);
     entity = core::castEntities(mEntityScratch, pending.fromM, pending.direction, pending.minRangeM,
-                                hit.hit ? hit.rangeM : pending.maxRangeM, pending.fromEntity);
-    // The entity a segment ends at is what it looks at, not in the way: the segment ends inside it
-    if (entity.hit && pending.toEntity && entity.id == *pending.toEntity) entity = {};
+                                hit.hit ? hit.rangeM : pending.maxRangeM, pending.fromEntity, pending.toEntity);
   }
   if (entity.hit) {
     hit.hit = true;

@@ -265,6 +265,31 @@ TEST_F(HostSessionTest, AFloodOfRequestsIsCappedAndWhatIsTakenIsAnswered) {
   EXPECT_EQ(mSession.figures().requestsRefused, kAsked - 8192u);
 }
 
+// A periodic request ended (period 0) while the backlog is full: not answered, but ended all the
+// same (skipped with the refusal, it went on answering every field, feeding the backlog).
+TEST_F(HostSessionTest, APeriodicRequestEndsEvenWhenTheBacklogRefusesIt) {
+  const glm::dvec3 point{211.3, 187.9, 900.0};
+  cigi::HatHotRequest periodic = heightRequest(60'000, cigi::HatHotRequestType::HeightOfTerrain, point);
+  periodic.updatePeriod = 1;
+  send({periodic});
+  std::vector<cigi::HostPacket> flood;
+  for (std::uint16_t id = 0; id < 9000; ++id) {
+    flood.push_back(heightRequest(id, cigi::HatHotRequestType::HeightOfTerrain, point));
+  }
+  send(flood);
+  periodic.updatePeriod = 0;  // the end of it, refused for the backlog
+  send({periodic});
+  EXPECT_GT(mSession.figures().requestsRefused, 0u);
+  EXPECT_EQ(mSession.figures().periodicRequests, 0u);
+  std::size_t periodicAnswers = 0;
+  for (std::uint64_t k = 1; k <= 12; ++k) {
+    for (const cigi::HatHotResponse& r : only<cigi::HatHotResponse>(field(k, mClock.now()))) {
+      periodicAnswers += r.hatHotId == 60'000 ? 1 : 0;
+    }
+  }
+  EXPECT_LE(periodicAnswers, 1u);  // at most its first answer, queued before the flood
+}
+
 TEST_F(HostSessionTest, HeightAnswersAreTheLevelZeroSurface) {
   const glm::dvec3 point{211.3, 187.9, 900.0};
   send({heightRequest(1, cigi::HatHotRequestType::HeightOfTerrain, point),

@@ -150,11 +150,11 @@ bool castEntity(const EntityInstance& entity, const glm::dvec3& origin, const gl
 
 EntityRayHit castEntities(std::span<const EntityInstance> entities, const glm::dvec3& originM,
                           const glm::dvec3& direction, double minRangeM, double maxRangeM,
-                          std::optional<std::uint32_t> excludeId) noexcept {
+                          std::optional<std::uint32_t> excludeId, std::optional<std::uint32_t> alsoExcludeId) noexcept {
   EntityRayHit nearest;
   double limit = maxRangeM;
   for (const EntityInstance& e : entities) {
-    if (excludeId && e.id == *excludeId) continue;
+    if ((excludeId && e.id == *excludeId) || (alsoExcludeId && e.id == *alsoExcludeId)) continue;
     EntityHit hit;
     if (!castEntity(e, originM, direction, limit, hit) || hit.depthM < minRangeM) continue;
     limit = hit.depthM;  // a unit direction: the ray's parameter is the range

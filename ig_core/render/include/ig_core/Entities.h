@@ -39,11 +39,12 @@ struct EntityRayHit {
 };
 
 /// The first voxel of any of `entities` but `excludeId` (the entity a line of sight starts from)
-/// on the ray from `originM` along the unit `direction`, with a range in [minRangeM, maxRangeM]
-/// (an entity nearer than minRangeM is not seen, even where it reaches past it). The same grid
-/// walk as the entity pass. RT-safe.
+/// and `alsoExcludeId` (the one a segment ends at) on the ray from `originM` along the unit
+/// `direction`, with a range in [minRangeM, maxRangeM] (an entity nearer than minRangeM is not
+/// seen, even where it reaches past it). The same grid walk as the entity pass. RT-safe.
 EntityRayHit castEntities(std::span<const EntityInstance> entities, const glm::dvec3& originM,
                           const glm::dvec3& direction, double minRangeM, double maxRangeM,
-                          std::optional<std::uint32_t> excludeId = std::nullopt) noexcept;
+                          std::optional<std::uint32_t> excludeId = std::nullopt,
+                          std::optional<std::uint32_t> alsoExcludeId = std::nullopt) noexcept;
 
 }  // namespace fieldcast::core
