@@ -140,33 +140,27 @@ void Range3dWarp::fillHoles(FieldParity parity, const OutputGeometry& g) noexcep
     }
     if (!any && lastFilledRow >= 0) {
       // An empty row (strong vertical zoom): continue the nearest filled row above.
-      const std::size_t src = static_cast<std::size_t>(lastFilledRow) * static_cast<std::size_t>(rw);
-      for (int k = 0; k < rw; ++k) {
-        mx[k] = mMapX[src + k];
-        my[k] = mMapY[src + k] + static_cast<float>((y - lastFilledRow) * g.scale.y);
-        depth[k] = mDepth[src + k];
-      }
+      continueRow(lastFilledRow, y, g);
       any = true;
     }
     if (any) {
-      if (lastFilledRow < 0 && y > firstRow) continueRowUpwards(y, firstRow, rowStep, g);
+      // The field's first rows got no splat (it sees above the frame's top): continue the first
+      // filled row up to them
+      if (lastFilledRow < 0)
+        for (int above = firstRow; above < y; above += rowStep) continueRow(y, above, g);
       lastFilledRow = y;
     }
   }
 }
 
-void Range3dWarp::continueRowUpwards(int filledRow, int firstRow, int rowStep, const OutputGeometry& g) noexcept {
-  // The field's first rows got no splat (it sees above the frame's top): continue the first filled
-  // row up to them, as empty rows further down continue the row above
+void Range3dWarp::continueRow(int filledRow, int emptyRow, const OutputGeometry& g) noexcept {
   const int rw = rasterWidthPx();
   const std::size_t src = static_cast<std::size_t>(filledRow) * static_cast<std::size_t>(rw);
-  for (int y = firstRow; y < filledRow; y += rowStep) {
-    const std::size_t dst = static_cast<std::size_t>(y) * static_cast<std::size_t>(rw);
-    for (int k = 0; k < rw; ++k) {
-      mMapX[dst + k] = mMapX[src + k];
-      mMapY[dst + k] = mMapY[src + k] + static_cast<float>((y - filledRow) * g.scale.y);
-      mDepth[dst + k] = mDepth[src + k];
-    }
+  const std::size_t dst = static_cast<std::size_t>(emptyRow) * static_cast<std::size_t>(rw);
+  for (int k = 0; k < rw; ++k) {
+    mMapX[dst + k] = mMapX[src + k];
+    mMapY[dst + k] = mMapY[src + k] + static_cast<float>((emptyRow - filledRow) * g.scale.y);
+    mDepth[dst + k] = mDepth[src + k];
   }
 }
 

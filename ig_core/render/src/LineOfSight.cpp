@@ -103,13 +103,13 @@ LineOfSightHit lineOfSight(const TerrainView& view, const glm::dvec3& originM, c
   if (!slab(originM.x, d.x, g.originM.x, x1) || !slab(originM.y, d.y, g.originM.y, y1) || lo > hi) {
     return {};
   }
-  // And to the heights a voxel can have: a ray straight up or down crosses the x and y slabs
-  // nowhere, and a range of 1e20 m or more (a host's "unlimited") was left to the march, whose
-  // steps no longer moved t at that size
-  // (a step past each, so the rounding of the ray's height where it crosses them cannot stop it short)
+  // And to the heights a voxel can have, a step past each so the rounding of the ray's height
+  // there cannot stop it short: a ray straight up or down crosses the x and y slabs nowhere, and a
+  // range of 1e20 m or more (a host's "unlimited") was left to the march, whose steps no longer
+  // moved t at that size. Past the top it meets nothing; past the bottom it has met the surface,
+  // or started under it.
   const double lowest = g.heightM(0) - g.heightStepM;
   const double highest = g.heightM(std::numeric_limits<std::uint16_t>::max()) + g.heightStepM;
-  // (past the top it meets nothing; past the bottom it has met the surface, or started under it)
   if (d.z > 0.0) hi = std::min(hi, (highest - originM.z) / d.z);
   if (d.z < 0.0) hi = std::min(hi, std::max(lo, (lowest - originM.z) / d.z));
   if (lo > hi) return {};

@@ -157,7 +157,8 @@ class Range3dWarp final : public Warp {
  private:
   void splat(const Frame& frame, const Pose& fieldPose, const OutputGeometry& g, FieldParity parity) noexcept;
   void fillHoles(FieldParity parity, const OutputGeometry& g) noexcept;
-  void continueRowUpwards(int filledRow, int firstRow, int rowStep, const OutputGeometry& g) noexcept;
+  // Raster row `emptyRow` takes filled row `filledRow`'s map, moved by their distance
+  void continueRow(int filledRow, int emptyRow, const OutputGeometry& g) noexcept;
 
   std::vector<float> mDepth;        // per raster pixel: depth of the sample kept
   std::vector<float> mMapX, mMapY;  // per raster pixel: frame pixel it samples
